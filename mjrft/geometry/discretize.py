@@ -1,0 +1,421 @@
+"""Cut MuJoCo geoms into flat surface elements (centroid, unit outward normal, area) for resistive force theory.
+
+``resolution`` is the target element edge length in metres: every face or patch is cut into
+``max(1, ceil(extent / resolution))`` cells per direction (with small per-shape minimums), so even a
+tiny geom gets at least one element per face.  Element areas sum to :func:`surface_area` exactly for
+box, sphere, capsule, cylinder and mesh, and to within ~1e-3 for ellipsoids.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from ..errors import UnknownNameError, check_positive, unknown
+
+__all__ = ["Elements", "GEOM_TYPES", "discretize_geom", "geom_elements", "surface_area"]
+
+GEOM_TYPES = ("box", "capsule", "cylinder", "sphere", "ellipsoid", "mesh")
+
+_TYPE_BY_ENUM = {
+    int(mujoco.mjtGeom.mjGEOM_BOX): "box",
+    int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule",
+    int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder",
+    int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere",
+    int(mujoco.mjtGeom.mjGEOM_ELLIPSOID): "ellipsoid",
+    int(mujoco.mjtGeom.mjGEOM_MESH): "mesh",
+}
+_NSIZE = {"box": 3, "capsule": 2, "cylinder": 2, "sphere": 1, "ellipsoid": 3, "mesh": 0}
+_MIN_SECTORS = 4  # longitude sectors around any axis of revolution
+_MIN_BANDS = 2  # latitude bands per hemisphere
+_GAUSS_X, _GAUSS_W = np.polynomial.legendre.leggauss(4)  # ellipsoid patch sub-quadrature
+
+
+@dataclass(frozen=True, eq=False)
+class Elements:
+    """Flat surface elements: ``pos`` (N, 3) centroids, ``normal`` (N, 3) unit outward normals, ``area`` (N,)."""
+
+    pos: np.ndarray
+    normal: np.ndarray
+    area: np.ndarray
+
+    def __post_init__(self) -> None:
+        pos = np.ascontiguousarray(self.pos, dtype=np.float64).reshape(-1, 3)
+        normal = np.ascontiguousarray(self.normal, dtype=np.float64).reshape(-1, 3)
+        area = np.ascontiguousarray(self.area, dtype=np.float64).reshape(-1)
+        if not (len(pos) == len(normal) == len(area)):
+            raise ValueError(
+                f"Elements arrays disagree in length: pos {len(pos)}, normal {len(normal)}, area {len(area)}"
+            )
+        object.__setattr__(self, "pos", pos)
+        object.__setattr__(self, "normal", normal)
+        object.__setattr__(self, "area", area)
+
+    def __len__(self) -> int:
+        return len(self.area)
+
+    @property
+    def total_area(self) -> float:
+        """Sum of the element areas."""
+        return float(self.area.sum())
+
+    @classmethod
+    def empty(cls) -> Elements:
+        """No elements."""
+        return cls(np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0))
+
+    @classmethod
+    def concatenate(cls, parts: Iterable[Elements]) -> Elements:
+        """Join a sequence of Elements into one, in order."""
+        parts = list(parts)
+        if not parts:
+            return cls.empty()
+        return cls(
+            np.concatenate([p.pos for p in parts]),
+            np.concatenate([p.normal for p in parts]),
+            np.concatenate([p.area for p in parts]),
+        )
+
+    def transform(self, rotation, translation) -> Elements:
+        """Return the elements moved by ``x -> rotation @ x + translation`` (rotation a 3x3 matrix)."""
+        rot = np.asarray(rotation, dtype=np.float64).reshape(3, 3)
+        trans = np.asarray(translation, dtype=np.float64).reshape(3)
+        return Elements(self.pos @ rot.T + trans, self.normal @ rot.T, self.area.copy())
+
+
+# --------------------------------------------------------------------------- validation helpers
+
+
+def _geom_name(geom_type) -> str:
+    """Map a MuJoCo geom type (name, mjtGeom or int) to its entry in GEOM_TYPES, else raise ValueError."""
+    if isinstance(geom_type, str):
+        name = geom_type.strip().lower()
+        if name.startswith("mjgeom_"):
+            name = name[len("mjgeom_"):]
+        if name in GEOM_TYPES:
+            return name
+    elif isinstance(geom_type, (int, np.integer, mujoco.mjtGeom)) and not isinstance(geom_type, bool):
+        name = _TYPE_BY_ENUM.get(int(geom_type))
+        if name is not None:
+            return name
+        try:
+            enum_name = mujoco.mjtGeom(int(geom_type)).name
+            geom_type = f"{enum_name[len('mjGEOM_'):].lower()} (mjtGeom {int(geom_type)})"
+        except (ValueError, TypeError):
+            geom_type = int(geom_type)
+    raise unknown("geom type", geom_type, GEOM_TYPES)
+
+
+def _check_resolution(resolution) -> float:
+    return check_positive("resolution", resolution)
+
+
+def _check_size(name: str, size) -> np.ndarray:
+    n = _NSIZE[name]
+    s = np.asarray(size if size is not None else [], dtype=np.float64).reshape(-1)
+    if s.size < n:
+        raise ValueError(f"{name} geom needs {n} size value(s), got {size!r}")
+    s = s[:n]
+    if not np.all(np.isfinite(s)) or np.any(s < 0):
+        raise ValueError(f"{name} geom size must be finite and >= 0, got {size!r}")
+    return s
+
+
+def _check_mesh(vertices, faces) -> tuple[np.ndarray, np.ndarray]:
+    if vertices is None or faces is None:
+        raise ValueError("mesh geom needs mesh_vertices (V, 3) and mesh_faces (F, 3)")
+    v = np.asarray(vertices, dtype=np.float64)
+    f = np.asarray(faces)
+    if v.size == 0:
+        v = v.reshape(0, 3)
+    if f.size == 0:
+        f = f.reshape(0, 3)
+    if v.ndim != 2 or v.shape[1] != 3:
+        raise ValueError(f"mesh_vertices must have shape (V, 3), got {v.shape}")
+    if f.ndim != 2 or f.shape[1] != 3:
+        raise ValueError(f"mesh_faces must have shape (F, 3), got {f.shape}")
+    if not np.all(np.isfinite(v)):
+        raise ValueError("mesh_vertices must be finite")
+    if f.size and (not np.issubdtype(f.dtype, np.integer) or f.min() < 0 or f.max() >= len(v)):
+        raise ValueError(f"mesh_faces must be integer indices in [0, {len(v)}), got range [{f.min()}, {f.max()}]")
+    return v, f.astype(np.intp)
+
+
+def _ncells(extent, resolution: float, minimum: int = 1):
+    """max(minimum, ceil(extent / resolution)), elementwise, tolerant of round-off just above an integer."""
+    n = np.ceil(np.asarray(extent, dtype=np.float64) / resolution - 1e-9)
+    return np.maximum(minimum, n).astype(np.intp)
+
+
+def _unit(v: np.ndarray, fallback: np.ndarray) -> np.ndarray:
+    """Row-normalise ``v``; rows of zero length take the matching (unit) row of ``fallback``."""
+    norm = np.linalg.norm(v, axis=1, keepdims=True)
+    ok = norm > 0
+    return np.where(ok, v / np.where(ok, norm, 1.0), fallback)
+
+
+def _ragged(counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """For groups of sizes ``counts``: (group index, index within the group) of every member."""
+    group = np.repeat(np.arange(len(counts)), counts)
+    start = np.cumsum(counts) - counts
+    return group, np.arange(int(counts.sum())) - start[group]
+
+
+# --------------------------------------------------------------------------- primitive patches
+
+
+def _box(h: np.ndarray, res: float) -> Elements:
+    parts = []
+    for k in range(3):
+        u, v = (k + 1) % 3, (k + 2) % 3
+        nu, nv = int(_ncells(2 * h[u], res)), int(_ncells(2 * h[v], res))
+        cu = -h[u] + (np.arange(nu) + 0.5) * (2 * h[u] / nu)
+        cv = -h[v] + (np.arange(nv) + 0.5) * (2 * h[v] / nv)
+        gu, gv = (g.ravel() for g in np.meshgrid(cu, cv, indexing="ij"))
+        area = np.full(nu * nv, 4 * h[u] * h[v] / (nu * nv))
+        for sign in (1.0, -1.0):
+            pos = np.zeros((nu * nv, 3))
+            pos[:, k], pos[:, u], pos[:, v] = sign * h[k], gu, gv
+            normal = np.zeros((nu * nv, 3))
+            normal[:, k] = sign
+            parts.append(Elements(pos, normal, area))
+    return Elements.concatenate(parts)
+
+
+def _hemisphere(radius: float, res: float, center_z: float, up: bool) -> Elements:
+    """Upper (or lower) hemisphere: equal polar-angle bands, per-band sector counts, exact zone areas."""
+    nb = int(_ncells(0.5 * math.pi * radius, res, _MIN_BANDS))
+    edges = np.linspace(0.0, 0.5 * math.pi, nb + 1)
+    ns = _ncells(2 * math.pi * radius * np.sin(edges[1:]), res, _MIN_SECTORS)
+    band_area = 2 * math.pi * radius**2 * (np.cos(edges[:-1]) - np.cos(edges[1:]))
+    band, j = _ragged(ns)
+    # Polar angle of the band's area centre (mean height of the zone): depth-linear loads and projected
+    # areas (sum of n_z * area) then come out exact; the azimuth is the sector's mid angle.
+    theta = np.arccos(0.5 * (np.cos(edges[:-1]) + np.cos(edges[1:])))[band]
+    phi = (j + 0.5) * (2 * math.pi / ns[band])
+    sign = 1.0 if up else -1.0
+    d = np.stack([np.sin(theta) * np.cos(phi), np.sin(theta) * np.sin(phi), sign * np.cos(theta)], axis=1)
+    pos = radius * d
+    pos[:, 2] += center_z
+    return Elements(pos, d, (band_area / ns)[band])
+
+
+def _cylinder_side(radius: float, half: float, res: float) -> Elements:
+    nz = int(_ncells(2 * half, res))
+    ns = int(_ncells(2 * math.pi * radius, res, _MIN_SECTORS))
+    z = -half + (np.arange(nz) + 0.5) * (2 * half / nz)
+    phi = (np.arange(ns) + 0.5) * (2 * math.pi / ns)
+    gz, gp = (g.ravel() for g in np.meshgrid(z, phi, indexing="ij"))
+    normal = np.stack([np.cos(gp), np.sin(gp), np.zeros_like(gp)], axis=1)
+    pos = radius * normal
+    pos[:, 2] = gz
+    return Elements(pos, normal, np.full(nz * ns, 4 * math.pi * radius * half / (nz * ns)))
+
+
+def _disk(radius: float, res: float, z: float, up: bool) -> Elements:
+    """Flat cap at height z: rings x per-ring sectors, exact annulus-sector areas, true sector centroids."""
+    nr = int(_ncells(radius, res))
+    edges = np.linspace(0.0, radius, nr + 1)
+    r1, r2 = edges[:-1], edges[1:]
+    ns = _ncells(2 * math.pi * r2, res, _MIN_SECTORS)
+    ring_area = math.pi * (r2**2 - r1**2)
+    half_angle = math.pi / ns
+    den = r2**2 - r1**2
+    rc = np.where(den > 0, (2.0 / 3.0) * (r2**3 - r1**3) / np.where(den > 0, den, 1.0), r1)
+    rc = rc * np.sin(half_angle) / half_angle
+    ring, j = _ragged(ns)
+    phi = (j + 0.5) * (2 * math.pi / ns[ring])
+    pos = np.stack([rc[ring] * np.cos(phi), rc[ring] * np.sin(phi), np.full(len(phi), z)], axis=1)
+    normal = np.zeros_like(pos)
+    normal[:, 2] = 1.0 if up else -1.0
+    return Elements(pos, normal, (ring_area / ns)[ring])
+
+
+def _ellipsoid(axes: np.ndarray, res: float) -> Elements:
+    """(polar angle, azimuth) grid; 4x4 Gauss sub-quadrature of |r_theta x r_phi| per patch."""
+    a, b, c = axes
+    nth = 2 * int(_ncells(0.5 * math.pi * max(a, b, c), res, _MIN_BANDS))
+    nph = int(_ncells(2 * math.pi * max(a, b), res, _MIN_SECTORS))
+    nph += -nph % 4  # multiple of 4: grid symmetric under x -> -x and y -> -y
+    dth, dph = math.pi / nth, 2 * math.pi / nph
+    th = ((np.arange(nth) + 0.5)[:, None] + 0.5 * _GAUSS_X[None, :]) * dth  # (nth, 4)
+    ph = ((np.arange(nph) + 0.5)[:, None] + 0.5 * _GAUSS_X[None, :]) * dph  # (nph, 4)
+    st, ct = np.sin(th)[:, :, None, None], np.cos(th)[:, :, None, None]
+    sp, cp = np.sin(ph)[None, None], np.cos(ph)[None, None]
+    jac = st * np.sqrt((b * c * st * cp) ** 2 + (a * c * st * sp) ** 2 + (a * b * ct) ** 2)  # (nth,4,nph,4)
+    wj = jac * (_GAUSS_W[None, :, None, None] * _GAUSS_W[None, None, None, :])
+    wsum = wj.sum(axis=(1, 3))  # (nth, nph)
+    area = wsum * (0.25 * dth * dph)
+    ok = wsum > 0
+    safe = np.where(ok, wsum, 1.0)
+    mid_th = np.broadcast_to(((np.arange(nth) + 0.5) * dth)[:, None], wsum.shape)
+    mid_ph = np.broadcast_to(((np.arange(nph) + 0.5) * dph)[None, :], wsum.shape)
+    thc = np.where(ok, (wj * th[:, :, None, None]).sum(axis=(1, 3)) / safe, mid_th).ravel()
+    phc = np.where(ok, (wj * ph[None, None]).sum(axis=(1, 3)) / safe, mid_ph).ravel()
+    radial = np.stack([np.sin(thc) * np.cos(phc), np.sin(thc) * np.sin(phc), np.cos(thc)], axis=1)
+    pos = radial * axes
+    scale = max(a, b, c)
+    an, bn, cn = (axes / scale) if scale > 0 else (0.0, 0.0, 0.0)
+    grad = radial * np.array([bn * cn, an * cn, an * bn])  # parallel to (x/a^2, y/b^2, z/c^2), no division
+    return Elements(pos, _unit(grad, radial), area.ravel())
+
+
+def _mesh(vertices: np.ndarray, faces: np.ndarray, res: float) -> Elements:
+    """Every triangle, split into k^2 congruent sub-triangles with k = ceil(longest edge / res)."""
+    if len(faces) == 0:
+        return Elements.empty()
+    v0, v1, v2 = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
+    e1, e2 = v1 - v0, v2 - v0
+    cross = np.cross(e1, e2)
+    tri_area = 0.5 * np.linalg.norm(cross, axis=1)
+    normal = _unit(cross, np.array([0.0, 0.0, 1.0]))
+    longest = np.max(np.linalg.norm(np.stack([e1, e2, v2 - v1]), axis=2), axis=0)
+    k = _ncells(longest, res)
+    pos_parts, face_parts = [], []
+    for kk in np.unique(k):
+        idx = np.flatnonzero(k == kk)
+        i, j = np.meshgrid(np.arange(kk), np.arange(kk), indexing="ij")
+        up = i + j <= kk - 1
+        down = i + j <= kk - 2
+        s = np.concatenate([i[up] + 1 / 3, i[down] + 2 / 3]) / kk  # barycentric centroids of the k^2 pieces
+        t = np.concatenate([j[up] + 1 / 3, j[down] + 2 / 3]) / kk
+        p = v0[idx, None] + s[None, :, None] * e1[idx, None] + t[None, :, None] * e2[idx, None]
+        pos_parts.append(p.reshape(-1, 3))
+        face_parts.append(np.repeat(idx, len(s)))
+    face = np.concatenate(face_parts)
+    order = np.argsort(face, kind="stable")
+    face = face[order]
+    return Elements(np.concatenate(pos_parts)[order], normal[face], (tri_area / k**2)[face])
+
+
+# --------------------------------------------------------------------------- public API
+
+
+def geom_elements(geom_type, size, resolution: float, mesh_vertices=None, mesh_faces=None) -> Elements:
+    """Surface elements of a geom in its own frame.
+
+    ``size`` follows MuJoCo's ``geom_size``: box half-sizes; capsule/cylinder (radius, half-length along z);
+    sphere (radius,); ellipsoid semi-axes.  Meshes take ``mesh_vertices`` (V, 3) and counter-clockwise
+    ``mesh_faces`` (F, 3) instead.  ``resolution`` is the target element edge length in metres.
+    """
+    name = _geom_name(geom_type)
+    res = _check_resolution(resolution)
+    if name == "mesh":
+        return _mesh(*_check_mesh(mesh_vertices, mesh_faces), res)
+    s = _check_size(name, size)
+    if name == "box":
+        return _box(s, res)
+    if name == "sphere":
+        return Elements.concatenate([_hemisphere(s[0], res, 0.0, True), _hemisphere(s[0], res, 0.0, False)])
+    if name == "cylinder":
+        r, h = s
+        return Elements.concatenate([_cylinder_side(r, h, res), _disk(r, res, h, True), _disk(r, res, -h, False)])
+    if name == "capsule":
+        r, h = s
+        return Elements.concatenate(
+            [_cylinder_side(r, h, res), _hemisphere(r, res, h, True), _hemisphere(r, res, -h, False)]
+        )
+    return _ellipsoid(s, res)
+
+
+def _mesh_arrays(model: mujoco.MjModel, mesh_id: int) -> tuple[np.ndarray, np.ndarray]:
+    va, vn = model.mesh_vertadr[mesh_id], model.mesh_vertnum[mesh_id]
+    fa, fn = model.mesh_faceadr[mesh_id], model.mesh_facenum[mesh_id]
+    return model.mesh_vert[va : va + vn], model.mesh_face[fa : fa + fn]
+
+
+def discretize_geom(model: mujoco.MjModel, geom_id: int, resolution: float) -> Elements:
+    """Surface elements of ``model``'s geom ``geom_id`` in its BODY frame (applies geom_pos and geom_quat)."""
+    geom_id = int(geom_id)
+    if not 0 <= geom_id < model.ngeom:
+        raise ValueError(f"geom_id must be in [0, {model.ngeom}), got {geom_id}")
+    geom_type = int(model.geom_type[geom_id])
+    try:
+        name = _geom_name(geom_type)
+    except UnknownNameError as err:
+        label = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, geom_id)
+        raise UnknownNameError(f"geom {geom_id}{f' {label!r}' if label else ''}: {err}") from None
+    verts = faces = None
+    if name == "mesh":
+        verts, faces = _mesh_arrays(model, int(model.geom_dataid[geom_id]))
+    local = geom_elements(geom_type, model.geom_size[geom_id], resolution, verts, faces)
+    rot = np.empty(9)
+    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[geom_id], dtype=np.float64))
+    return local.transform(rot.reshape(3, 3), model.geom_pos[geom_id])
+
+
+def _carlson_rf(x: float, y: float, z: float) -> float:
+    """Carlson's R_F(x, y, z) by duplication (at most one argument zero)."""
+    for _ in range(200):
+        sx, sy, sz = math.sqrt(x), math.sqrt(y), math.sqrt(z)
+        lam = sx * (sy + sz) + sy * sz
+        x, y, z = 0.25 * (x + lam), 0.25 * (y + lam), 0.25 * (z + lam)
+        ave = (x + y + z) / 3.0
+        dx, dy, dz = (ave - x) / ave, (ave - y) / ave, (ave - z) / ave
+        if max(abs(dx), abs(dy), abs(dz)) < 1e-4:
+            break
+    e2, e3 = dx * dy - dz * dz, dx * dy * dz
+    return (1.0 + (e2 / 24.0 - 0.1 - 3.0 / 44.0 * e3) * e2 + e3 / 14.0) / math.sqrt(ave)
+
+
+def _carlson_rd(x: float, y: float, z: float) -> float:
+    """Carlson's R_D(x, y, z) by duplication (z > 0, at most one of x, y zero)."""
+    total, fac = 0.0, 1.0
+    for _ in range(200):
+        sx, sy, sz = math.sqrt(x), math.sqrt(y), math.sqrt(z)
+        lam = sx * (sy + sz) + sy * sz
+        total += fac / (sz * (z + lam))
+        fac *= 0.25
+        x, y, z = 0.25 * (x + lam), 0.25 * (y + lam), 0.25 * (z + lam)
+        ave = 0.2 * (x + y + 3.0 * z)
+        dx, dy, dz = (ave - x) / ave, (ave - y) / ave, (ave - z) / ave
+        if max(abs(dx), abs(dy), abs(dz)) < 1e-4:
+            break
+    c1, c2, c3, c4 = 3.0 / 14.0, 1.0 / 6.0, 9.0 / 22.0, 3.0 / 26.0
+    c5, c6 = 0.25 * c3, 1.5 * c4
+    ea, eb = dx * dy, dz * dz
+    ec, ed = ea - eb, ea - 6.0 * eb
+    ee = ed + 2.0 * ec
+    series = 1.0 + ed * (-c1 + c5 * ed - c6 * dz * ee) + dz * (c2 * ee + dz * (-c3 * ec + dz * c4 * ea))
+    return 3.0 * total + fac * series / (ave * math.sqrt(ave))
+
+
+def _carlson_rg(x: float, y: float, z: float) -> float:
+    """Carlson's symmetric R_G(x, y, z) = (1/4pi) * integral over the unit sphere of sqrt(x n1^2 + y n2^2 + z n3^2)."""
+    lo, mid, hi = sorted((x, y, z))
+    if mid <= 0.0:  # at most one non-zero argument
+        return 0.5 * math.sqrt(hi)
+    # DLMF 19.21.10 with the middle value as z, so (x - z)(y - z) <= 0 and nothing cancels.
+    return 0.5 * (
+        mid * _carlson_rf(lo, hi, mid) - (lo - mid) * (hi - mid) * _carlson_rd(lo, hi, mid) / 3.0
+        + math.sqrt(lo * hi / mid)
+    )
+
+
+def surface_area(geom_type, size, mesh_vertices=None, mesh_faces=None) -> float:
+    """Exact surface area of a geom (ellipsoid via Carlson's elliptic integral R_G, to ~1e-12)."""
+    name = _geom_name(geom_type)
+    if name == "mesh":
+        v, f = _check_mesh(mesh_vertices, mesh_faces)
+        if len(f) == 0:
+            return 0.0
+        cross = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+        return float(0.5 * np.linalg.norm(cross, axis=1).sum())
+    s = _check_size(name, size)
+    if name == "box":
+        x, y, z = s
+        return float(8.0 * (x * y + y * z + z * x))
+    if name == "sphere":
+        return float(4.0 * math.pi * s[0] ** 2)
+    if name == "cylinder":
+        r, h = s
+        return float(4.0 * math.pi * r * h + 2.0 * math.pi * r * r)
+    if name == "capsule":
+        r, h = s
+        return float(4.0 * math.pi * r * h + 4.0 * math.pi * r * r)
+    a, b, c = (float(v) for v in s)
+    return 4.0 * math.pi * _carlson_rg((b * c) ** 2, (a * c) ** 2, (a * b) ** 2)

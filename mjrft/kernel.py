@@ -1,0 +1,254 @@
+"""The compiled per-step kernel of the coupler: kinematics -> rest regularisation -> law -> wrench.
+
+Pure array code (numba); :mod:`mjrft.coupler` hands it views of ``mjData`` and owns all MuJoCo calls.
+
+Rest regularisation (elasto-plastic element memory, a Dahl model per element)
+-----------------------------------------------------------------------------
+RFT stresses are rate-independent yield stresses: their direction follows the velocity and is
+undefined at rest. Each element below the surface keeps an elastic displacement ``u`` (world frame,
+metres) of the grains it touches, relaxed toward ``delta * v_hat`` over a travel of ``delta``
+(the yield displacement)::
+
+    u <- delta v_hat + (u - delta v_hat) exp(-|v| dt / delta)        (exact for constant v)
+    m  = u + tau v                                                   (Kelvin-Voigt damping)
+    F  = law(depth, n, m / |m|) * area * min(1, |m| / delta)
+
+In steady motion ``u -> delta v_hat`` and F is exactly the law's force; when the element stops,
+``u`` freezes and the grains hold the load like a solid below yield (no creep, no chatter); when the
+motion reverses, the force unloads over ``delta`` of travel instead of flipping sign in one step.
+An element that leaves the grains forgets its memory. ``delta = 0`` switches the memory off and uses
+a viscous ramp ``min(1, |v| / v_eps)`` instead (a resting body then sinks slowly).
+
+Stability limit (explicit integration). Below yield each element is a spring of stiffness
+``k_i = |F_yield,i| / delta`` with a damper ``c_i = tau k_i``. For a body whose summed stiffness is
+``K`` and whose effective inverse mass at its centre of mass is ``w`` (``1/m`` for a free body),
+with ``omega = sqrt(K w)``, ``h = omega dt`` and ``zeta = tau omega / 2``, MuJoCo's semi-implicit
+Euler step is stable iff ``h < 2 (sqrt(1 + zeta^2) - zeta)``. A body resting at its yield load has
+``K w = g / delta``. The viscous mode is stable iff ``dt w |F_yield| / v_eps < 2``.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import glob
+import math
+import os
+
+import numpy as np
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
+
+from .laws.dispatch import element_stress
+
+OK = 0
+BAD_FORCE = 1
+BAD_STATE = 2
+
+
+@njit(cache=True, error_model="numpy")
+def _isfinite3(x, y, z):
+    return math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
+
+
+@njit(cache=True, error_model="numpy")
+def terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active,
+                   e_lpos, e_lnrm, e_area,
+                   geom_xpos, xpos, xmat, xipos, cvel, subtree_com, rootid,
+                   surface, top, reg_bounds, reg_law, reg_params,
+                   dt, delta, tau, v_eps,
+                   u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
+                   wrench, stiff, damp):
+    """Evaluate every element of every geom that can reach below ``top``; returns (status, body)."""
+    cur_reg = 0
+    p = reg_params[0]
+    for b in range(wrench.shape[0]):
+        for j in range(6):
+            wrench[b, j] = 0.0
+        stiff[b] = 0.0
+        damp[b] = 0.0
+    for g in range(g_geom.shape[0]):
+        e0 = g_start[g]
+        e1 = g_start[g + 1]
+        if geom_xpos[g_geom[g], 2] - g_rbound[g] >= top:
+            if g_active[g]:
+                for i in range(e0, e1):
+                    for j in range(3):
+                        u[i, j] = 0.0
+                        out_force[i, j] = 0.0
+                    out_depth[i] = 0.0
+                g_active[g] = False
+            continue
+        g_active[g] = True
+        b = g_body[g]
+        ox, oy, oz = xpos[b, 0], xpos[b, 1], xpos[b, 2]
+        R = xmat[b]
+        wx, wy, wz = cvel[b, 0], cvel[b, 1], cvel[b, 2]
+        lx, ly, lz = cvel[b, 3], cvel[b, 4], cvel[b, 5]
+        r = rootid[b]
+        cx, cy, cz = subtree_com[r, 0], subtree_com[r, 1], subtree_com[r, 2]
+        bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
+        for i in range(e0, e1):
+            ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
+            px = ox + R[0] * ax + R[1] * ay + R[2] * az
+            py = oy + R[3] * ax + R[4] * ay + R[5] * az
+            pz = oz + R[6] * ax + R[7] * ay + R[8] * az
+            ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
+            nx = R[0] * ax + R[1] * ay + R[2] * az
+            ny = R[3] * ax + R[4] * ay + R[5] * az
+            nz = R[6] * ax + R[7] * ay + R[8] * az
+            dx, dy, dz = px - cx, py - cy, pz - cz
+            vx = lx + wy * dz - wz * dy
+            vy = ly + wz * dx - wx * dz
+            vz = lz + wx * dy - wy * dx
+            if not (_isfinite3(px, py, pz) and _isfinite3(vx, vy, vz)):
+                return BAD_STATE, b
+            out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
+            out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
+            out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
+            depth = surface - pz
+            out_depth[i] = depth
+            reg = 0
+            while reg < reg_bounds.shape[0] and px >= reg_bounds[reg]:
+                reg += 1
+            out_region[i] = reg
+            if reg != cur_reg:
+                cur_reg = reg
+                p = reg_params[reg]
+            if depth <= 0.0 or e_area[i] <= 0.0:
+                u[i, 0] = 0.0
+                u[i, 1] = 0.0
+                u[i, 2] = 0.0
+                out_force[i, 0] = 0.0
+                out_force[i, 1] = 0.0
+                out_force[i, 2] = 0.0
+                continue
+            speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+            if delta > 0.0:
+                if speed > 0.0:
+                    a = math.exp(-speed * dt / delta)
+                    s = delta / speed
+                    u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
+                    u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
+                    u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
+                mx = u[i, 0] + tau * vx
+                my = u[i, 1] + tau * vy
+                mz = u[i, 2] + tau * vz
+                ml = math.sqrt(mx * mx + my * my + mz * mz)
+                mob = min(1.0, ml / delta)
+            else:
+                mx, my, mz, ml = vx, vy, vz, speed
+                mob = min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0
+            fx = 0.0
+            fy = 0.0
+            fz = 0.0
+            if ml > 0.0:
+                sx, sy, sz = element_stress(reg_law[reg], depth, nx, ny, nz, mx / ml, my / ml, mz / ml, speed, p)
+                k = e_area[i]
+                fx, fy, fz = sx * k, sy * k, sz * k
+                if not _isfinite3(fx, fy, fz):
+                    return BAD_FORCE, b
+                fy_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
+                if delta > 0.0:
+                    stiff[b] += fy_mag / delta
+                    damp[b] += fy_mag * tau / delta
+                elif v_eps > 0.0:
+                    damp[b] += fy_mag / v_eps
+                fx *= mob
+                fy *= mob
+                fz *= mob
+            out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
+            rx, ry, rz = px - bx, py - by, pz - bz
+            wrench[b, 0] += fx
+            wrench[b, 1] += fy
+            wrench[b, 2] += fz
+            wrench[b, 3] += ry * fz - rz * fy
+            wrench[b, 4] += rz * fx - rx * fz
+            wrench[b, 5] += rx * fy - ry * fx
+    return OK, -1
+
+
+@njit(cache=True, error_model="numpy")
+def add_rows(target, rows, values, sign):
+    """target[rows] += sign * values[rows] (in place, no temporaries)."""
+    for k in range(rows.shape[0]):
+        b = rows[k]
+        for j in range(values.shape[1]):
+            target[b, j] += sign * values[b, j]
+
+
+def stable_step(K: float, c: float, w: float, dt: float) -> bool:
+    """True if a spring K (N/m) with damper c (N s/m) on inverse mass w (1/kg) is stable at dt."""
+    if K <= 0.0:
+        return c * w * dt < 2.0
+    omega = math.sqrt(K * w)
+    zeta = 0.5 * c * w / omega
+    return omega * dt < 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta)
+
+
+def max_stable_dt(K: float, c: float, w: float) -> float:
+    """Largest stable timestep for :func:`stable_step` (inf when there is no stiffness or damping)."""
+    if K <= 0.0:
+        return 2.0 / (c * w) if c > 0 else np.inf
+    omega = math.sqrt(K * w)
+    zeta = 0.5 * c * w / omega
+    return 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta) / omega
+
+
+# ---------------------------------------------------------------------------------------------
+# Fused stepping: mj_step1 -> terrain_kernel -> mj_step2 in one compiled loop, calling MuJoCo's C
+# functions through their addresses (passed at run time, so the compiled code stays cacheable).
+# This removes the per-step Python overhead that would otherwise dominate small models.
+
+@intrinsic
+def _call_mj(typingctx, fptr, m_addr, d_addr):
+    """Call ``void f(const mjModel*, mjData*)`` at address ``fptr``."""
+    sig = types.void(types.intp, types.intp, types.intp)
+
+    def codegen(context, builder, signature, args):
+        f, a, b = args
+        vp = ir.IntType(8).as_pointer()
+        fnty = ir.FunctionType(ir.VoidType(), [vp, vp])
+        fn = builder.inttoptr(f, fnty.as_pointer())
+        builder.call(fn, [builder.inttoptr(a, vp), builder.inttoptr(b, vp)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+def mujoco_step_functions():
+    """Addresses of MuJoCo's ``mj_step1`` and ``mj_step2`` in the library the bindings loaded, or None."""
+    import mujoco
+
+    try:
+        path = sorted(glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*")))[0]
+        lib = ctypes.CDLL(path)
+        return (ctypes.cast(lib.mj_step1, ctypes.c_void_p).value, ctypes.cast(lib.mj_step2, ctypes.c_void_p).value)
+    except (IndexError, OSError, AttributeError):
+        return None
+
+
+@njit(cache=True, error_model="numpy")
+def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows,
+              g_geom, g_body, g_start, g_rbound, g_active, e_lpos, e_lnrm, e_area,
+              geom_xpos, xpos, xmat, xipos, cvel, subtree_com, rootid,
+              surface, top, reg_bounds, reg_law, reg_params, dt, delta, tau, v_eps,
+              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp):
+    """``nstep`` x (mj_step1, terrain_kernel, xfrc += wrench, mj_step2, xfrc -= wrench).
+
+    Returns (status, body, steps completed); on a non-finite value it stops after mj_step1 of the
+    failing step, before anything is written to xfrc_applied.
+    """
+    for s in range(nstep):
+        _call_mj(f_step1, m_addr, d_addr)
+        status, body = terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active, e_lpos, e_lnrm, e_area,
+                                      geom_xpos, xpos, xmat, xipos, cvel, subtree_com, rootid,
+                                      surface, top, reg_bounds, reg_law, reg_params, dt, delta, tau, v_eps,
+                                      u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
+                                      wrench, stiff, damp)
+        if status != OK:
+            return status, body, s
+        add_rows(xfrc, rows, wrench, 1.0)
+        _call_mj(f_step2, m_addr, d_addr)
+        add_rows(xfrc, rows, wrench, -1.0)
+    return OK, -1, nstep

@@ -1,0 +1,68 @@
+"""Force laws: pure, vectorised functions of element state (no MuJoCo).
+
+Every law has the same signature::
+
+    forces = law(depth, normal, velocity, area, medium="poppy_cp")
+
+with ``depth`` (n,) in m, POSITIVE below the free surface (the papers' |z|; elements at or above
+the surface feel nothing), ``normal`` (n, 3) outward normals, ``velocity`` (n, 3) in m/s and
+``area`` (n,) in m^2, all in the world frame with z up; it returns forces (n, 3) in N. The dry laws
+are rate-independent: only the direction of the velocity matters, and a zero velocity gives zero
+force (the coupler's rest regularisation, not the law, decides what a resting element feels).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import unknown
+from ..media import get_medium
+from .dispatch import as_elements, element_stress, evaluate
+from .registry import LAW_IDS
+from .rft3d import rft3d_generic
+
+
+def law_id(name: str) -> int:
+    """The kernel id of a law name; unknown names list the valid choices."""
+    if isinstance(name, str) and name in LAW_IDS:
+        return LAW_IDS[name]
+    raise unknown("law", name, LAW_IDS)
+
+
+def apply_law(name, depth, normal, velocity, area, medium="poppy_cp"):
+    """Evaluate the law called ``name`` on the given elements; see the module docstring."""
+    lid = law_id(name)
+    med = get_medium(medium)
+    depth, normal, velocity, area = as_elements(depth, normal, velocity, area)
+    out = np.empty((depth.shape[0], 3))
+    return evaluate(lid, depth, normal, velocity, area, med.params(), out)
+
+
+def rft(depth, normal, velocity, area, medium="poppy_cp"):
+    """Li 2013 RFT in each element's vertical plane of motion (:mod:`mjrft.laws.rft`)."""
+    return apply_law("rft", depth, normal, velocity, area, medium)
+
+
+def rft3d(depth, normal, velocity, area, medium="poppy_cp"):
+    """Agarwal 2023 3D-RFT (:mod:`mjrft.laws.rft3d`)."""
+    return apply_law("rft3d", depth, normal, velocity, area, medium)
+
+
+def depth_only(depth, normal, velocity, area, medium="poppy_cp"):
+    """Flat-plate baseline (:mod:`mjrft.laws.depth_only`)."""
+    return apply_law("depth_only", depth, normal, velocity, area, medium)
+
+
+def rft3d_alpha_generic(normal, velocity):
+    """3D-RFT generic (dimensionless) response for unit normals/velocities, shape (n, 3)."""
+    n = np.atleast_2d(np.asarray(normal, float))
+    v = np.atleast_2d(np.asarray(velocity, float))
+    n = n / np.linalg.norm(n, axis=1, keepdims=True)
+    v = v / np.linalg.norm(v, axis=1, keepdims=True)
+    return np.array([rft3d_generic(*a, *b) for a, b in zip(n, v)])
+
+
+LAWS = {"rft": rft, "rft3d": rft3d, "depth_only": depth_only}
+
+__all__ = ["LAWS", "LAW_IDS", "apply_law", "depth_only", "element_stress", "law_id", "rft", "rft3d",
+           "rft3d_alpha_generic"]

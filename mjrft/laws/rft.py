@@ -1,0 +1,55 @@
+"""Li, Zhang & Goldman 2013 resistive force theory, evaluated in each element's vertical plane of motion.
+
+For an element with outward unit normal n moving along unit direction m at depth |z|:
+
+* the plane is spanned by z_hat and r_hat, the horizontal direction of m (see
+  :func:`mjrft.laws.common.motion_plane` when m is vertical);
+* the intrusion angle gamma has cos(gamma) = m . r_hat, sin(gamma) = -m_z (positive downward);
+* the attack angle beta is the angle of the element's plane line in that plane: the faces of a plate
+  at beta are +-(sin beta, -cos beta) in (r, z), so with (n_r, n_z) the in-plane part of n,
+  cos 2beta = (n_z^2 - n_r^2) / w^2 and sin 2beta = -2 n_r n_z / w^2, w = |(n_r, n_z)|
+  (beta is defined modulo pi, like the fit, so no branch cut);
+* (alpha_z, alpha_x) from the medium's Fourier fit (supplement eq. S8, evaluated with the angle-sum
+  identities, no trigonometric calls);
+* stress = lead_weight x w x |z| x (-alpha_x r_hat + alpha_z z_hat).
+
+Choice where the paper is silent (its fit is planar): a normal with a component out of the plane of
+motion is projected onto the plane, and the stress is weighted by the projected length w, so an
+element sliding edge-on (normal perpendicular to the plane) feels nothing from this law. Use
+``rft3d`` for motion where such elements matter.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .common import TINY, lead_weight, motion_plane
+
+
+@njit(cache=True, error_model="numpy")
+def rft_stress(depth, nx, ny, nz, mx, my, mz, speed, p):
+    """Stress vector (Pa) on one element; ``m`` unit motion direction, ``p`` the medium parameters."""
+    if depth <= 0.0:
+        return 0.0, 0.0, 0.0
+    lw = lead_weight(nx * mx + ny * my + nz * mz)
+    if lw == 0.0:
+        return 0.0, 0.0, 0.0
+    rx, ry = motion_plane(nx, ny, mx, my)
+    vr = mx * rx + my * ry
+    vn = math.sqrt(vr * vr + mz * mz)
+    if vn < TINY:
+        return 0.0, 0.0, 0.0
+    cg = vr / vn
+    sg = -mz / vn
+    nr = nx * rx + ny * ry
+    w2 = nr * nr + nz * nz
+    if w2 < TINY * TINY:
+        return 0.0, 0.0, 0.0
+    c2 = (nz * nz - nr * nr) / w2
+    s2 = -2.0 * nr * nz / w2
+    az = (p[0] + p[1] * c2 + p[2] * (s2 * cg + c2 * sg) + p[3] * sg + p[4] * (c2 * sg - s2 * cg))
+    ax = (p[5] * (c2 * cg - s2 * sg) + p[6] * cg + p[7] * (c2 * cg + s2 * sg) + p[8] * s2)
+    k = lw * math.sqrt(w2) * depth
+    return -ax * rx * k, -ax * ry * k, az * k

@@ -1,0 +1,306 @@
+"""Granular media: the Li 2013 catalogue, the generic profile, 3D-RFT media and plate calibration.
+
+A :class:`Medium` is a small immutable record in SI units. Li's Fourier coefficients (supplement
+table S2, published in N/cm^3) are stored in N/m^3 (x 1e6), in the order
+
+    A00, A10, B11, B01, B_11, C11, C01, C_11, D10
+
+The generic profile ``generic`` is the dimensionless M0 fit times 1 N/cm^3 (so its scaling factor
+``zeta`` is 1e6 N/m^3 and alpha_z(0, pi/2) = 1 N/cm^3); ``generic.scaled(zeta)`` is the generic
+profile of a medium with scaling factor ``zeta`` (N/m^3).
+
+3D-RFT (Agarwal et al. 2023) describes a medium by its bulk density, internal friction coefficient
+``mu_int`` and surface (leg) friction ``mu_surface``; its stress scale is
+``xi_n = g rho_bulk (894 mu^3 - 386 mu^2 + 89 mu)``. For the Li media the paper gives no internal
+friction, so we *choose* the ``mu_int`` that makes 3D-RFT's plate-pushed-down stress (0.875 xi_n)
+equal the medium's own measured alpha_z(0, pi/2): the two laws then agree on vertical penetration,
+and the angle of repose is kept only as a reported property. Likewise a medium made by
+:func:`medium_3d` gets the Li generic profile with the same vertical stress.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import check_finite, check_positive, unknown
+
+G = 9.81
+N_CM3 = 1e6  # N/cm^3 -> N/m^3
+COEFF_NAMES = ("A00", "A10", "B11", "B01", "B_11", "C11", "C01", "C_11", "D10")
+RFT3D_DOWN = 0.875  # 3D-RFT generic response of a horizontal plate pushed straight down (up, per xi_n)
+CHI = 1.26  # Li supplement: zeta = alpha_z(0, pi/2)_measured / chi
+
+# Parameter vector shared with the compiled kernels (see mjrft.laws.dispatch).
+P_COEFF = 0  # 9 Li coefficients, N/m^3
+P_XI = 9  # 3D-RFT xi_n, N/m^3
+P_MU_S = 10  # surface (leg) friction coefficient
+P_ZETA = 11  # scaling factor, N/m^3
+P_AZ_DOWN = 12  # alpha_z(0, pi/2), N/m^3
+P_AZ_UP = 13  # |alpha_z(0, -pi/2)|, N/m^3
+P_AX_DRAG = 14  # alpha_x(pi/2, 0), N/m^3
+P_FIRST_FREE = 15  # laws added later store their constants from here on
+P_SIZE = 32
+
+
+def xi_n(rho_bulk: float, mu_int: float) -> float:
+    """3D-RFT material constant (N/m^3) from bulk density (kg/m^3) and internal friction."""
+    return G * rho_bulk * (894 * mu_int**3 - 386 * mu_int**2 + 89 * mu_int)
+
+
+def _mu_for_xi(xi: float, rho_bulk: float) -> float:
+    """Invert :func:`xi_n` for mu_int (the cubic is strictly increasing, so bisection is exact)."""
+    lo, hi = 0.0, 3.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if xi_n(rho_bulk, mid) < xi:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+def fourier_alpha(coeffs, beta, gamma):
+    """Li 2013 Fourier fit (supplement eq. S8): returns (alpha_z, alpha_x) in the units of ``coeffs``.
+
+    ``beta`` (attack angle) and ``gamma`` (intrusion angle, positive downward) in radians;
+    numpy arrays broadcast. alpha_z > 0 pushes up, alpha_x > 0 resists motion along +x.
+    """
+    a00, a10, b11, b01, bm11, c11, c01, cm11, d10 = coeffs
+    b2 = 2 * np.asarray(beta, dtype=float)
+    g = np.asarray(gamma, dtype=float)
+    az = a00 + a10 * np.cos(b2) + b11 * np.sin(b2 + g) + b01 * np.sin(g) + bm11 * np.sin(-b2 + g)
+    ax = c11 * np.cos(b2 + g) + c01 * np.cos(g) + cm11 * np.cos(-b2 + g) + d10 * np.sin(b2)
+    return az, ax
+
+
+@dataclass(frozen=True)
+class Medium:
+    """One granular medium. All values SI (stresses per depth in N/m^3, lengths in m, densities kg/m^3).
+
+    Attributes:
+        name: catalogue name.
+        coeffs: Li Fourier coefficients (N/m^3), order :data:`COEFF_NAMES`.
+        zeta: scaling factor of the generic profile (N/m^3); 1 N/cm^3 = 1e6.
+        grain_diameter: mean grain diameter (m), or None if unknown.
+        grain_density: grain material density (kg/m^3), or None.
+        volume_fraction: packing fraction, or None.
+        repose_angle: angle of repose (deg), or None.
+        mu_surface: friction coefficient between leg material and grains.
+        mu_int: internal friction coefficient used by 3D-RFT (see module docstring), or None.
+        description: where the numbers come from.
+        extra: constants of laws beyond Li / 3D-RFT (e.g. wet-sand speed calibration), by name.
+    """
+
+    name: str
+    coeffs: tuple
+    zeta: float
+    grain_diameter: float | None = None
+    grain_density: float | None = None
+    volume_fraction: float | None = None
+    repose_angle: float | None = None
+    mu_surface: float = 0.4
+    mu_int: float | None = None
+    description: str = ""
+    extra: tuple = field(default_factory=tuple)
+
+    def __post_init__(self):
+        coeffs = tuple(float(c) for c in self.coeffs)
+        if len(coeffs) != 9:
+            raise ValueError(f"medium {self.name!r}: coeffs needs 9 values ({', '.join(COEFF_NAMES)}), got {len(coeffs)}")
+        for n, c in zip(COEFF_NAMES, coeffs):
+            check_finite(f"medium {self.name!r} coefficient {n}", c)
+        object.__setattr__(self, "coeffs", coeffs)
+        check_positive(f"medium {self.name!r} zeta", self.zeta)
+        check_positive(f"medium {self.name!r} mu_surface", self.mu_surface, allow_zero=True)
+        for attr in ("grain_diameter", "grain_density", "volume_fraction", "mu_int"):
+            v = getattr(self, attr)
+            if v is not None:
+                check_positive(f"medium {self.name!r} {attr}", v)
+        if self.volume_fraction is not None and self.volume_fraction > 1:
+            raise ValueError(f"medium {self.name!r} volume_fraction must be <= 1, got {self.volume_fraction!r}")
+        if self.alpha_z_down <= 0:
+            raise ValueError(f"medium {self.name!r}: alpha_z(0, pi/2) must be > 0, got {self.alpha_z_down!r}")
+        object.__setattr__(self, "extra", tuple(self.extra))
+
+    # --- derived quantities -------------------------------------------------------------------
+    def alpha(self, beta, gamma):
+        """(alpha_z, alpha_x) in N/m^3 from the medium's own Fourier fit."""
+        return fourier_alpha(self.coeffs, beta, gamma)
+
+    @property
+    def alpha_z_down(self) -> float:
+        """alpha_z(0, pi/2): stress per depth under a horizontal plate pushed straight down (N/m^3)."""
+        return float(fourier_alpha(self.coeffs, 0.0, math.pi / 2)[0])
+
+    @property
+    def rho_bulk(self) -> float | None:
+        """Bulk density grain_density x volume_fraction (kg/m^3), or None if unknown."""
+        if self.grain_density is None or self.volume_fraction is None:
+            return None
+        return self.grain_density * self.volume_fraction
+
+    @property
+    def xi_n(self) -> float:
+        """3D-RFT stress scale (N/m^3): from rho_bulk and mu_int when known, else matched to alpha_z_down."""
+        if self.mu_int is not None and self.rho_bulk is not None:
+            return xi_n(self.rho_bulk, self.mu_int)
+        return self.alpha_z_down / RFT3D_DOWN
+
+    def get(self, key: str, default=None):
+        """A constant from :attr:`extra` by name."""
+        return dict(self.extra).get(key, default)
+
+    # --- constructors ---------------------------------------------------------------------------
+    def scaled(self, zeta: float, name: str | None = None) -> "Medium":
+        """The generic profile scaled to ``zeta`` (N/m^3): coefficients = M0 x zeta.
+
+        Only meaningful on the generic profile; other media keep their own fit shape and are
+        rescaled so that their scaling factor becomes ``zeta``.
+        """
+        zeta = check_positive("zeta", zeta)
+        k = zeta / self.zeta
+        return dataclasses.replace(
+            self,
+            name=name or f"{self.name}*{zeta:g}",
+            coeffs=tuple(c * k for c in self.coeffs),
+            zeta=zeta,
+            mu_int=None,
+            description=f"{self.description} scaled to zeta = {zeta:g} N/m^3".strip(),
+        )
+
+    def with_extra(self, **values) -> "Medium":
+        """A copy with constants added to :attr:`extra` (used by laws beyond Li and 3D-RFT)."""
+        d = dict(self.extra)
+        d.update(values)
+        return dataclasses.replace(self, extra=tuple(sorted(d.items())))
+
+    def params(self) -> np.ndarray:
+        """The float64 parameter vector read by the compiled kernels (layout: ``P_*`` constants)."""
+        p = np.zeros(P_SIZE)
+        p[P_COEFF:P_COEFF + 9] = self.coeffs
+        p[P_XI] = self.xi_n
+        p[P_MU_S] = self.mu_surface
+        p[P_ZETA] = self.zeta
+        az_down, _ = fourier_alpha(self.coeffs, 0.0, math.pi / 2)
+        az_up, _ = fourier_alpha(self.coeffs, 0.0, -math.pi / 2)
+        _, ax_drag = fourier_alpha(self.coeffs, math.pi / 2, 0.0)
+        p[P_AZ_DOWN] = az_down
+        p[P_AZ_UP] = abs(az_up)
+        p[P_AX_DRAG] = abs(ax_drag)
+        from .laws import registry  # local import: laws depend on media, not the reverse
+
+        for hook in registry.PARAM_HOOKS:
+            hook(self, p)
+        return p
+
+
+def _li(name, coeffs_ncm3, zeta_ncm3, d, rho_g, phi, repose, mu_s, description):
+    coeffs = tuple(c * N_CM3 for c in coeffs_ncm3)
+    az = float(fourier_alpha(coeffs, 0.0, math.pi / 2)[0])
+    rho_bulk = rho_g * phi
+    mu_int = _mu_for_xi(az / RFT3D_DOWN, rho_bulk)
+    return Medium(name, coeffs, zeta_ncm3 * N_CM3, d, rho_g, phi, repose, mu_s, mu_int, description)
+
+
+_SRC = "Li, Zhang & Goldman, Science 2013, tables S1-S2"
+# Leg friction with poppy seeds is 0.36 (ABS) to 0.40 (aluminium); we use 0.40 for poppy seeds.
+# The paper gives none for glass; 0.3 is our documented assumption (smooth glass on aluminium).
+MEDIA: dict[str, Medium] = {
+    m.name: m
+    for m in (
+        _li("poppy_lp", (0.051, 0.047, 0.053, 0.083, 0.020, -0.026, 0.057, 0.0, 0.025), 0.248,
+            0.7e-3, 1100.0, 0.58, 36.0, 0.40, f"poppy seeds, loosely packed ({_SRC})"),
+        _li("poppy_cp", (0.094, 0.092, 0.092, 0.151, 0.035, -0.039, 0.086, 0.018, 0.046), 0.488,
+            0.7e-3, 1100.0, 0.62, 47.0, 0.40, f"poppy seeds, closely packed ({_SRC})"),
+        _li("glass03_lp", (0.040, 0.030, 0.045, 0.077, 0.0, -0.031, 0.066, 0.0, 0.017), 0.194,
+            0.27e-3, 2500.0, 0.58, 25.0, 0.30, f"0.3 mm glass beads, loosely packed ({_SRC})"),
+        _li("glass03_cp", (0.081, 0.063, 0.078, 0.133, 0.024, -0.050, 0.087, 0.0, 0.033), 0.371,
+            0.27e-3, 2500.0, 0.62, 35.0, 0.30, f"0.3 mm glass beads, closely packed ({_SRC})"),
+        _li("glass3_cp", (0.045, 0.031, 0.046, 0.084, 0.012, -0.031, 0.060, 0.0, 0.015), 0.214,
+            3.2e-3, 2600.0, 0.63, 21.0, 0.30, f"3 mm glass beads, closely packed ({_SRC})"),
+        Medium("generic", tuple(c * N_CM3 for c in (0.206, 0.169, 0.212, 0.358, 0.055, -0.124, 0.253, 0.007, 0.088)),
+               1.0 * N_CM3, description=f"generic profile M0 x 1 N/cm^3 ({_SRC})"),
+    )
+}
+
+generic = MEDIA["generic"]
+
+
+def register_medium(medium: Medium) -> Medium:
+    """Add a medium to the catalogue so that it can be looked up by name."""
+    if not isinstance(medium, Medium):
+        raise TypeError(f"register_medium expects a Medium, got {type(medium).__name__}")
+    MEDIA[medium.name] = medium
+    return medium
+
+
+def get_medium(medium) -> Medium:
+    """A :class:`Medium` by catalogue name (or the medium itself). Unknown names list the choices."""
+    if isinstance(medium, Medium):
+        return medium
+    if isinstance(medium, str) and medium in MEDIA:
+        return MEDIA[medium]
+    raise unknown("medium", medium, MEDIA)
+
+
+def medium_3d(name: str, rho_bulk: float, mu_int: float, mu_surface: float, description: str = "") -> Medium:
+    """A 3D-RFT medium from bulk density (kg/m^3), internal and surface friction.
+
+    Its Li coefficients are the generic profile with alpha_z(0, pi/2) = 0.875 xi_n, so that the
+    ``rft`` and ``rft3d`` laws agree on vertical penetration.
+    """
+    rho_bulk = check_positive("rho_bulk", rho_bulk)
+    mu_int = check_positive("mu_int", mu_int)
+    mu_surface = check_positive("mu_surface", mu_surface, allow_zero=True)
+    zeta = RFT3D_DOWN * xi_n(rho_bulk, mu_int)
+    base = generic.scaled(zeta, name=name)
+    return dataclasses.replace(base, grain_density=rho_bulk, volume_fraction=1.0, mu_int=mu_int,
+                               mu_surface=mu_surface, description=description or "3D-RFT medium")
+
+
+def calibrate(depth, stress, *, name: str = "calibrated", max_depth: float | None = None, chi: float = CHI,
+              mu_surface: float = 0.4) -> Medium:
+    """Li's scaling routine: a medium from plate-penetration samples.
+
+    ``depth`` (m, positive below the surface) and ``stress`` (Pa, vertical force / plate area) of a
+    horizontal plate pushed straight down. A zero-intercept line is fitted over depths up to
+    ``max_depth`` (the shallow linear range; default all samples); its slope is the measured
+    alpha_z(0, pi/2) and ``zeta = slope / chi`` (chi = 1.26). Returns ``generic.scaled(zeta)``.
+    """
+    d = np.asarray(depth, dtype=float).ravel()
+    s = np.asarray(stress, dtype=float).ravel()
+    if d.shape != s.shape:
+        raise ValueError(f"depth and stress must have the same length, got {d.size} and {s.size}")
+    if not (np.all(np.isfinite(d)) and np.all(np.isfinite(s))):
+        raise ValueError("depth and stress must be finite (found NaN or inf)")
+    if np.any(d < 0):
+        raise ValueError(f"depth must be >= 0 (positive below the surface), got min {d.min()!r}")
+    if max_depth is not None:
+        max_depth = check_positive("max_depth", max_depth)
+        keep = d <= max_depth
+        d, s = d[keep], s[keep]
+    if np.count_nonzero(d > 0) < 2:
+        raise ValueError("calibrate needs at least 2 samples below the surface in the fitted depth range")
+    chi = check_positive("chi", chi)
+    slope = float(np.dot(d, s) / np.dot(d, d))
+    if slope <= 0:
+        raise ValueError(f"fitted stress-per-depth slope must be > 0, got {slope!r} N/m^3")
+    return dataclasses.replace(generic.scaled(slope / chi, name=name), mu_surface=mu_surface,
+                               description=f"calibrated from {d.size} plate samples: slope {slope:.4g} N/m^3, chi {chi}")
+
+
+def read_plate_csv(path) -> tuple[np.ndarray, np.ndarray]:
+    """Read ``depth,stress`` columns (header required; SI) from a CSV file for :func:`calibrate`."""
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    if not rows or not {"depth", "stress"} <= set(rows[0]):
+        raise ValueError(f"{path}: expected a CSV with header columns 'depth' and 'stress'")
+    try:
+        return (np.array([float(r["depth"]) for r in rows]), np.array([float(r["stress"]) for r in rows]))
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{path}: non-numeric value ({exc})") from None
