@@ -194,8 +194,11 @@ class GranularTerrain:
         self.force = np.zeros((n, 3))
         self.region = np.zeros(n, dtype=np.int64)
         self.wrench = np.zeros((model.nbody, 6))
+        self._saved = np.zeros((model.nbody, 6))
         self._stiff = np.zeros(model.nbody)
         self._damp = np.zeros(model.nbody)
+        self._stiff_max = np.zeros(model.nbody)  # largest values since the last stability check
+        self._damp_max = np.zeros(model.nbody)
         self._data = None
         self._last_time = -np.inf
         self._steps = 0
@@ -265,6 +268,8 @@ class GranularTerrain:
         if dt is None:
             dt = self.model.opt.timestep
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
+        np.maximum(self._stiff_max, self._stiff, out=self._stiff_max)
+        np.maximum(self._damp_max, self._damp, out=self._damp_max)
         self._last_time = data.time
         self._finish(data, status, body, dt, 1)
         return self.wrench
@@ -304,18 +309,19 @@ class GranularTerrain:
         if _STEP_FUNCTIONS is not None and nstep > 0:
             dt = m.opt.timestep
             status, body, done = kernel.run_steps(nstep, *_STEP_FUNCTIONS, m._address, data._address, xfrc, rows,
-                                                  *self._kernel_args(dt))
+                                                  self._saved, *self._kernel_args(dt), self._stiff_max,
+                                                  self._damp_max)
             self._last_time = data.time
             self._finish(data, status, body, dt, done)
             return
         for _ in range(nstep):
             mujoco.mj_step1(m, data)
             self.compute(data)
-            kernel.add_rows(xfrc, rows, self.wrench, 1.0)
+            kernel.add_rows(xfrc, rows, self.wrench, self._saved)
             try:
                 mujoco.mj_step2(m, data)
             finally:
-                kernel.add_rows(xfrc, rows, self.wrench, -1.0)
+                kernel.restore_rows(xfrc, rows, self._saved)
 
     # ------------------------------------------------------------------ callback mode
     def install(self) -> "GranularTerrain":
@@ -326,14 +332,15 @@ class GranularTerrain:
         only one terrain can be installed at a time, and it serves only its own model. Calls at an
         unchanged ``data.time`` (e.g. ``mj_forward``) recompute the force without advancing memory.
         """
-        if mujoco.get_mjcb_passive() is not None and mujoco.get_mjcb_passive() is not self._callback:
+        current = mujoco.get_mjcb_passive()
+        if current is not None and current != self._callback:
             raise RuntimeError("another MuJoCo passive callback is installed; call its uninstall first")
         mujoco.set_mjcb_passive(self._callback)
         return self
 
     def uninstall(self) -> None:
         """Remove the callback registered by :meth:`install`."""
-        if mujoco.get_mjcb_passive() is self._callback:
+        if mujoco.get_mjcb_passive() == self._callback:
             mujoco.set_mjcb_passive(None)
 
     def __enter__(self):
@@ -361,8 +368,11 @@ class GranularTerrain:
     def _check_stability(self, data, dt) -> None:
         """Warn once per body when dt exceeds the explicit stability limit (see :mod:`mjrft.kernel`)."""
         m = self.model
+        stiff, damp = self._stiff_max.copy(), self._damp_max.copy()
+        self._stiff_max[:] = 0.0
+        self._damp_max[:] = 0.0
         for b in self.body_ids:
-            K, c = self._stiff[b], self._damp[b]
+            K, c = stiff[b], damp[b]
             if (K <= 0 and c <= 0) or b in self._warned:
                 continue
             w = self.inverse_mass(data, int(b))

@@ -169,12 +169,22 @@ def terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active,
 
 
 @njit(cache=True, error_model="numpy")
-def add_rows(target, rows, values, sign):
-    """target[rows] += sign * values[rows] (in place, no temporaries)."""
+def add_rows(target, rows, values, saved):
+    """saved[rows] = target[rows]; target[rows] += values[rows]."""
     for k in range(rows.shape[0]):
         b = rows[k]
         for j in range(values.shape[1]):
-            target[b, j] += sign * values[b, j]
+            saved[b, j] = target[b, j]
+            target[b, j] += values[b, j]
+
+
+@njit(cache=True, error_model="numpy")
+def restore_rows(target, rows, saved):
+    """target[rows] = saved[rows]: exactly what other code had put there."""
+    for k in range(rows.shape[0]):
+        b = rows[k]
+        for j in range(saved.shape[1]):
+            target[b, j] = saved[b, j]
 
 
 def stable_step(K: float, c: float, w: float, dt: float) -> bool:
@@ -229,12 +239,13 @@ def mujoco_step_functions():
 
 
 @njit(cache=True, error_model="numpy")
-def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows,
+def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               g_geom, g_body, g_start, g_rbound, g_active, e_lpos, e_lnrm, e_area,
               geom_xpos, xpos, xmat, xipos, cvel, subtree_com, rootid,
               surface, top, reg_bounds, reg_law, reg_params, dt, delta, tau, v_eps,
-              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp):
-    """``nstep`` x (mj_step1, terrain_kernel, xfrc += wrench, mj_step2, xfrc -= wrench).
+              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp,
+              stiff_max, damp_max):
+    """``nstep`` x (mj_step1, terrain_kernel, xfrc += wrench, mj_step2, restore xfrc).
 
     Returns (status, body, steps completed); on a non-finite value it stops after mj_step1 of the
     failing step, before anything is written to xfrc_applied.
@@ -248,7 +259,10 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows,
                                       wrench, stiff, damp)
         if status != OK:
             return status, body, s
-        add_rows(xfrc, rows, wrench, 1.0)
+        for b in range(stiff.shape[0]):
+            stiff_max[b] = max(stiff_max[b], stiff[b])
+            damp_max[b] = max(damp_max[b], damp[b])
+        add_rows(xfrc, rows, wrench, saved)
         _call_mj(f_step2, m_addr, d_addr)
-        add_rows(xfrc, rows, wrench, -1.0)
+        restore_rows(xfrc, rows, saved)
     return OK, -1, nstep
