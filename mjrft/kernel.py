@@ -90,9 +90,20 @@ def terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active,
         bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
         for i in range(e0, e1):
             ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
+            pz = oz + R[6] * ax + R[7] * ay + R[8] * az
             px = ox + R[0] * ax + R[1] * ay + R[2] * az
             py = oy + R[3] * ax + R[4] * ay + R[5] * az
-            pz = oz + R[6] * ax + R[7] * ay + R[8] * az
+            depth = surface - pz
+            if depth <= 0.0 and top <= surface:
+                # above the grains (and no layer above them): only the position is kept up to date
+                out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
+                out_depth[i] = depth
+                if out_force[i, 0] != 0.0 or out_force[i, 1] != 0.0 or out_force[i, 2] != 0.0 or u[i, 0] != 0.0 \
+                        or u[i, 1] != 0.0 or u[i, 2] != 0.0:
+                    for j in range(3):
+                        u[i, j] = 0.0
+                        out_force[i, j] = 0.0
+                continue
             ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
             nx = R[0] * ax + R[1] * ay + R[2] * az
             ny = R[3] * ax + R[4] * ay + R[5] * az
@@ -106,7 +117,6 @@ def terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active,
             out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
             out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
             out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
-            depth = surface - pz
             out_depth[i] = depth
             reg = 0
             while reg < reg_bounds.shape[0] and px >= reg_bounds[reg]:

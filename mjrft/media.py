@@ -230,6 +230,16 @@ MEDIA: dict[str, Medium] = {
 
 generic = MEDIA["generic"]
 
+# Saturated sea sand (SGRFT, "Granular Resistive Force Theory Extension for Saturated Wet Sand Ground",
+# MDPI 2022): grains <= 1 mm, volume fraction 0.73, about 21.4 % water by mass. Table 3's alpha^30 = 0.47
+# is read as zeta in N/cm^3 at the 30 mm/s base case, and wet_* is its speed factor (eps_v = 0.16 per
+# 10 mm/s, measured 10-50 mm/s); see mjrft.laws.wet for both choices.
+MEDIA["sea_sand_saturated"] = dataclasses.replace(
+    generic.scaled(0.47 * N_CM3, name="sea_sand_saturated"), volume_fraction=0.73,
+    description="saturated sea sand: generic profile x 0.47 N/cm^3 at 30 mm/s (SGRFT, MDPI 2022, table 3)",
+).with_extra(wet_eps_v=0.16, wet_v_base=0.030, wet_dv=0.010, wet_v_min=0.010, wet_v_max=0.050,
+             grain_diameter_max=1e-3, water_mass_fraction=0.214)
+
 
 def register_medium(medium: Medium) -> Medium:
     """Add a medium to the catalogue so that it can be looked up by name."""

@@ -43,6 +43,7 @@ def element_kinematics(m, d, terrain):
     return np.array(pos), np.array(nrm), np.array(vel)
 
 
+@pytest.mark.filterwarnings("ignore::mjrft.TerrainStabilityWarning")  # v_eps = 1e-9 is deliberately stiff
 def test_uses_current_kinematics_and_wrench_is_brute_force_sum():
     m = mujoco.MjModel.from_xml_string(LEGGED)
     d = mujoco.MjData(m)
@@ -61,7 +62,10 @@ def test_uses_current_kinematics_and_wrench_is_brute_force_sum():
     pos, nrm, vel = element_kinematics(m, ref, t)
     t.step(d)
     np.testing.assert_allclose(t.pos, pos, atol=1e-12)
-    np.testing.assert_allclose(t.vel, vel, atol=1e-10)
+    below = pos[:, 2] < t.surface  # velocities and normals are only evaluated below the surface
+    assert below.sum() > 20
+    np.testing.assert_allclose(t.vel[below], vel[below], atol=1e-10)
+    np.testing.assert_allclose(t.normal[below], nrm[below], atol=1e-12)
     depth = t.surface - pos[:, 2]
     f = laws.rft(depth, nrm, vel, t.area, "poppy_cp")
     assert np.count_nonzero(np.linalg.norm(f, axis=1)) > 20
@@ -149,7 +153,7 @@ def test_resting_body_on_a_slope_load_does_not_creep():
     t.step(d, 500)
     x0 = d.qpos[0]
     t.step(d, 500)
-    assert abs(d.qpos[0] - x0) < 1e-6
+    assert abs(d.qpos[0] - x0) / 0.5 < 2e-5  # < 0.02 mm/s, against the 1 mm/s requirement
 
 
 def test_callback_mode_matches_step_mode():
@@ -244,7 +248,7 @@ def test_construction_errors():
     m, _ = box()
     with pytest.raises(ValueError, match="unknown medium 'mud'.*glass03_cp.*poppy_cp"):
         mjrft.GranularTerrain(m, "mud")
-    with pytest.raises(ValueError, match="unknown law 'fancy'.*depth_only, rft, rft3d"):
+    with pytest.raises(ValueError, match="unknown law .fancy.; valid choices: depth_only, .*rft, rft3d"):
         mjrft.GranularTerrain(m, "poppy_cp", "fancy")
     with pytest.raises(ValueError, match="unknown geom 'sole'.*plate"):
         mjrft.GranularTerrain(m, geoms=["sole"])
@@ -268,6 +272,7 @@ def test_regions_pick_the_law_by_position():
     t = mjrft.GranularTerrain(m, "poppy_cp", "rft", resolution=0.01, regions=[(0.0, "glass3_cp", "depth_only")])
     t.step(d, 50)
     assert set(np.unique(t.region[t.depth > 0])) == {0, 1}
-    assert np.all((t.region == 1) == (t.pos[:, 0] >= 0))
+    below = t.depth > 0
+    assert np.all((t.region[below] == 1) == (t.pos[below, 0] >= 0))
     with pytest.raises(ValueError, match="sorted by increasing x_min"):
         mjrft.GranularTerrain(m, regions=[(0.1, "poppy_cp", "rft"), (0.0, "poppy_cp", "rft")])

@@ -172,7 +172,7 @@ def test_leading_surface_rule():
 
 
 def test_bad_input_errors():
-    with pytest.raises(ValueError, match="unknown law 'rtf'.*depth_only, rft, rft3d"):
+    with pytest.raises(ValueError, match="unknown law .rtf.; valid choices: depth_only, .*rft, rft3d"):
         laws.apply_law("rtf", 0.01, (0, 0, -1), (0, 0, -1), 1.0)
     with pytest.raises(ValueError, match="unknown medium 'sand'.*poppy_cp"):
         laws.rft(0.01, (0, 0, -1), (0, 0, -1), 1.0, "sand")

@@ -53,6 +53,21 @@ def depth_only(depth, normal, velocity, area, medium="poppy_cp"):
     return apply_law("depth_only", depth, normal, velocity, area, medium)
 
 
+def wet(depth, normal, velocity, area, medium="sea_sand_saturated"):
+    """SGRFT saturated wet sand: Li RFT x a speed factor of each element's speed (:mod:`mjrft.laws.wet`)."""
+    return apply_law("wet", depth, normal, velocity, area, medium)
+
+
+def water(depth, normal, velocity, area, medium="sea_sand_saturated"):
+    """Drag of the free-water layer above the sand, ``depth < 0`` (:mod:`mjrft.laws.wet`); needs ``water_depth``."""
+    return apply_law("water", depth, normal, velocity, area, medium)
+
+
+def hybrid(depth, normal, velocity, area, medium="poppy_cp"):
+    """Hybrid curved-leg model per thin-leg element (:mod:`mjrft.laws.hybrid`)."""
+    return apply_law("hybrid", depth, normal, velocity, area, medium)
+
+
 def rft3d_alpha_generic(normal, velocity):
     """3D-RFT generic (dimensionless) response for unit normals/velocities, shape (n, 3)."""
     n = np.atleast_2d(np.asarray(normal, float))
@@ -62,7 +77,7 @@ def rft3d_alpha_generic(normal, velocity):
     return np.array([rft3d_generic(*a, *b) for a, b in zip(n, v)])
 
 
-LAWS = {"rft": rft, "rft3d": rft3d, "depth_only": depth_only}
+LAWS = {"rft": rft, "rft3d": rft3d, "depth_only": depth_only, "wet": wet, "water": water, "hybrid": hybrid}
 
-__all__ = ["LAWS", "LAW_IDS", "apply_law", "depth_only", "element_stress", "law_id", "rft", "rft3d",
-           "rft3d_alpha_generic"]
+__all__ = ["LAWS", "LAW_IDS", "apply_law", "depth_only", "element_stress", "hybrid", "law_id", "rft", "rft3d",
+           "rft3d_alpha_generic", "water", "wet"]

@@ -13,8 +13,10 @@ import numpy as np
 from numba import njit
 
 from .depth_only import depth_only_stress
+from .hybrid import hybrid_stress
 from .rft import rft_stress
 from .rft3d import rft3d_stress
+from .wet import water_stress, wet_stress
 
 
 @njit(cache=True, error_model="numpy")
@@ -25,6 +27,12 @@ def element_stress(law, depth, nx, ny, nz, mx, my, mz, speed, p):
         return rft3d_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
     if law == 2:
         return depth_only_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
+    if law == 3:
+        return wet_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
+    if law == 4:
+        return water_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
+    if law == 5:
+        return hybrid_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
     return 0.0, 0.0, 0.0
 
 

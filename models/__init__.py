@@ -1,0 +1,52 @@
+"""Robot and scene MJCF models for mjrft (installed as ``mjrft.models``).
+
+``model_path(name)`` gives the path of a committed default model (regenerate
+them with ``python -m mjrft.models.generate``); the parametric generators
+``hexapod_xml/hexapod_model``, ``biped_xml/biped_model`` and
+``humanoid_xml/humanoid_model`` are re-exported here (imported lazily).
+"""
+
+from __future__ import annotations
+
+import os
+
+_DIR = os.path.dirname(os.path.abspath(__file__))
+
+#: Committed default models (name -> file), see ``generate.py``.
+MODEL_NAMES = (
+    "hexapod",
+    "hexapod_rigid",
+    "hexapod_small",
+    "hexapod_small_rigid",
+    "biped",
+    "biped_wedge",
+    "biped_rigid",
+    "humanoid",
+    "humanoid_cutout",
+    "humanoid_rigid",
+)
+
+_LAZY = {
+    "hexapod_xml": "hexapod", "hexapod_model": "hexapod",
+    "biped_xml": "biped", "biped_model": "biped",
+    "humanoid_xml": "humanoid", "humanoid_model": "humanoid",
+}
+
+__all__ = ["MODEL_NAMES", "model_path", *_LAZY]
+
+
+def model_path(name: str) -> str:
+    """Absolute path of the committed model ``name`` (with or without ``.xml``)."""
+    key = name[:-4] if isinstance(name, str) and name.endswith(".xml") else name
+    if key not in MODEL_NAMES:
+        raise ValueError(f"unknown model {name!r}; valid names: {', '.join(MODEL_NAMES)}")
+    return os.path.join(_DIR, f"{key}.xml")
+
+
+def __getattr__(attr: str):
+    if attr in _LAZY:
+        import importlib
+
+        module = importlib.import_module(f".{_LAZY[attr]}", __name__)
+        return getattr(module, attr)
+    raise AttributeError(f"module {__name__!r} has no attribute {attr!r}")

@@ -1,0 +1,244 @@
+"""Shared MJCF scaffolding for the mjrft robot models (string templating).
+
+Scene convention
+----------------
+``sand=True`` (granular scenes):
+
+* the robot does NOT collide with the sand surface: granular forces come from
+  the mjrft terrain, not from MuJoCo contacts;
+* ``sand_surface`` is a visual-only, semi-transparent box filling the bed,
+  top face at ``z = 0`` (``contype = conaffinity = 0``);
+* ``bed_bottom`` is a rigid plane at ``z = -bed_depth`` (default 0.3 m) that
+  does collide, so a robot that sinks through the whole bed stops there;
+* the model carries its terrain set-up in ``<custom>``::
+
+      <text    name="mjrft:medium"     data="poppy_cp"/>
+      <text    name="mjrft:law"        data="rft"/>
+      <text    name="mjrft:bodies"     data="torso leg_lf ..."/>   (granular bodies)
+      <numeric name="mjrft:surface"    data="0"/>                  (surface height, m)
+      <numeric name="mjrft:resolution" data="0.005"/>              (element size, m)
+      <numeric name="scene:bed_depth"  data="0.3"/>                (bed depth, m; not an mjrft setting)
+
+``sand=False`` (rigid comparison scenes, the ``...Rigid-v0`` environments):
+``floor`` is a rigid plane at ``z = 0`` that collides; no ``mjrft:*`` custom
+entries are written.
+
+Collision filtering: robot geoms use ``contype=1 conaffinity=0`` and the
+ground planes ``contype=0 conaffinity=1``, so the robot collides with the
+ground/bed bottom but never with itself (legs of the hexapod sweep overlapping
+circles, and the planar biped's legs share a plane).
+
+All models use ``timestep = 1 ms`` and the ``implicitfast`` integrator.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+TIMESTEP = 0.001
+DEFAULT_BED_DEPTH = 0.3
+DEFAULT_MEDIUM = "poppy_cp"
+DEFAULT_LAW = "rft"
+SAND_RGBA = "0.86 0.74 0.52 0.45"
+
+#: Collision bits: robot geoms collide with the ground only (never with each other).
+ROBOT_CONTACT = 'contype="1" conaffinity="0"'
+GROUND_CONTACT = 'contype="0" conaffinity="1"'
+VISUAL_ONLY = 'contype="0" conaffinity="0"'
+
+
+def fmt(*values) -> str:
+    """Space separated, compact, deterministic number formatting."""
+    flat = []
+    for v in values:
+        flat.extend(np.ravel(v).tolist())
+    out = []
+    for x in flat:
+        s = f"{float(x):.6g}"
+        if s == "-0":
+            s = "0"
+        out.append(s)
+    return " ".join(out)
+
+
+def look_at(pos, target=(0.0, 0.0, 0.0)) -> str:
+    """``xyaxes`` string for a camera at ``pos`` looking at ``target`` (z up)."""
+    p = np.asarray(pos, float)
+    t = np.asarray(target, float)
+    z = p - t
+    z /= np.linalg.norm(z)
+    x = np.cross([0.0, 0.0, 1.0], z)
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    return fmt(x, y)
+
+
+def check_positive(name: str, value) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}") from None
+    if not math.isfinite(v) or v <= 0.0:
+        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
+    return v
+
+
+@dataclass
+class SceneOptions:
+    """Terrain / scene options shared by all robot generators."""
+
+    sand: bool = True
+    bed_depth: float = DEFAULT_BED_DEPTH
+    bed_length: float = 2.0  # m, along x (visual only); bed spans [-0.5, bed_length - 0.5]
+    bed_width: float = 1.0  # m, along y (visual only)
+    medium: str = DEFAULT_MEDIUM
+    law: str = DEFAULT_LAW
+    resolution: float = 0.01
+    surface: float = 0.0
+    granular_bodies: list[str] = field(default_factory=list)
+
+    def validate(self) -> None:
+        check_positive("bed_depth", self.bed_depth)
+        check_positive("bed_length", self.bed_length)
+        check_positive("bed_width", self.bed_width)
+        check_positive("resolution", self.resolution)
+        if not math.isfinite(float(self.surface)):
+            raise ValueError(f"surface must be finite, got {self.surface!r}")
+        for name, val in (("medium", self.medium), ("law", self.law)):
+            if not isinstance(val, str) or not val or any(c.isspace() or c in '"<>&' for c in val):
+                raise ValueError(f"{name} must be a non-empty identifier string, got {val!r}")
+
+
+def pop_scene_options(kw: dict, *, resolution: float, bed_length: float, bed_width: float,
+                      granular_bodies: list[str], sand: bool) -> SceneOptions:
+    """Build SceneOptions from generator keyword arguments (removing them from ``kw``)."""
+    opts = SceneOptions(
+        sand=bool(sand),
+        bed_depth=kw.pop("bed_depth", DEFAULT_BED_DEPTH),
+        bed_length=kw.pop("bed_length", bed_length),
+        bed_width=kw.pop("bed_width", bed_width),
+        medium=kw.pop("medium", DEFAULT_MEDIUM),
+        law=kw.pop("law", DEFAULT_LAW),
+        resolution=kw.pop("resolution", resolution),
+        surface=kw.pop("surface", 0.0),
+        granular_bodies=list(kw.pop("granular_bodies", granular_bodies)),
+    )
+    opts.validate()
+    return opts
+
+
+def reject_unknown(kw: dict, func: str) -> None:
+    if kw:
+        raise TypeError(f"{func}() got unexpected keyword argument(s): {', '.join(sorted(kw))}")
+
+
+def _ground_xml(opts: SceneOptions) -> str:
+    if not opts.sand:
+        return (
+            f'    <geom name="floor" type="plane" size="0 0 0.05" material="grid" {GROUND_CONTACT}/>'
+        )
+    hx = opts.bed_length / 2.0
+    hy = opts.bed_width / 2.0
+    hz = opts.bed_depth / 2.0
+    cx = hx - 0.5
+    top = float(opts.surface)
+    return "\n".join(
+        [
+            "    <!-- granular bed: visual-only sand (forces come from mjrft), rigid bottom -->",
+            f'    <geom name="sand_surface" type="box" pos="{fmt(cx, 0, top - hz)}" '
+            f'size="{fmt(hx, hy, hz)}" material="sand" {VISUAL_ONLY} group="1"/>',
+            f'    <geom name="bed_bottom" type="plane" pos="{fmt(0, 0, top - opts.bed_depth)}" '
+            f'size="0 0 0.05" material="grid" {GROUND_CONTACT}/>',
+        ]
+    )
+
+
+def _custom_xml(opts: SceneOptions, extra: str = "") -> str:
+    lines = []
+    if opts.sand:
+        lines += [
+            f'    <text name="mjrft:medium" data="{opts.medium}"/>',
+            f'    <text name="mjrft:law" data="{opts.law}"/>',
+            f'    <text name="mjrft:bodies" data="{" ".join(opts.granular_bodies)}"/>',
+            f'    <numeric name="mjrft:surface" data="{fmt(opts.surface)}"/>',
+            f'    <numeric name="mjrft:resolution" data="{fmt(opts.resolution)}"/>',
+            f'    <numeric name="scene:bed_depth" data="{fmt(opts.bed_depth)}"/>',
+        ]
+    if extra:
+        lines.append(extra.rstrip("\n"))
+    if not lines:
+        return ""
+    return "  <custom>\n" + "\n".join(lines) + "\n  </custom>\n"
+
+
+def assemble(
+    *,
+    model: str,
+    comment: str,
+    opts: SceneOptions,
+    robot: str,
+    actuators: str,
+    extent: float,
+    center=(0.0, 0.0, 0.0),
+    assets: str = "",
+    defaults: str = "",
+    custom_extra: str = "",
+    contact: str = "",
+) -> str:
+    """Assemble a complete MJCF document around the robot's ``<body>`` tree."""
+    comment = comment.strip().replace("--", "-")
+    parts = [
+        f'<mujoco model="{model}">',
+        "<!--",
+        comment,
+        "",
+        "Generated by `python -m mjrft.models.generate`; do not edit by hand.",
+        "-->",
+        '  <compiler angle="radian" autolimits="true"/>',
+        f'  <option timestep="{fmt(TIMESTEP)}" integrator="implicitfast"/>',
+        f'  <statistic center="{fmt(center)}" extent="{fmt(extent)}"/>',
+        "  <visual>",
+        '    <headlight diffuse="0.6 0.6 0.6" ambient="0.3 0.3 0.3" specular="0 0 0"/>',
+        '    <global azimuth="140" elevation="-20"/>',
+        f'    <map znear="{fmt(0.01)}"/>',
+        "  </visual>",
+        "  <asset>",
+        '    <texture type="skybox" builtin="gradient" rgb1="0.3 0.5 0.7" rgb2="0 0 0" width="512" height="512"/>',
+        '    <texture name="grid" type="2d" builtin="checker" rgb1="0.2 0.3 0.4" rgb2="0.1 0.2 0.3" '
+        'width="512" height="512" mark="edge" markrgb="0.8 0.8 0.8"/>',
+        f'    <material name="grid" texture="grid" texrepeat="{fmt(max(1.0, 4.0 / extent))} '
+        f'{fmt(max(1.0, 4.0 / extent))}" texuniform="true" reflectance="0.1"/>',
+        f'    <material name="sand" rgba="{SAND_RGBA}"/>',
+        '    <material name="body" rgba="0.25 0.3 0.35 1"/>',
+        '    <material name="limb" rgba="0.75 0.45 0.15 1"/>',
+        '    <material name="foot" rgba="0.55 0.2 0.15 1"/>',
+    ]
+    if assets:
+        parts.append(assets.rstrip("\n"))
+    parts.append("  </asset>")
+    if defaults:
+        parts += ["  <default>", defaults.rstrip("\n"), "  </default>"]
+    parts += [
+        "  <worldbody>",
+        '    <light name="sun" directional="true" pos="0 0 3" dir="-0.3 0.2 -1" diffuse="0.7 0.7 0.7" castshadow="true"/>',
+        _ground_xml(opts),
+        robot.rstrip("\n"),
+        "  </worldbody>",
+    ]
+    if contact:
+        parts += ["  <contact>", contact.rstrip("\n"), "  </contact>"]
+    parts += ["  <actuator>", actuators.rstrip("\n"), "  </actuator>"]
+    custom = _custom_xml(opts, custom_extra)
+    if custom:
+        parts.append(custom.rstrip("\n"))
+    parts.append("</mujoco>")
+    return "\n".join(parts) + "\n"
+
+
+def box_inertia(mass: float, size) -> np.ndarray:
+    """Principal inertia of a solid box (``size`` = MuJoCo half sizes)."""
+    a, b, c = (2.0 * float(s) for s in size)
+    return mass / 12.0 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
