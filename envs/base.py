@@ -1,0 +1,280 @@
+"""Shared base class of the mjrft Gymnasium environments (a ``gymnasium.envs.mujoco.MujocoEnv``).
+
+Every environment builds its MJCF with the parametric generators of :mod:`mjrft.models`
+(``sand=True``: granular bed, forces from :class:`mjrft.GranularTerrain`; ``sand=False``: rigid floor,
+plain MuJoCo contacts) and steps the simulation in :meth:`GranularMujocoEnv.do_simulation`, where
+``frame_skip`` physics steps go through ONE ``terrain.step(data, frame_skip)`` call (each step is
+``mj_step1`` / granular wrench / ``mj_step2``).
+
+Common keyword arguments (all environments):
+
+=========================  ============================================================================
+``medium``                 granular medium name (``mjrft.MEDIA``) or :class:`mjrft.Medium`; default
+                           from the model (``poppy_cp``). Checked also for rigid envs (then unused).
+``law``                    ``"rft"``, ``"rft3d"`` or ``"depth_only"``; default from the model (``rft``).
+``resolution``             surface element size (m, > 0); default from the model.
+``frame_skip``             physics steps (1 ms each) per ``step()`` (int >= 1).
+``forward_reward_weight``  weight of the forward speed ``dx/dt`` (m/s) of the torso.
+``energy_cost_weight``     weight of the dimensionless power ``P / (m g)`` in m/s; ``P = sum |tau_i
+                           qdot_i|`` (W) over the actuators. With weight 1 the ratio of this cost to
+                           the forward reward is the cost of transport (``info["cost_of_transport"]``).
+``ctrl_cost_weight``       weight of ``sum(action**2)`` (default 0).
+``healthy_reward``         reward per step while healthy (see each class for the thresholds).
+``terminate_when_unhealthy``  end the episode (``terminated=True``) when not healthy.
+``reset_noise_scale``      half width of the uniform noise added to ``qpos``/``qvel`` at reset.
+``episode_seconds``        optional simulated-time limit: ``truncated=True`` once ``data.time`` reaches it
+                           (the registered ids also carry ``max_episode_steps`` -> ``TimeLimit``).
+``render_mode``            ``None``, ``"human"``, ``"rgb_array"`` or ``"depth_array"``. Off-screen
+                           rendering needs an OpenGL backend: set ``MUJOCO_GL=egl`` (GPU) or
+                           ``MUJOCO_GL=osmesa`` (software) before importing mujoco.
+=========================  ============================================================================
+
+Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power`` (W),
+``cost_of_transport`` (``P / (m g max(|v_x|, 1e-3))``), ``reward_forward``, ``reward_energy``,
+``reward_ctrl``, ``reward_healthy``, ``is_healthy``, ``sinkage`` (array (n_feet,), deepest element
+depth below the surface of each foot/leg body in m, order ``foot_names``; zeros on rigid ground) and
+``granular_force`` (array (n_feet, 3), net granular force on each foot/leg body in N, world frame;
+zeros on rigid ground).
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+from gymnasium import spaces, utils
+from gymnasium.envs.mujoco import MujocoEnv
+
+from mjrft.coupler import GranularTerrain
+from mjrft.errors import check_positive
+from mjrft.laws import law_id
+from mjrft.media import get_medium
+from mjrft.models import model_path
+
+G = 9.81
+
+
+def check_frame_skip(frame_skip) -> int:
+    if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
+        raise ValueError(f"frame_skip must be an integer >= 1, got {frame_skip!r}")
+    return int(frame_skip)
+
+
+class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
+    """Base class; subclasses define ``_make_xml``, ``_get_obs``, ``is_healthy`` and the action mapping."""
+
+    metadata = {"render_modes": ["human", "rgb_array", "depth_array", "rgbd_tuple"]}
+    #: committed model whose path is handed to MujocoEnv (the simulation itself is built from the XML)
+    base_model = "hexapod"
+    #: body names reported in ``info["sinkage"]`` / ``info["granular_force"]``
+    foot_names: tuple[str, ...] = ()
+    torso_name = "torso"
+    default_camera_config = {"trackbodyid": 1, "distance": 1.0, "elevation": -20.0}
+
+    def __init__(self, xml: str, *, sand: bool = True, medium=None, law=None, resolution=None,
+                 frame_skip: int = 10, forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.1,
+                 ctrl_cost_weight: float = 0.0, healthy_reward: float = 1.0,
+                 terminate_when_unhealthy: bool = True, reset_noise_scale: float = 1e-3,
+                 episode_seconds: float | None = None, render_mode: str | None = None,
+                 width: int = 480, height: int = 480, camera_name: str | None = None, pickle_kwargs: dict | None = None):
+        frame_skip = check_frame_skip(frame_skip)
+        # early validation (rigid envs too), naming the bad value and the valid choices
+        if medium is not None:
+            get_medium(medium)
+        if law is not None:
+            law_id(law)
+        if resolution is not None:
+            check_positive("resolution", resolution)
+        for name, val in (("forward_reward_weight", forward_reward_weight),
+                          ("energy_cost_weight", energy_cost_weight), ("ctrl_cost_weight", ctrl_cost_weight),
+                          ("reset_noise_scale", reset_noise_scale)):
+            check_positive(name, val, allow_zero=True)
+        if not math.isfinite(float(healthy_reward)):
+            raise ValueError(f"healthy_reward must be finite, got {healthy_reward!r}")
+        if episode_seconds is not None:
+            check_positive("episode_seconds", episode_seconds)
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"unknown render_mode {render_mode!r}; valid choices: "
+                             f"{', '.join(self.metadata['render_modes'])}")
+
+        self._xml = xml
+        self.sand = bool(sand)
+        self._forward_reward_weight = float(forward_reward_weight)
+        self._energy_cost_weight = float(energy_cost_weight)
+        self._ctrl_cost_weight = float(ctrl_cost_weight)
+        self._healthy_reward = float(healthy_reward)
+        self._terminate_when_unhealthy = bool(terminate_when_unhealthy)
+        self._reset_noise_scale = float(reset_noise_scale)
+        self._episode_seconds = None if episode_seconds is None else float(episode_seconds)
+
+        # per-instance metadata so MujocoEnv's render_fps check matches this frame_skip
+        self.metadata = dict(self.metadata)
+        timestep = mujoco.MjModel.from_xml_string(xml).opt.timestep
+        self.metadata["render_fps"] = int(np.round(1.0 / (timestep * frame_skip)))
+
+        MujocoEnv.__init__(self, model_path(self.base_model), frame_skip, observation_space=None,
+                           render_mode=render_mode, width=width, height=height, camera_name=camera_name,
+                           default_camera_config=self.default_camera_config)
+        utils.EzPickle.__init__(self, **(pickle_kwargs or {}))
+
+        self.terrain = (GranularTerrain(self.model, medium, law, resolution=resolution) if self.sand else None)
+        self._torso_id = self.model.body(self.torso_name).id
+        self._foot_ids = np.array([self.model.body(n).id for n in self.foot_names], dtype=np.int64)
+        self._total_mass = float(self.model.body_subtreemass[0])
+        self._act_dof = np.array([self.model.jnt_dofadr[j] for j in self.model.actuator_trnid[:, 0]])
+
+        self._setup_action()
+        obs = self._get_obs()
+        self.observation_space = spaces.Box(-np.inf, np.inf, shape=obs.shape, dtype=np.float64)
+
+    # ------------------------------------------------------------------ simulation
+    def _initialize_simulation(self):
+        model = mujoco.MjModel.from_xml_string(self._xml)
+        model.vis.global_.offwidth = max(model.vis.global_.offwidth, self.width)
+        model.vis.global_.offheight = max(model.vis.global_.offheight, self.height)
+        return model, mujoco.MjData(model)
+
+    def _set_action_space(self):
+        # replaced in _setup_action (normalised actions); MujocoEnv calls this before the subclass is ready
+        nu = self.model.nu
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(nu,), dtype=np.float32)
+        return self.action_space
+
+    def _setup_action(self) -> None:
+        """Normalised joint targets: ``a = 0`` is the initial pose, ``a = -1 / +1`` the ctrlrange ends."""
+        nu = self.model.nu
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(nu,), dtype=np.float32)
+        lo, hi = self.model.actuator_ctrlrange.T.copy()
+        q0 = self.init_qpos[self.model.jnt_qposadr[self.model.actuator_trnid[:, 0]]]
+        self._ctrl_lo, self._ctrl_hi = lo, hi
+        self._ctrl_mid = np.clip(q0, lo, hi)
+
+    def action_to_ctrl(self, action: np.ndarray) -> np.ndarray:
+        """Piecewise-linear map [-1, 0, 1] -> [ctrl_low, q_initial, ctrl_high] (per actuator)."""
+        a = np.clip(action, -1.0, 1.0)
+        mid = self._ctrl_mid
+        return np.where(a >= 0, mid + a * (self._ctrl_hi - mid), mid + a * (mid - self._ctrl_lo))
+
+    def ctrl_to_action(self, ctrl: np.ndarray) -> np.ndarray:
+        """Inverse of :meth:`action_to_ctrl` (targets outside the ctrlrange are clipped)."""
+        mid = self._ctrl_mid
+        c = np.clip(ctrl, self._ctrl_lo, self._ctrl_hi)
+        up = np.where(self._ctrl_hi > mid, (c - mid) / np.maximum(self._ctrl_hi - mid, 1e-12), 0.0)
+        down = np.where(mid > self._ctrl_lo, (c - mid) / np.maximum(mid - self._ctrl_lo, 1e-12), 0.0)
+        return np.where(c >= mid, up, down).astype(np.float32)
+
+    def do_simulation(self, ctrl, n_frames) -> None:
+        """``n_frames`` physics steps with ``ctrl``: one ``terrain.step(data, n_frames)`` on sand."""
+        ctrl = np.asarray(ctrl, dtype=np.float64)
+        if ctrl.shape != (self.model.nu,):
+            raise ValueError(f"Action dimension mismatch. Expected {(self.model.nu,)}, found {ctrl.shape}")
+        if not np.all(np.isfinite(ctrl)):
+            raise ValueError(f"control contains NaN or infinite values: {ctrl!r}")
+        self.data.ctrl[:] = ctrl
+        if self.terrain is not None:
+            self.terrain.step(self.data, n_frames)
+        else:
+            mujoco.mj_step(self.model, self.data, nstep=n_frames)
+
+    # ------------------------------------------------------------------ measurements
+    def torso_height(self) -> float:
+        return float(self.data.xpos[self._torso_id, 2])
+
+    def torso_tilt(self) -> float:
+        """Angle (rad) between the torso's z axis and the world vertical."""
+        return float(np.arccos(np.clip(self.data.xmat[self._torso_id, 8], -1.0, 1.0)))
+
+    def power(self) -> float:
+        """Mechanical power ``sum |tau_i * qdot_i|`` (W) of the actuators."""
+        return float(np.sum(np.abs(self.data.actuator_force * self.data.qvel[self._act_dof])))
+
+    def foot_sinkage(self) -> np.ndarray:
+        if self.terrain is None:
+            return np.zeros(len(self._foot_ids))
+        return self.terrain.sinkage()[self._foot_ids].copy()
+
+    def foot_granular_force(self) -> np.ndarray:
+        if self.terrain is None:
+            return np.zeros((len(self._foot_ids), 3))
+        return self.terrain.wrench[self._foot_ids, :3].copy()
+
+    @property
+    def is_healthy(self) -> bool:
+        raise NotImplementedError
+
+    # ------------------------------------------------------------------ gym API
+    def _check_action(self, action) -> np.ndarray:
+        a = np.asarray(action, dtype=np.float64)
+        if a.shape != self.action_space.shape:
+            raise ValueError(f"action must have shape {self.action_space.shape}, got {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"action contains NaN or infinite values: {a!r}")
+        return a
+
+    def _forward_reward(self, x_velocity: float, xy_velocity: np.ndarray) -> float:
+        return self._forward_reward_weight * x_velocity
+
+    def step(self, action):
+        a = self._check_action(action)
+        x_before = self.data.qpos[0].copy()
+        com_before = self.data.subtree_com[self._torso_id, :2].copy()
+        self.do_simulation(self.action_to_ctrl(a), self.frame_skip)
+        x_after = self.data.qpos[0]
+        x_velocity = float((x_after - x_before) / self.dt)
+        xy_velocity = (self.data.subtree_com[self._torso_id, :2] - com_before) / self.dt
+
+        power = self.power()
+        healthy = self.is_healthy
+        forward_reward = self._forward_reward(x_velocity, xy_velocity)
+        healthy_reward = self._healthy_reward if (healthy or not self._terminate_when_unhealthy) else 0.0
+        energy_cost = self._energy_cost_weight * power / (self._total_mass * G)
+        ctrl_cost = self._ctrl_cost_weight * float(np.sum(np.square(a)))
+        reward = forward_reward + healthy_reward - energy_cost - ctrl_cost
+
+        terminated = (not healthy) and self._terminate_when_unhealthy
+        truncated = self._episode_seconds is not None and self.data.time >= self._episode_seconds - 1e-9
+        info = {
+            "x_position": float(x_after),
+            "x_velocity": x_velocity,
+            "power": power,
+            "cost_of_transport": power / (self._total_mass * G * max(abs(x_velocity), 1e-3)),
+            "reward_forward": forward_reward,
+            "reward_energy": -energy_cost,
+            "reward_ctrl": -ctrl_cost,
+            "reward_healthy": healthy_reward,
+            "is_healthy": bool(healthy),
+            "sinkage": self.foot_sinkage(),
+            "granular_force": self.foot_granular_force(),
+        }
+        if self.render_mode == "human":
+            self.render()
+        return self._get_obs(), float(reward), bool(terminated), bool(truncated), info
+
+    def reset_model(self):
+        noise = self._reset_noise_scale
+        qpos = self.init_qpos + self.np_random.uniform(-noise, noise, size=self.model.nq)
+        qvel = self.init_qvel + self.np_random.uniform(-noise, noise, size=self.model.nv)
+        self._normalise_free_quat(qpos)
+        self.set_state(qpos, qvel)
+        if self.terrain is not None:
+            self.terrain.reset()
+        self._reset_extra()
+        self.data.ctrl[:] = self.action_to_ctrl(np.zeros(self.model.nu))
+        return self._get_obs()
+
+    def _reset_extra(self) -> None:
+        pass
+
+    def _normalise_free_quat(self, qpos) -> None:
+        for j in range(self.model.njnt):
+            if self.model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:
+                adr = self.model.jnt_qposadr[j] + 3
+                qpos[adr:adr + 4] /= np.linalg.norm(qpos[adr:adr + 4])
+
+    def _get_reset_info(self):
+        return {
+            "x_position": float(self.data.qpos[0]),
+            "sinkage": self.foot_sinkage(),
+            "granular_force": self.foot_granular_force(),
+        }

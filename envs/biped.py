@@ -1,0 +1,105 @@
+"""Planar robophysics biped on granular media (``mjrft/BipedSand-v0``) or rigid ground (``mjrft/BipedRigid-v0``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mjrft.errors import check_positive
+from mjrft.models.biped import biped_xml
+
+from .base import GranularMujocoEnv
+
+
+class BipedSand(GranularMujocoEnv):
+    """Planar 1.6 kg biped (x-z plane, 4 pitch servos per leg) walking forward (+x) on sand.
+
+    Model: :func:`mjrft.models.biped_xml` (``foot``, ``foot_size``, ``foot_width``, ``sand``, ...);
+    granular bodies ``left_foot right_foot``. Physics step 1 ms, default ``frame_skip = 10``.
+
+    ## Action space
+
+    ``Box(-1, 1, (8,), float32)``, actuator order ``left_hip, left_knee_upper, left_knee_lower,
+    left_ankle, right_hip, ...``: normalised joint-angle targets of the position servos, mapped
+    piecewise-linearly ``-1 -> ctrlrange low``, ``0 -> initial pose (0 rad, legs straight)``,
+    ``+1 -> ctrlrange high`` (hip [-2, 2], knee joints [-0.3, 1.6], ankle [-1.2, 1.2] rad;
+    ``env.unwrapped.action_to_ctrl`` / ``ctrl_to_action`` convert).
+
+    ## Observation space
+
+    ``Box(-inf, inf, (21,), float64)`` (with the default ``pitch_free=True``):
+
+    | index  | observation                                                | unit      |
+    |--------|------------------------------------------------------------|-----------|
+    | 0      | ``rootz``: torso height change from the initial height     | m         |
+    | 1      | ``rooty``: torso pitch                                     | rad       |
+    | 2-9    | joint angles (actuator order)                              | rad       |
+    | 10     | torso x velocity                                           | m/s       |
+    | 11     | torso z velocity                                           | m/s       |
+    | 12     | torso pitch rate                                           | rad/s     |
+    | 13-20  | joint velocities                                           | rad/s     |
+
+    The x position (``rootx``) is excluded.
+
+    ## Rewards
+
+    | term     | value                                                          | default weight |
+    |----------|----------------------------------------------------------------|----------------|
+    | forward  | ``forward_reward_weight * dx/dt`` (m/s)                         | 1.0            |
+    | healthy  | ``healthy_reward`` per step while healthy                       | 0.5            |
+    | energy   | ``-energy_cost_weight * sum|tau qdot| / (m g)`` (m/s)            | 0.05           |
+    | ctrl     | ``-ctrl_cost_weight * sum(a**2)``                               | 0.0            |
+
+    ## Termination and truncation
+
+    Unhealthy: torso (hip axis) height outside ``healthy_z_range`` (default (0.12, 0.6) m; standing
+    it is 0.2075 m above the surface) or torso pitch magnitude above ``max_tilt`` (default 1.0 rad).
+    Truncation: ``max_episode_steps`` of the registration (1000 steps = 10 s), ``episode_seconds``.
+
+    ## Info
+
+    See :mod:`mjrft.envs.base`; ``sinkage`` / ``granular_force`` rows: ``left_foot``, ``right_foot``.
+    """
+
+    base_model = "biped"
+    foot_names = ("left_foot", "right_foot")
+    default_camera_config = {"trackbodyid": 1, "distance": 1.2, "elevation": -10.0}
+
+    def __init__(self, sand: bool = True, *, foot: str = "round", foot_size: float = 0.085,
+                 pitch_free: bool = True, medium=None, law=None, resolution=None, frame_skip: int = 10,
+                 forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.05,
+                 ctrl_cost_weight: float = 0.0, healthy_reward: float = 0.5,
+                 terminate_when_unhealthy: bool = True, healthy_z_range=(0.12, 0.6), max_tilt: float = 1.0,
+                 reset_noise_scale: float = 1e-3, episode_seconds: float | None = None,
+                 render_mode: str | None = None, **kwargs):
+        pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
+        pickle_kwargs.update(kwargs)
+        self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
+        if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
+            raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
+        self._max_tilt = check_positive("max_tilt", max_tilt)
+        xml = biped_xml(foot=foot, foot_size=foot_size, pitch_free=pitch_free, sand=sand, **kwargs)
+        super().__init__(
+            xml, sand=sand, medium=medium, law=law, resolution=resolution, frame_skip=frame_skip,
+            forward_reward_weight=forward_reward_weight, energy_cost_weight=energy_cost_weight,
+            ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
+            terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
+            episode_seconds=episode_seconds, render_mode=render_mode,
+            pickle_kwargs=pickle_kwargs,
+        )
+
+    def _get_obs(self) -> np.ndarray:
+        return np.concatenate([self.data.qpos[1:], self.data.qvel]).astype(np.float64)
+
+    @property
+    def is_healthy(self) -> bool:
+        lo, hi = self._healthy_z_range
+        return bool(lo < self.torso_height() < hi and self.torso_tilt() < self._max_tilt
+                    and np.all(np.isfinite(self.data.qpos)))
+
+
+class BipedRigid(BipedSand):
+    """:class:`BipedSand` on a rigid floor (``sand=False``; see that class for the tables)."""
+
+    def __init__(self, **kwargs):
+        kwargs.pop("sand", None)
+        super().__init__(sand=False, **kwargs)

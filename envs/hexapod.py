@@ -1,0 +1,137 @@
+"""RHex-class hexapod on granular media (``mjrft/HexapodSand-v0``) or rigid ground (``mjrft/HexapodRigid-v0``)."""
+
+from __future__ import annotations
+
+import numpy as np
+from gymnasium import spaces
+
+from mjrft.errors import check_positive
+from mjrft.models.hexapod import LEG_NAMES, TRIPOD_A, TRIPOD_B, hexapod_xml
+
+from .base import GranularMujocoEnv
+
+
+class HexapodSand(GranularMujocoEnv):
+    """RHex-class hexapod (150 g, six continuously rotating C-legs) walking forward (+x) on sand.
+
+    Model: :func:`mjrft.models.hexapod_xml` (``variant``, ``curvature``, ``sand``); granular bodies
+    torso + six legs. Physics step 1 ms, default ``frame_skip = 10`` (``dt = 0.01`` s).
+
+    ## Action space
+
+    ``Box(-1, 1, (6,), float32)``: hip angular-velocity commands, in the actuator order
+    ``hip_lf, hip_lm, hip_lr, hip_rf, hip_rm, hip_rr``. Each step the position-servo target of hip
+    ``i`` is advanced by ``a_i * max_hip_speed * dt`` (``max_hip_speed`` default ``6 pi`` rad/s =
+    3 rev/s; positive = the forward-walking rotation), then kept within ``max_lag`` (default 1 rad)
+    of the current hip angle so the target cannot wind up. ``a = 0`` holds the legs where they are.
+    An alternating tripod at ``f`` Hz is ``a = 2 pi f / max_hip_speed`` on every leg with the two
+    tripods (A = lf, rm, lr; B = rf, lm, rr: ``TRIPOD_A_IDX`` / ``TRIPOD_B_IDX``) half a turn apart.
+
+    ## Observation space
+
+    ``Box(-inf, inf, (35,), float64)``:
+
+    | index  | observation                                              | unit          |
+    |--------|----------------------------------------------------------|---------------|
+    | 0      | torso height z                                           | m             |
+    | 1-4    | torso orientation quaternion (w, x, y, z)                | -             |
+    | 5-10   | sin(hip angle), legs lf lm lr rf rm rr                   | -             |
+    | 11-16  | cos(hip angle), same order                               | -             |
+    | 17-19  | torso linear velocity (world x, y, z)                    | m/s           |
+    | 20-22  | torso angular velocity (local frame)                     | rad/s         |
+    | 23-28  | hip angular velocities                                   | rad/s         |
+    | 29-34  | servo target minus hip angle                             | rad           |
+
+    The x, y position is excluded (as in gymnasium's locomotion tasks).
+
+    ## Rewards
+
+    | term            | value                                                             | default weight |
+    |-----------------|-------------------------------------------------------------------|----------------|
+    | forward         | ``forward_reward_weight * dx/dt`` (torso x velocity, m/s)          | 1.0            |
+    | healthy         | ``healthy_reward`` per step while healthy                          | 0.1            |
+    | energy          | ``-energy_cost_weight * sum|tau qdot| / (m g)`` (m/s)               | 0.05           |
+    | ctrl            | ``-ctrl_cost_weight * sum(a**2)``                                  | 0.0            |
+
+    ## Termination and truncation
+
+    Unhealthy (``terminated`` when ``terminate_when_unhealthy``): torso height outside
+    ``healthy_z_range`` (default (-0.05, 0.5) m; z = 0 is the sand surface) or torso tilt (angle of its
+    z axis from vertical) above ``max_tilt`` (default 1.2 rad, i.e. flipped over).
+    Truncation: ``max_episode_steps`` of the registration (1000 steps = 10 s) and ``episode_seconds``.
+
+    ## Info
+
+    See :mod:`mjrft.envs.base`; ``sinkage`` and ``granular_force`` are per leg (6 rows, order above).
+    """
+
+    base_model = "hexapod"
+    foot_names = tuple(f"leg_{n}" for n in LEG_NAMES)
+    TRIPOD_A_IDX = tuple(LEG_NAMES.index(n) for n in TRIPOD_A)
+    TRIPOD_B_IDX = tuple(LEG_NAMES.index(n) for n in TRIPOD_B)
+    default_camera_config = {"trackbodyid": 1, "distance": 0.6, "elevation": -20.0}
+
+    def __init__(self, sand: bool = True, *, variant: str = "rhex", curvature: float | None = None,
+                 medium=None, law=None, resolution=None, frame_skip: int = 10,
+                 forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.05,
+                 ctrl_cost_weight: float = 0.0, healthy_reward: float = 0.1,
+                 terminate_when_unhealthy: bool = True, healthy_z_range=(-0.05, 0.5), max_tilt: float = 1.2,
+                 max_hip_speed: float = 6 * np.pi, max_lag: float = 1.0, reset_noise_scale: float = 1e-3,
+                 episode_seconds: float | None = None, render_mode: str | None = None, **kwargs):
+        pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
+        pickle_kwargs.update(kwargs)
+        self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
+        if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
+            raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
+        self._max_tilt = check_positive("max_tilt", max_tilt)
+        self._max_hip_speed = check_positive("max_hip_speed", max_hip_speed)
+        self._max_lag = check_positive("max_lag", max_lag)
+        xml = hexapod_xml(curvature, variant=variant, sand=sand, **kwargs)
+        super().__init__(
+            xml, sand=sand, medium=medium, law=law, resolution=resolution, frame_skip=frame_skip,
+            forward_reward_weight=forward_reward_weight, energy_cost_weight=energy_cost_weight,
+            ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
+            terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
+            episode_seconds=episode_seconds, render_mode=render_mode,
+            pickle_kwargs=pickle_kwargs,
+        )
+
+    # ------------------------------------------------------------------ actions
+    def _setup_action(self) -> None:
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(6,), dtype=np.float32)
+        joints = self.model.actuator_trnid[:, 0]
+        self._hip_qadr = self.model.jnt_qposadr[joints].copy()
+        self._hip_dadr = self.model.jnt_dofadr[joints].copy()
+        self._target = self.data.qpos[self._hip_qadr].copy()
+
+    def action_to_ctrl(self, action: np.ndarray) -> np.ndarray:
+        """Integrate the hip-velocity command into the servo targets (changes the env's state)."""
+        a = np.clip(action, -1.0, 1.0)
+        q = self.data.qpos[self._hip_qadr]
+        self._target = np.clip(self._target + a * self._max_hip_speed * self.dt, q - self._max_lag,
+                               q + self._max_lag)
+        return self._target.copy()
+
+    def _reset_extra(self) -> None:
+        self._target = self.data.qpos[self._hip_qadr].copy()
+
+    # ------------------------------------------------------------------ observation / health
+    def _get_obs(self) -> np.ndarray:
+        qpos, qvel = self.data.qpos, self.data.qvel
+        hips = qpos[self._hip_qadr]
+        return np.concatenate([qpos[2:7], np.sin(hips), np.cos(hips), qvel[:6], qvel[self._hip_dadr],
+                               self._target - hips]).astype(np.float64)
+
+    @property
+    def is_healthy(self) -> bool:
+        z = self.torso_height()
+        lo, hi = self._healthy_z_range
+        return bool(lo < z < hi and self.torso_tilt() < self._max_tilt and np.all(np.isfinite(self.data.qpos)))
+
+
+class HexapodRigid(HexapodSand):
+    """:class:`HexapodSand` on a rigid floor (``sand=False``; see that class for the tables)."""
+
+    def __init__(self, **kwargs):
+        kwargs.pop("sand", None)
+        super().__init__(sand=False, **kwargs)

@@ -1,0 +1,114 @@
+"""HUBO-class humanoid on granular media (``mjrft/HumanoidSand-v0``) or rigid ground (``mjrft/HumanoidRigid-v0``)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mjrft.errors import check_positive
+from mjrft.models.humanoid import FOOT_LENGTH, FOOT_WIDTH, humanoid_xml
+
+from .base import GranularMujocoEnv
+
+TASKS = ("walk", "stand")
+
+
+class HumanoidSand(GranularMujocoEnv):
+    """HUBO-class humanoid (1.2 m, 50 kg, 19 position servos) walking or standing on sand.
+
+    Model: :func:`mjrft.models.humanoid_xml` (``foot_length``, ``foot_width``, ``foot_cutout``,
+    ``sand``); granular bodies ``left_foot right_foot``. Physics step 1 ms, default ``frame_skip = 10``.
+
+    ## Action space
+
+    ``Box(-1, 1, (19,), float32)`` in actuator order (``left_hip_yaw, left_hip_roll, left_hip_pitch,
+    left_knee, left_ankle_pitch, left_ankle_roll``, the same ``right_``, ``waist_yaw``, then per arm
+    ``shoulder_pitch, shoulder_roll, elbow``): normalised joint-angle targets mapped piecewise-linearly
+    ``-1 -> ctrlrange low``, ``0 -> initial pose (all 0 rad, standing straight)``,
+    ``+1 -> ctrlrange high``. ``a = 0`` therefore holds the initial posture.
+
+    ## Observation space
+
+    ``Box(-inf, inf, (49,), float64)``:
+
+    | index  | observation                                         | unit      |
+    |--------|-----------------------------------------------------|-----------|
+    | 0      | pelvis height z (surface at 0; 0.78 m standing)     | m         |
+    | 1-4    | pelvis orientation quaternion (w, x, y, z)          | -         |
+    | 5-23   | joint angles (actuator order)                       | rad       |
+    | 24-26  | pelvis linear velocity (world)                      | m/s       |
+    | 27-29  | pelvis angular velocity (local)                     | rad/s     |
+    | 30-48  | joint velocities                                    | rad/s     |
+
+    ## Rewards
+
+    | term     | ``task="walk"``                               | ``task="stand"``                            | default |
+    |----------|-----------------------------------------------|---------------------------------------------|---------|
+    | forward  | ``forward_reward_weight * dx/dt`` (m/s)        | ``-forward_reward_weight * |v_xy|`` (CoM)     | 1.0     |
+    | healthy  | ``healthy_reward`` per step while healthy      | same                                        | 1.0     |
+    | energy   | ``-energy_cost_weight * sum|tau qdot|/(m g)``  | same                                        | 0.05    |
+    | ctrl     | ``-ctrl_cost_weight * sum(a**2)``              | same                                        | 0.0     |
+
+    ## Termination and truncation
+
+    Unhealthy (a fall): pelvis height outside ``healthy_z_range`` (default (0.5, 1.2) m) or pelvis tilt
+    from vertical above ``max_tilt`` (default 0.8 rad). Truncation: ``max_episode_steps`` of the
+    registration (1000 steps = 10 s) and ``episode_seconds``.
+
+    ## Info
+
+    See :mod:`mjrft.envs.base`; ``sinkage`` / ``granular_force`` rows: ``left_foot``, ``right_foot``.
+    """
+
+    base_model = "humanoid"
+    foot_names = ("left_foot", "right_foot")
+    torso_name = "pelvis"
+    default_camera_config = {"trackbodyid": 1, "distance": 4.0, "elevation": -15.0}
+
+    def __init__(self, sand: bool = True, *, task: str = "walk", foot_length: float = FOOT_LENGTH,
+                 foot_width: float = FOOT_WIDTH, foot_cutout: bool = False, medium=None, law=None,
+                 resolution=None, frame_skip: int = 10, forward_reward_weight: float = 1.0,
+                 energy_cost_weight: float = 0.05, ctrl_cost_weight: float = 0.0, healthy_reward: float = 1.0,
+                 terminate_when_unhealthy: bool = True, healthy_z_range=(0.5, 1.2), max_tilt: float = 0.8,
+                 reset_noise_scale: float = 1e-3, episode_seconds: float | None = None,
+                 render_mode: str | None = None, **kwargs):
+        pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
+        pickle_kwargs.update(kwargs)
+        if task not in TASKS:
+            raise ValueError(f"unknown task {task!r}; valid choices: {', '.join(TASKS)}")
+        self.task = task
+        self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
+        if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
+            raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
+        self._max_tilt = check_positive("max_tilt", max_tilt)
+        xml = humanoid_xml(foot_length=foot_length, foot_width=foot_width, foot_cutout=foot_cutout, sand=sand,
+                           **kwargs)
+        super().__init__(
+            xml, sand=sand, medium=medium, law=law, resolution=resolution, frame_skip=frame_skip,
+            forward_reward_weight=forward_reward_weight, energy_cost_weight=energy_cost_weight,
+            ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
+            terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
+            episode_seconds=episode_seconds, render_mode=render_mode,
+            pickle_kwargs=pickle_kwargs,
+        )
+
+    def _forward_reward(self, x_velocity: float, xy_velocity: np.ndarray) -> float:
+        if self.task == "stand":
+            return -self._forward_reward_weight * float(np.linalg.norm(xy_velocity))
+        return self._forward_reward_weight * x_velocity
+
+    def _get_obs(self) -> np.ndarray:
+        return np.concatenate([self.data.qpos[2:], self.data.qvel]).astype(np.float64)
+
+    @property
+    def is_healthy(self) -> bool:
+        lo, hi = self._healthy_z_range
+        return bool(lo < self.torso_height() < hi and self.torso_tilt() < self._max_tilt
+                    and np.all(np.isfinite(self.data.qpos)))
+
+
+class HumanoidRigid(HumanoidSand):
+    """:class:`HumanoidSand` on a rigid floor (``sand=False``; see that class for the tables)."""
+
+    def __init__(self, **kwargs):
+        kwargs.pop("sand", None)
+        super().__init__(sand=False, **kwargs)
