@@ -1,0 +1,1 @@
+"""Training, evaluation and rollout scripts (stable-baselines3); installed as ``mjrft.train``."""
