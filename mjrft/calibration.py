@@ -102,7 +102,7 @@ def _array(name, values, n=None):
         raise ValueError(f"{name} has {arr.size} values, expected {n} (one per sample)")
     bad = np.flatnonzero(~np.isfinite(arr))
     if bad.size:
-        raise ValueError(f"{name}[{bad[0]}] = {arr[bad[0]]!r} is not finite")
+        raise ValueError(f"{name}[{bad[0]}] = {float(arr[bad[0]])!r} is not finite")
     return arr
 
 
@@ -176,11 +176,11 @@ def fit_wet_speed_coefficient(data, speed=None, force=None, *, v_base=V_BASE, dv
     dep, spd, frc = d["depth"], d["speed"], d["force"]
     for i in range(dep.size):
         if dep[i] < 0:
-            raise ValueError(f"{where(i, 'depth')}: depth must be >= 0 (below the surface), got {dep[i]!r}")
+            raise ValueError(f"{where(i, 'depth')}: depth must be >= 0 (below the surface), got {float(dep[i])!r}")
         if spd[i] < 0:
-            raise ValueError(f"{where(i, 'speed')}: speed must be >= 0, got {spd[i]!r}")
+            raise ValueError(f"{where(i, 'speed')}: speed must be >= 0, got {float(spd[i])!r}")
         if dep[i] >= min_depth and dep[i] > 0 and frc[i] <= 0:
-            raise ValueError(f"{where(i, 'force')}: force must be > 0 below min_depth, got {frc[i]!r}")
+            raise ValueError(f"{where(i, 'force')}: force must be > 0 below min_depth, got {float(frc[i])!r}")
     keep = (dep >= min_depth) & (dep > 0)
     if np.count_nonzero(keep) < 3:
         raise ValueError(f"{where.whole()}: need at least 3 samples at depth >= min_depth = {min_depth!r} m, "
@@ -188,7 +188,7 @@ def fit_wet_speed_coefficient(data, speed=None, force=None, *, v_base=V_BASE, dv
     dep, spd, frc = dep[keep], spd[keep], frc[keep]
     if np.unique(spd).size < 2:
         raise ValueError(f"{where.whole()}: need at least 2 different speeds to fit a speed coefficient, "
-                         f"got only {spd[0]!r} m/s")
+                         f"got only {float(spd[0])!r} m/s")
     x = (spd - v_base) / dv
     y = np.log(frc / dep)
     a = np.stack([np.ones_like(x), x], axis=1)
@@ -235,9 +235,9 @@ def fit_hybrid_constants(data, depth=None, f_perp=None, f_par=None) -> HybridFit
     dep, fp, fq = d["depth"], d["F_perp"], d["F_par"]
     for i in range(dep.size):
         if not (0.0 <= raw[i] <= limit * (1 + 1e-12)):
-            raise ValueError(f"{where(i, psi_col)}: psi must be in [0, {limit:g}], got {raw[i]!r}")
+            raise ValueError(f"{where(i, psi_col)}: psi must be in [0, {limit:g}], got {float(raw[i])!r}")
         if dep[i] <= 0:
-            raise ValueError(f"{where(i, 'depth')}: depth must be > 0 (below the surface), got {dep[i]!r}")
+            raise ValueError(f"{where(i, 'depth')}: depth must be > 0 (below the surface), got {float(dep[i])!r}")
     key = np.round(dep, 6)
     depths = np.unique(key)
     out = {k: np.empty(depths.size) for k in ("c_perp", "c_perp_h", "c_par", "c_par_h")}
@@ -246,7 +246,7 @@ def fit_hybrid_constants(data, depth=None, f_perp=None, f_par=None) -> HybridFit
         sp = np.sin(psi[idx])
         cp = np.cos(psi[idx])
         if np.unique(np.round(sp, 12)).size < 2:
-            raise ValueError(f"{where.whole()}: depth {dd!r} m needs samples at 2 or more different psi, "
+            raise ValueError(f"{where.whole()}: depth {float(dd)!r} m needs samples at 2 or more different psi, "
                              f"got {idx.size} sample(s) at psi = {float(psi[idx[0]])!r} rad")
         a = np.stack([1.0 - sp, sp], axis=1)  # C_perp^h (1 - sin psi) + C_perp sin psi
         (ch, c), *_ = np.linalg.lstsq(a, fp[idx], rcond=None)
@@ -255,7 +255,7 @@ def fit_hybrid_constants(data, depth=None, f_perp=None, f_par=None) -> HybridFit
                      axis=1)
         sol, _, rank, _ = np.linalg.lstsq(b, fq[idx], rcond=None)
         if rank < 2:
-            raise ValueError(f"{where.whole()}: depth {dd!r} m: F_par needs a sample below 36 deg and one at a "
+            raise ValueError(f"{where.whole()}: depth {float(dd)!r} m: F_par needs a sample below 36 deg and one at a "
                              f"different psi to separate C_par^h from C_par")
         out["c_perp_h"][k], out["c_perp"][k] = ch, c
         out["c_par_h"][k], out["c_par"][k] = sol
