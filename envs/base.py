@@ -62,7 +62,7 @@ def check_frame_skip(frame_skip) -> int:
 
 
 class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
-    """Base class; subclasses define ``_make_xml``, ``_get_obs``, ``is_healthy`` and the action mapping."""
+    """Base class; subclasses define ``_make_xml``, ``_get_obs``, ``_healthy_z_range``, ``_max_tilt`` and the action mapping."""
 
     metadata = {"render_modes": ["human", "rgb_array", "depth_array", "rgbd_tuple"]}
     #: committed model whose path is handed to MujocoEnv (the simulation itself is built from the XML)
@@ -201,7 +201,10 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
     @property
     def is_healthy(self) -> bool:
-        raise NotImplementedError
+        """Torso height inside ``healthy_z_range``, tilt below ``max_tilt`` and a finite state."""
+        lo, hi = self._healthy_z_range
+        return bool(lo < self.torso_height() < hi and self.torso_tilt() < self._max_tilt
+                    and np.all(np.isfinite(self.data.qpos)))
 
     # ------------------------------------------------------------------ gym API
     def _check_action(self, action) -> np.ndarray:

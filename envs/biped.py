@@ -90,12 +90,6 @@ class BipedSand(GranularMujocoEnv):
     def _get_obs(self) -> np.ndarray:
         return np.concatenate([self.data.qpos[1:], self.data.qvel]).astype(np.float64)
 
-    @property
-    def is_healthy(self) -> bool:
-        lo, hi = self._healthy_z_range
-        return bool(lo < self.torso_height() < hi and self.torso_tilt() < self._max_tilt
-                    and np.all(np.isfinite(self.data.qpos)))
-
 
 class BipedRigid(BipedSand):
     """:class:`BipedSand` on a rigid floor (``sand=False``; see that class for the tables)."""

@@ -122,12 +122,6 @@ class HexapodSand(GranularMujocoEnv):
         return np.concatenate([qpos[2:7], np.sin(hips), np.cos(hips), qvel[:6], qvel[self._hip_dadr],
                                self._target - hips]).astype(np.float64)
 
-    @property
-    def is_healthy(self) -> bool:
-        z = self.torso_height()
-        lo, hi = self._healthy_z_range
-        return bool(lo < z < hi and self.torso_tilt() < self._max_tilt and np.all(np.isfinite(self.data.qpos)))
-
 
 class HexapodRigid(HexapodSand):
     """:class:`HexapodSand` on a rigid floor (``sand=False``; see that class for the tables)."""

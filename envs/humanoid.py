@@ -99,12 +99,6 @@ class HumanoidSand(GranularMujocoEnv):
     def _get_obs(self) -> np.ndarray:
         return np.concatenate([self.data.qpos[2:], self.data.qvel]).astype(np.float64)
 
-    @property
-    def is_healthy(self) -> bool:
-        lo, hi = self._healthy_z_range
-        return bool(lo < self.torso_height() < hi and self.torso_tilt() < self._max_tilt
-                    and np.all(np.isfinite(self.data.qpos)))
-
 
 class HumanoidRigid(HumanoidSand):
     """:class:`HumanoidSand` on a rigid floor (``sand=False``; see that class for the tables)."""

@@ -38,6 +38,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mjrft.geometry.curved_leg import positive_finite as check_positive
+
 TIMESTEP = 0.001
 DEFAULT_BED_DEPTH = 0.3
 DEFAULT_MEDIUM = "poppy_cp"
@@ -74,16 +76,6 @@ def look_at(pos, target=(0.0, 0.0, 0.0)) -> str:
     x /= np.linalg.norm(x)
     y = np.cross(z, x)
     return fmt(x, y)
-
-
-def check_positive(name: str, value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}") from None
-    if not math.isfinite(v) or v <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-    return v
 
 
 @dataclass

@@ -47,7 +47,7 @@ __all__ = [
 ]
 
 
-def _check_positive(name: str, value) -> float:
+def positive_finite(name: str, value) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -59,7 +59,7 @@ def _check_positive(name: str, value) -> float:
 
 def max_curvature(chord: float) -> float:
     """Largest allowed ``|curvature|`` (1/m) for ``chord``: ``2/chord`` (a semicircle)."""
-    return 2.0 / _check_positive("chord", chord)
+    return 2.0 / positive_finite("chord", chord)
 
 
 def _check_curvature(chord: float, curvature) -> float:
@@ -91,7 +91,7 @@ def arc_length(chord: float, curvature: float) -> float:
 
     ``chord`` for a straight leg, ``pi/2 * chord`` for a semicircle.
     """
-    c = _check_positive("chord", chord)
+    c = positive_finite("chord", chord)
     k = _check_curvature(c, curvature)
     if k == 0.0:
         return c
@@ -105,7 +105,7 @@ def _direction(alpha: float) -> np.ndarray:
 
 def arc_points(chord: float, curvature: float, n: int = 64) -> np.ndarray:
     """``(n+1, 3)`` points on the leg centre line from hip (0,0,0) to tip (0,0,-chord)."""
-    c = _check_positive("chord", chord)
+    c = positive_finite("chord", chord)
     k = _check_curvature(c, curvature)
     n = int(n)
     if n < 1:
@@ -135,9 +135,9 @@ def curved_leg_boxes(
     "size": (3,) half sizes}`` ordered from hip to tip. See the module
     docstring for the conventions.
     """
-    c = _check_positive("chord", chord)
-    w = _check_positive("width", width)
-    t = _check_positive("thickness", thickness)
+    c = positive_finite("chord", chord)
+    w = positive_finite("width", width)
+    t = positive_finite("thickness", thickness)
     if isinstance(n_segments, bool) or not isinstance(n_segments, (int, np.integer, Real)):
         raise ValueError(f"n_segments must be an integer >= 1, got {n_segments!r}")
     if float(n_segments) != int(n_segments) or int(n_segments) < 1:
