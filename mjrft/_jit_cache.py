@@ -2,8 +2,10 @@
 
 numba invalidates a cached function only when its own source file changes, not when a function it
 calls (in another file) does, so a stale kernel could survive an edit or upgrade of a force law.
-We therefore cache under a folder named after a hash of all of mjrft's sources:
-``$MJRFT_CACHE_DIR`` (default ``~/.cache/mjrft``) / ``numba-<hash>``. Must run before any
+We therefore cache under a folder named after a hash of the sources compiled code can depend on:
+every file of mjrft that mentions numba, plus ``media.py`` (the parameter-vector layout the laws
+index) and this file. ``$MJRFT_CACHE_DIR`` (default ``~/.cache/mjrft``) / ``numba-<hash>``. Editing
+pure-Python modules (the coupler, the CLI) therefore keeps the cache. Must run before any
 ``@njit(cache=True)`` in mjrft is decorated.
 """
 
@@ -20,8 +22,10 @@ def configure() -> str:
     root = Path(__file__).resolve().parent
     h = hashlib.sha1(numba.__version__.encode())
     for path in sorted(root.rglob("*.py")):
-        h.update(str(path.relative_to(root)).encode())
-        h.update(path.read_bytes())
+        text = path.read_bytes()
+        if b"numba" in text or path.name == "media.py":
+            h.update(str(path.relative_to(root)).encode())
+            h.update(text)
     base = Path(os.environ.get("MJRFT_CACHE_DIR", Path.home() / ".cache" / "mjrft"))
     folder = base / f"numba-{h.hexdigest()[:16]}"
     try:

@@ -1,30 +1,63 @@
-"""The ``mjrft`` command line: ``mjrft demo`` (and ``mjrft --help``)."""
+"""The ``mjrft`` command line: one entry point, one subcommand per task (``mjrft <command> --help``).
+
+Each subcommand lives in its own module, which provides ``add_arguments(parser)`` and
+``main(args) -> int``; the module is imported only when its command runs, so ``mjrft --help`` and
+the light commands stay fast and work without the optional extras.
+
+=========  =============================  =====================================================
+command    module                         what it does
+=========  =============================  =====================================================
+demo       ``mjrft.demo``                 hexapod tripod gait on poppy seeds, logged to rerun
+settle     ``mjrft.settle``               drop a box foot and a legged body; sinkage vs analytic
+rig        ``mjrft.rigs``                 plate-intruder and rotating-leg rigs; arrays + plots
+train      ``mjrft.train.train``          stable-baselines3 training (PPO/SAC), resumable
+eval       ``mjrft.train.evaluate``       deterministic evaluation of a policy or gait
+rollout    ``mjrft.train.rollout``        any policy or gait, any env, headless, to a rerun file
+bench      ``mjrft.tradeoff``             the speed/accuracy trade study
+sweep      ``mjrft.train.sweep``          parameter grids, local processes or Ray, resumable
+=========  =============================  =====================================================
+"""
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
+
+COMMANDS = {
+    "demo": ("mjrft.demo", "hexapod tripod gait on poppy seeds, headless, logged to a rerun file"),
+    "settle": ("mjrft.settle", "drop a box foot and a legged body onto sand; print sinkage vs analytic"),
+    "rig": ("mjrft.rigs", "run the plate-intruder or rotating-leg rig; save force profiles and plots"),
+    "train": ("mjrft.train.train", "train a policy with stable-baselines3 (PPO or SAC), resumable"),
+    "eval": ("mjrft.train.evaluate", "evaluate a trained policy or an open-loop gait; print a table"),
+    "rollout": ("mjrft.train.rollout", "roll out a policy or gait headless and log it to a rerun file"),
+    "bench": ("mjrft.tradeoff", "measure the speed/accuracy trade of resolution, law and timestep"),
+    "sweep": ("mjrft.train.sweep", "run a parameter grid (local processes or Ray), resumable"),
+}
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The parser; only ``command``'s module is imported (all of them when ``command`` is None)."""
+    parser = argparse.ArgumentParser(prog="mjrft", description="Granular terrain (RFT) for MuJoCo.")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for name, (module, help_text) in COMMANDS.items():
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        if command is None or name == command:
+            importlib.import_module(module).add_arguments(p)
+    return parser
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="mjrft", description="Granular terrain (RFT) for MuJoCo.")
-    sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="drop a box foot and a legged body onto poppy seeds; print the sinkage")
-    demo.add_argument("--medium", default="poppy_cp", help="medium name (default poppy_cp)")
-    demo.add_argument("--drop", type=float, default=0.01, help="drop height above the surface in m (default 0.01)")
+    argv = list(sys.argv[1:] if argv is None else argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    parser = build_parser(command if command in COMMANDS else "")
     args = parser.parse_args(argv)
-    if args.command == "demo":
-        from .media import get_medium
-        from .demo import run
-
-        try:
-            get_medium(args.medium)
-        except ValueError as exc:
-            parser.error(str(exc))
-        if not args.drop >= 0:
-            parser.error(f"--drop must be >= 0, got {args.drop}")
-        run(args.medium, args.drop)
-    return 0
+    module = importlib.import_module(COMMANDS[args.command][0])
+    try:
+        return int(module.main(args) or 0)
+    except (ValueError, KeyError) as exc:  # bad user input: one clear line, exit status 2
+        msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
+        parser.exit(2, f"mjrft {args.command}: error: {msg}\n")
 
 
 if __name__ == "__main__":

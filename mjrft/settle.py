@@ -1,4 +1,4 @@
-"""The settling demo: a box foot and a small legged body dropped onto poppy seeds.
+"""``mjrft settle``: a box foot and a small legged body dropped onto poppy seeds.
 
 Prints, for each, the settled sinkage next to the analytic value. A plate loaded slowly settles at
 ``d0 = load / (alpha_z(0, pi/2) x area)``; dropped from a height h onto grains whose yield stress
@@ -72,6 +72,21 @@ def run(medium: str = "poppy_cp", drop: float = 0.01) -> list[dict]:
         print(f"{r['body']:34s} {r['elements']:8d} {r['sinkage'] * 1e3:7.2f}mm {r['dropped'] * 1e3:7.2f}mm "
               f"{r['quasi_static'] * 1e3:9.2f}mm {r['speed'] * 1e3:7.3f}mm/s")
     return rows
+
+
+def add_arguments(parser) -> None:
+    parser.add_argument("--medium", default="poppy_cp", help="medium name (mjrft.MEDIA; default poppy_cp)")
+    parser.add_argument("--drop", type=float, default=0.01, help="drop height above the surface in m (default 0.01)")
+
+
+def main(args) -> int:
+    from .media import get_medium
+
+    get_medium(args.medium)  # unknown name -> error listing the valid ones
+    if not (math.isfinite(args.drop) and args.drop >= 0):
+        raise ValueError(f"--drop must be a finite height >= 0 m, got {args.drop}")
+    run(args.medium, args.drop)
+    return 0
 
 
 if __name__ == "__main__":
