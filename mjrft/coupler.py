@@ -286,6 +286,12 @@ class GranularTerrain:
                 self._u, self.pos, self.vel, self.normal, self.depth, self.force, self.region,
                 self.wrench, self._stiff, self._damp)
 
+    def _step_args(self, data, dt) -> tuple:
+        """Arguments of ``kernel.run_steps`` after ``(nstep, f_step1, f_step2, m_addr, d_addr)`` (also used by
+        :mod:`mjrft.batch`, which keeps one such tuple per environment: the only list of them is here)."""
+        return (data.xfrc_applied, self.body_ids, self._saved, *self._kernel_args(dt), self._stiff_max,
+                self._damp_max)
+
     def _finish(self, data, status, body, dt, nstep) -> None:
         """Raise on a non-finite result; run the stability check every STABILITY_CHECK_EVERY steps."""
         if status != kernel.OK:
@@ -312,9 +318,8 @@ class GranularTerrain:
         rows = self.body_ids
         if _STEP_FUNCTIONS is not None and nstep > 0:
             dt = m.opt.timestep
-            status, body, done = kernel.run_steps(nstep, *_STEP_FUNCTIONS, m._address, data._address, xfrc, rows,
-                                                  self._saved, *self._kernel_args(dt), self._stiff_max,
-                                                  self._damp_max)
+            status, body, done = kernel.run_steps(nstep, *_STEP_FUNCTIONS, m._address, data._address,
+                                                  *self._step_args(data, dt))
             self._last_time = data.time
             self._finish(data, status, body, dt, done)
             return
