@@ -1,0 +1,398 @@
+"""``mjrft eval``: deterministic evaluation of a trained policy or an open-loop gait.
+
+>>> from mjrft.train.evaluate import evaluate
+>>> rows, summary = evaluate("runs/hex/model.zip", episodes=5, seed=0)        # env from the run's config.json
+>>> rows, summary = evaluate("tripod:f=2", "mjrft/HexapodSand-v0", episodes=3, env_kwargs={"max_episode_steps": 300})
+
+Episode ``i`` starts from ``env.reset(seed=seed + i)``; with ``deterministic=True`` (the default) a
+trained policy acts on its mean action, so the same seed gives the same rows bit for bit. With
+``deterministic=False`` the policy's sampling is seeded with ``seed`` as well.
+
+Metrics (one row per episode; the summary holds their mean and standard deviation and the fall rate):
+
+==================  =====================================================================================
+``return``          sum of the env's rewards
+``steps``           env steps; ``seconds`` = steps x ``env.dt``
+``speed``           forward speed (m/s): torso displacement along +x over the episode / its duration
+                    (``info["x_position"]`` at reset and at the last step)
+``cot``             cost of transport (dimensionless): actuator energy ``sum(info["power"]) x dt``
+                    divided by ``m g |dx|`` (m: total mass, dx: the x displacement); ``|dx|`` is floored
+                    at 1 mm/s x duration, the same floor as the env's per-step ``info["cost_of_transport"]``
+``sink_mean_mm``    mean sinkage (mm) of the feet that are in the sand: the average of ``info["sinkage"]``
+                    (deepest element of each foot/leg body) over every step and every foot whose sinkage
+                    is > 0 (a foot in the air does not dilute it); 0 when no foot ever entered the sand
+``sink_peak_mm``    the largest ``info["sinkage"]`` over the episode and the feet (mm)
+``slip``            foot slip (m/s): the mean horizontal speed of the foot surface that is in contact
+                    with the ground, weighted by contact area and time. On sand the grains are at rest
+                    (RFT), so every buried foot element's horizontal speed is its slip:
+                    ``sum(area |v_xy|) / sum(area)`` over the buried elements of the foot/leg bodies
+                    (``terrain.depth > 0``, ``terrain.vel``, ``terrain.area``, ``terrain.elem_body``) at every
+                    step. On rigid ground: the mean horizontal speed of the foot's material point at each
+                    foot-floor contact (MuJoCo contacts, velocity from ``mj_jac``). 0 without contact.
+``fell``            the episode ended by termination (unhealthy: fallen over or sunk), not by the time limit;
+                    the fall rate is the fraction of such episodes
+==================  =====================================================================================
+
+A policy is a gait spec (``tripod:f=2.0``, see :mod:`mjrft.gaits`), a stable-baselines3 ``.zip``
+saved by :mod:`mjrft.train.train` (or by ``PPO.save``/``SAC.save``), a run folder (its ``model.zip``),
+or any object with SB3's ``predict``. For a zip the ``config.json`` of its run (its folder, or the
+folder above ``checkpoints/``) gives the algorithm, the env id and env kwargs (those given here
+override them) and whether observations were normalised (then the saved VecNormalize statistics
+are applied, frozen). Without a config the algorithm is read from the zip itself.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, algo_class, check_env_id, default_hyperparams,
+                    find_config, load_config, make_env, parse_kwargs, side_file, _int_arg)
+
+G = 9.81
+COLUMNS = ("episode", "return", "steps", "seconds", "speed", "cot", "sink_mean_mm", "sink_peak_mm", "slip", "fell")
+#: printed headers (name, unit) of the metric columns
+HEADERS = {
+    "return": ("return", ""), "steps": ("steps", ""), "speed": ("speed", "m/s"), "cot": ("CoT", ""),
+    "sink_mean_mm": ("sink mean", "mm"), "sink_peak_mm": ("sink peak", "mm"), "slip": ("foot slip", "m/s"),
+    "fell": ("fell", ""),
+}
+
+
+# ---------------------------------------------------------------------------------------------- policies
+@dataclass
+class LoadedPolicy:
+    """What :func:`load_policy` returns: a gait spec still to be bound, or an SB3 model (+ its run config)."""
+
+    source: str
+    kind: str  # "gait", "ppo", "sac" or "object"
+    model: object = None
+    config: dict | None = None
+    vecnormalize: object = None  # frozen VecNormalize statistics applied to observations
+
+    def bind(self, env):
+        """A ``predict``-able policy for ``env`` (gaits are bound to the env's simulation clock)."""
+        if self.kind == "gait":
+            from mjrft.gaits import make_gait
+
+            return make_gait(self.source, env)
+        space = getattr(self.model, "observation_space", None)
+        if space is not None and space.shape != env.observation_space.shape:
+            raise ValueError(f"policy {self.source} expects observations of shape {space.shape}, but "
+                             f"{env.spec.id if env.spec else env} gives {env.observation_space.shape}")
+        return self
+
+    def predict(self, observation, state=None, episode_start=None, deterministic: bool = True):
+        if self.vecnormalize is not None:
+            observation = self.vecnormalize.normalize_obs(np.asarray(observation))
+        return self.model.predict(observation, state=state, episode_start=episode_start, deterministic=deterministic)
+
+
+def algo_of_zip(path) -> str:
+    """``"ppo"`` or ``"sac"`` from a saved SB3 zip (the algorithm whose hyper-parameters it stores)."""
+    try:
+        with zipfile.ZipFile(path) as zf:
+            data = json.loads(zf.read("data"))
+    except (zipfile.BadZipFile, KeyError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path} is not a stable-baselines3 model zip ({exc})") from None
+    missing = {a: sum(k not in data and f"_{k}" not in data for k in default_hyperparams(a)) for a in ALGOS}
+    return min(missing, key=missing.get)
+
+
+def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
+    """A gait spec, an SB3 zip / run folder (see the module doc), or an object with ``predict``."""
+    from mjrft.gaits import is_gait_spec
+
+    if hasattr(policy, "predict") and not isinstance(policy, (str, Path)):
+        return LoadedPolicy(type(policy).__name__, "object", model=policy)
+    if isinstance(policy, str) and is_gait_spec(policy):
+        from mjrft.gaits import parse_gait_spec
+
+        parse_gait_spec(policy)  # a bad parameter fails here, before any env is built
+        return LoadedPolicy(policy, "gait")
+    path = Path(policy)
+    if path.is_dir():
+        path = path / MODEL_NAME
+    if not path.is_file() and path.suffix != ".zip" and path.with_name(path.name + ".zip").is_file():
+        path = path.with_name(path.name + ".zip")
+    if not path.is_file():
+        from mjrft.gaits import GAITS
+
+        raise ValueError(f"policy {str(policy)!r} is neither a file nor a gait spec; give a model .zip, a run "
+                         f"folder or a gait ({', '.join(sorted(GAITS))}, e.g. tripod:f=2.0)")
+    cfg_path = find_config(path)
+    config = load_config(cfg_path) if cfg_path else None
+    algo = config["algo"] if config and "algo" in config else algo_of_zip(path)
+    model = algo_class(algo).load(str(path), device=device)
+    vecnorm = None
+    vn_path = side_file(path, VECNORM_SUFFIX)
+    if vn_path.exists():
+        import pickle
+
+        with open(vn_path, "rb") as fh:
+            vecnorm = pickle.load(fh)
+        vecnorm.training = False
+    elif config and config.get("normalize"):
+        raise ValueError(f"{path} was trained with normalised observations but {vn_path.name} is missing")
+    return LoadedPolicy(str(path), algo, model=model, config=config, vecnormalize=vecnorm)
+
+
+# ---------------------------------------------------------------------------------------------- metrics
+class _Meter:
+    """Accumulates one episode's metrics from the env's info dicts and terrain state."""
+
+    def __init__(self, env):
+        u = env.unwrapped
+        self.env = u
+        self.dt = float(u.dt)
+        self.mass = float(u.model.body_subtreemass[0])
+        self.foot_ids = np.array([u.model.body(n).id for n in u.foot_names], dtype=np.int64)
+        terrain = getattr(u, "terrain", None)
+        self.foot_elems = None if terrain is None else np.flatnonzero(np.isin(terrain.elem_body, self.foot_ids))
+        self._jac = np.zeros((3, u.model.nv))
+
+    def start(self, info) -> None:
+        self.x0 = float(info["x_position"])
+        self.x = self.x0
+        self.ret = 0.0
+        self.steps = 0
+        self.energy = 0.0
+        self.sink_sum = 0.0
+        self.sink_n = 0
+        self.sink_peak = 0.0
+        self.slip_num = 0.0
+        self.slip_den = 0.0
+
+    def step(self, reward, info) -> None:
+        self.ret += float(reward)
+        self.steps += 1
+        self.x = float(info["x_position"])
+        self.energy += float(info["power"]) * self.dt
+        sink = np.asarray(info["sinkage"], dtype=float)
+        inside = sink > 0
+        self.sink_sum += float(sink[inside].sum())
+        self.sink_n += int(inside.sum())
+        if sink.size:
+            self.sink_peak = max(self.sink_peak, float(sink.max()))
+        num, den = self._slip()
+        self.slip_num += num
+        self.slip_den += den
+
+    def _slip(self) -> tuple[float, float]:
+        u = self.env
+        if self.foot_elems is not None:
+            t = u.terrain
+            e = self.foot_elems[t.depth[self.foot_elems] > 0]
+            if e.size == 0:
+                return 0.0, 0.0
+            speed = np.hypot(t.vel[e, 0], t.vel[e, 1])
+            return float(np.sum(t.area[e] * speed)), float(np.sum(t.area[e]))
+        import mujoco
+
+        m, d = u.model, u.data
+        num = den = 0.0
+        for c in d.contact[: d.ncon]:
+            b1, b2 = m.geom_bodyid[c.geom1], m.geom_bodyid[c.geom2]
+            for foot, other in ((b1, b2), (b2, b1)):
+                if other == 0 and foot in self.foot_ids:
+                    mujoco.mj_jac(m, d, self._jac, None, c.pos, foot)
+                    v = self._jac @ d.qvel
+                    num += float(np.hypot(v[0], v[1]))
+                    den += 1.0
+        return num, den
+
+    def row(self, episode: int, terminated: bool) -> dict:
+        seconds = self.steps * self.dt
+        dx = self.x - self.x0
+        return {
+            "episode": episode,
+            "return": self.ret,
+            "steps": self.steps,
+            "seconds": seconds,
+            "speed": dx / seconds if seconds > 0 else 0.0,
+            "cot": self.energy / (self.mass * G * max(abs(dx), 1e-3 * seconds, 1e-12)),
+            "sink_mean_mm": 1e3 * self.sink_sum / self.sink_n if self.sink_n else 0.0,
+            "sink_peak_mm": 1e3 * self.sink_peak,
+            "slip": self.slip_num / self.slip_den if self.slip_den > 0 else 0.0,
+            "fell": bool(terminated),
+        }
+
+
+def summarize(rows: list[dict]) -> dict:
+    """Mean and standard deviation (population) of every metric, and the fall rate."""
+    out = {"episodes": len(rows)}
+    for key in COLUMNS[1:-1]:
+        vals = np.array([r[key] for r in rows], dtype=float)
+        out[key] = float(vals.mean())
+        out[key + "_std"] = float(vals.std())
+    out["fall_rate"] = float(np.mean([r["fell"] for r in rows]))
+    return out
+
+
+# ---------------------------------------------------------------------------------------------- evaluation
+def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed: int = 0,
+             env_kwargs: dict | None = None, deterministic: bool = True, rrd=None, *, device: str = "cpu",
+             log_every: int = 1) -> tuple[list[dict], dict]:
+    """Run ``episodes`` episodes of a policy or gait; return (per-episode rows, summary) (module doc).
+
+    ``env_id`` / ``env_kwargs`` default to those of the run a model zip belongs to (given kwargs
+    override the saved ones); a gait needs ``env_id``. ``rrd``: log the first episode to this rerun
+    file (every ``log_every``-th step) with :mod:`mjrft.rerun_log`.
+    """
+    from .train import _check_int
+
+    episodes = _check_int("episodes", episodes, 1)
+    seed = _check_int("seed", seed, 0)
+    log_every = _check_int("log_every", log_every, 1)
+    loaded = load_policy(policy_or_spec, device=device)
+    cfg = loaded.config or {}
+    env_id = env_id or cfg.get("env_id")
+    if env_id is None:
+        from mjrft.envs import ENV_IDS
+
+        raise ValueError(f"give the env id for policy {loaded.source!r} (valid choices: {', '.join(sorted(ENV_IDS))})")
+    check_env_id(env_id)
+    kwargs = {**(cfg.get("env_kwargs") or {}), **(env_kwargs or {})}
+    env = make_env(env_id, kwargs)
+    rows = []
+    try:
+        policy = loaded.bind(env)
+        if loaded.model is not None and hasattr(loaded.model, "set_random_seed"):
+            loaded.model.set_random_seed(seed)
+        meter = _Meter(env)
+        for ep in range(episodes):
+            logger = _open_logger(rrd, env, loaded.source) if (rrd is not None and ep == 0) else None
+            try:
+                rows.append(_episode(env, policy, meter, ep, seed + ep, deterministic, logger, log_every))
+            finally:
+                if logger is not None:
+                    logger.close()
+    finally:
+        env.close()
+    summary = summarize(rows)
+    summary.update(policy=loaded.source, kind=loaded.kind, env_id=env_id, env_kwargs=kwargs, seed=seed,
+                   deterministic=bool(deterministic))
+    return rows, summary
+
+
+def _episode(env, policy, meter, ep, seed, deterministic, logger, log_every) -> dict:
+    obs, info = env.reset(seed=seed)
+    meter.start(info)
+    state, start = None, np.ones(1, dtype=bool)
+    terminated = truncated = False
+    if logger is not None:
+        logger.log(env)
+    while not (terminated or truncated):
+        action, state = policy.predict(obs, state=state, episode_start=start, deterministic=deterministic)
+        start = np.zeros(1, dtype=bool)
+        obs, reward, terminated, truncated, info = env.step(action)
+        meter.step(reward, info)
+        if logger is not None and meter.steps % log_every == 0:
+            logger.log(env)
+    return meter.row(ep, terminated)
+
+
+def _open_logger(rrd, env, source):
+    """The rerun logger of :mod:`mjrft.rerun_log` writing ``rrd`` (see that module)."""
+    from mjrft import rerun_log
+
+    return rerun_log.episode_logger(rrd, env, name=f"mjrft eval {source}")
+
+
+# ---------------------------------------------------------------------------------------------- output
+def format_table(rows: list[dict], summary: dict) -> str:
+    keys = [k for k in COLUMNS[1:] if k != "seconds"]
+    heads = [HEADERS[k][0] for k in keys]
+    units = [HEADERS[k][1] for k in keys]
+    width = [max(9, len(h) + 1) for h in heads]
+
+    def fmt(key, v):
+        if key == "fell":
+            return "yes" if v else "no"
+        if key == "steps":
+            return f"{v:.0f}" if float(v).is_integer() else f"{v:.1f}"
+        if key in ("cot",) and abs(v) >= 1e3:
+            return f"{v:.3g}"
+        return f"{v:.3f}" if key in ("speed", "slip") else f"{v:.2f}"
+
+    lines = ["episode " + "".join(f"{h:>{w}s}" for h, w in zip(heads, width)),
+             "        " + "".join(f"{u:>{w}s}" for u, w in zip(units, width))]
+    for r in rows:
+        lines.append(f"{r['episode']:>7d} " + "".join(f"{fmt(k, r[k]):>{w}s}" for k, w in zip(keys, width)))
+    for label, suffix in (("mean", ""), ("std", "_std")):
+        cells = []
+        for k, w in zip(keys, width):
+            if k == "fell":
+                cells.append(f"{summary['fall_rate']:.0%}" if label == "mean" else "")
+            else:
+                cells.append(fmt(k, summary[k + suffix]))
+        lines.append(f"{label:>7s} " + "".join(f"{c:>{w}s}" for c, w in zip(cells, width)))
+    n_fell = sum(r["fell"] for r in rows)
+    lines.append(f"fall rate {summary['fall_rate']:.0%} ({n_fell} of {len(rows)} episodes terminated before the "
+                 f"time limit)")
+    return "\n".join(lines)
+
+
+def write_csv(path, rows: list[dict], summary: dict) -> None:
+    """Per-episode rows, then ``mean`` and ``std`` rows (``fell`` of the mean row is the fall rate)."""
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=COLUMNS)
+        w.writeheader()
+        for r in rows:
+            w.writerow({**r, "fell": int(r["fell"])})
+        w.writerow({"episode": "mean", **{k: summary[k] for k in COLUMNS[1:-1]}, "fell": summary["fall_rate"]})
+        w.writerow({"episode": "std", **{k: summary[k + "_std"] for k in COLUMNS[1:-1]}, "fell": ""})
+
+
+def write_json(path, rows: list[dict], summary: dict) -> None:
+    def clean(v):
+        return v if not isinstance(v, float) or math.isfinite(v) else repr(v)
+
+    data = {"summary": {k: clean(v) for k, v in summary.items()},
+            "episodes": [{k: clean(v) for k, v in r.items()} for r in rows]}
+    with open(path, "w") as fh:
+        json.dump(data, fh, indent=2)
+        fh.write("\n")
+
+
+# ---------------------------------------------------------------------------------------------- CLI
+def add_arguments(parser) -> None:
+    parser.add_argument("--policy", required=True,
+                        help="model .zip or run folder from 'mjrft train', or a gait spec such as tripod:f=2.0")
+    parser.add_argument("--env", dest="env_id", default=None,
+                        help="environment id (default: the one the model was trained on; required for a gait)")
+    parser.add_argument("--episodes", type=_int_arg, default=10, help="episodes (default 10)")
+    parser.add_argument("--seed", type=_int_arg, default=0, help="episode i resets with seed + i (default 0)")
+    parser.add_argument("--stochastic", action="store_true", help="sample actions instead of the mean action")
+    parser.add_argument("--device", default="cpu", help="torch device for a model (default cpu)")
+    parser.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
+    parser.add_argument("--json", default=None, metavar="FILE", help="also write rows and summary as JSON")
+    parser.add_argument("--rrd", default=None, metavar="FILE", help="log the first episode to a rerun file")
+    parser.add_argument("--log-every", type=_int_arg, default=1,
+                        help="with --rrd: log every N-th env step (default 1)")
+    parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
+                        help="environment keyword arguments (override the run's), e.g. max_episode_steps=500")
+
+
+def main(args) -> int:
+    env_kwargs = parse_kwargs(args.env_kwargs, "env kwarg")
+    rows, summary = evaluate(args.policy, args.env_id, args.episodes, args.seed, env_kwargs,
+                             deterministic=not args.stochastic, rrd=args.rrd, device=args.device,
+                             log_every=args.log_every)
+    kw = ", ".join(f"{k}={v}" for k, v in summary["env_kwargs"].items())
+    print(f"{summary['policy']} on {summary['env_id']}" + (f" ({kw})" if kw else "")
+          + f", {len(rows)} episode(s), seed {args.seed}, {'deterministic' if not args.stochastic else 'stochastic'}")
+    print(format_table(rows, summary))
+    for path, writer in ((args.csv, write_csv), (args.json, write_json)):
+        if path:
+            writer(path, rows, summary)
+            print(f"wrote {path}")
+    if args.rrd:
+        print(f"wrote {args.rrd} (first episode); open it with: rerun {args.rrd}")
+    return 0

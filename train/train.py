@@ -1,0 +1,616 @@
+"""``mjrft train``: stable-baselines3 (PPO or SAC) on the mjrft environments, resumable.
+
+>>> from mjrft.train.train import train
+>>> result = train("mjrft/HexapodSand-v0", "ppo", timesteps=200_000, n_envs=4, seed=0, out_dir="runs/hex",
+...                env_kwargs={"resolution": 0.02})
+>>> result.model_path, result.num_timesteps
+
+Run folder (``out_dir``):
+
+==============================================  ==========================================================
+``config.json``                                 the full configuration: env id and kwargs, algorithm, every
+                                                hyper-parameter (SB3 defaults filled in), seed, n_envs,
+                                                package versions, the step count and a history of runs
+``model.zip``                                   the policy after the last run (normal end or Ctrl-C)
+``model_vecnormalize.pkl``                      observation/reward statistics (only with ``normalize``)
+``checkpoints/step_<N>.zip``                    periodic checkpoints, N = ``num_timesteps`` (10 digits)
+``checkpoints/step_<N>_vecnormalize.pkl``       their VecNormalize statistics (only with ``normalize``)
+``checkpoints/step_<N>_replay_buffer.pkl``      SAC's replay buffer, kept for the newest checkpoint only
+``monitor.csv``                                 one row per finished episode (return, length, wall time);
+                                                a resumed run appends to it
+``logs/from_<N>/progress.csv``                  SB3's training log of the run that started at step N
+==============================================  ==========================================================
+
+Choices (the issue is silent on them):
+
+* ``timesteps`` is the TOTAL budget of the run folder, not an increment: calling :func:`train` again on
+  the same folder resumes from the newest checkpoint (``reset_num_timesteps=False``) and trains until
+  ``num_timesteps`` reaches ``timesteps``; a finished run is left alone.
+* Every save is atomic: each file is written under a temporary name, flushed to disk and renamed, and
+  a checkpoint's ``.zip`` is written after its side files, so an interruption at any moment leaves the
+  newest complete checkpoint intact (at worst a stray ``.tmp`` file, removed on the next save).
+* Resuming uses the saved configuration (env id, env kwargs, algorithm, hyper-parameters,
+  ``normalize``); passing different values raises a ``ValueError`` naming the difference. The
+  environments are re-seeded with ``seed + num_timesteps`` so a resumed run does not replay the
+  episodes it already saw. ``n_envs`` may change when resuming PPO, not SAC (its replay buffer is
+  laid out per environment).
+* SAC's ``buffer_size`` defaults to ``min(1_000_000, timesteps)``: SB3 pickles the whole buffer
+  array, so a 1e6 buffer for a 50k-step run would write ~0.5 GB per checkpoint for nothing.
+* With ``n_envs > 1`` the environments run in subprocesses (``SubprocVecEnv``, ``forkserver`` start
+  method on Linux, ``spawn`` elsewhere); the workers ignore SIGINT, so Ctrl-C reaches only the trainer,
+  which saves ``model.zip``, a checkpoint and ``config.json`` and returns (``interrupted=True``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import functools
+import inspect
+import json
+import math
+import multiprocessing
+import os
+import re
+import signal
+import sys
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from mjrft.errors import unknown
+
+ALGOS = ("ppo", "sac")
+POLICY = "MlpPolicy"
+CHECKPOINT_DIR = "checkpoints"
+CONFIG_NAME = "config.json"
+MODEL_NAME = "model.zip"
+VECNORM_SUFFIX = "_vecnormalize.pkl"
+BUFFER_SUFFIX = "_replay_buffer.pkl"
+SAC_MAX_BUFFER = 1_000_000
+#: constructor arguments of the algorithms that are not hyper-parameters (set by train() itself)
+NOT_HYPERPARAMS = ("self", "policy", "env", "seed", "device", "verbose", "tensorboard_log", "_init_setup_model")
+_CKPT_RE = re.compile(r"^step_(\d+)\.zip$")
+
+
+# ---------------------------------------------------------------------------------------------- parsing
+def parse_value(text: str):
+    """A command-line value: JSON (numbers, ``true``/``false``/``null``, lists, dicts, quoted strings),
+    Python's ``True``/``False``/``None``, otherwise the text itself (e.g. a medium name)."""
+    literal = {"True": True, "False": False, "None": None}
+    if text in literal:
+        return literal[text]
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError:
+        return text
+
+
+def parse_kwargs(items, what: str = "env kwarg") -> dict:
+    """``["resolution=0.02", "medium=poppy_lp"]`` -> ``{"resolution": 0.02, "medium": "poppy_lp"}``."""
+    out = {}
+    for item in items or ():
+        key, sep, value = str(item).partition("=")
+        key = key.strip()
+        if not sep or not key.isidentifier():
+            raise ValueError(f"{what} must be given as key=value (e.g. resolution=0.02), got {item!r}")
+        out[key] = parse_value(value.strip())
+    return out
+
+
+def _check_int(name: str, value, minimum: int) -> int:
+    if isinstance(value, float) and value.is_integer():
+        value = int(value)
+    if isinstance(value, bool) or not isinstance(value, int) or value < minimum:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    return value
+
+
+def _int_arg(text: str) -> int:
+    """argparse type accepting ``200000``, ``2e5`` and ``200_000``."""
+    try:
+        v = float(text.replace("_", ""))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if not math.isfinite(v) or not v.is_integer():
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}")
+    return int(v)
+
+
+# ---------------------------------------------------------------------------------------------- envs
+def check_env_id(env_id: str) -> str:
+    """``env_id`` if gymnasium knows it (mjrft registers its ids on import), else an error listing them."""
+    import gymnasium
+
+    import mjrft  # noqa: F401  (registers the mjrft environments)
+    from mjrft.envs import ENV_IDS
+
+    if not isinstance(env_id, str) or env_id not in gymnasium.registry:
+        raise unknown("env id", env_id, ENV_IDS)
+    return env_id
+
+
+def valid_env_kwargs(env_id: str) -> list[str]:
+    """Keyword arguments the environment ``env_id`` accepts (plus gymnasium.make's ``max_episode_steps``)."""
+    import gymnasium
+
+    spec = gymnasium.spec(env_id)
+    entry = spec.entry_point
+    if isinstance(entry, str):
+        module, _, attr = entry.partition(":")
+        import importlib
+
+        entry = getattr(importlib.import_module(module), attr)
+    names = set()
+    for cls in getattr(entry, "__mro__", (entry,)):
+        init = getattr(cls, "__init__", None)
+        if init is None or cls is object:
+            continue
+        try:
+            params = inspect.signature(init).parameters
+        except (TypeError, ValueError):
+            continue
+        names.update(n for n, p in params.items()
+                     if n != "self" and p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL))
+    names.discard("pickle_kwargs")
+    names.discard("xml")
+    return sorted(names | {"max_episode_steps"})
+
+
+def make_env(env_id: str, env_kwargs: dict | None = None, rank: int = 0):
+    """One environment: ``gymnasium.make(env_id, **env_kwargs)`` (``max_episode_steps`` goes to the
+    time limit). Inside a vec-env worker process SIGINT is ignored, so Ctrl-C stops only the trainer,
+    which then saves cleanly and closes the workers."""
+    import gymnasium
+
+    import mjrft  # noqa: F401  (registers the mjrft environments in a fresh worker process)
+
+    if multiprocessing.parent_process() is not None:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        return gymnasium.make(env_id, **dict(env_kwargs or {}))
+    except TypeError as exc:
+        if "keyword argument" not in str(exc):
+            raise
+        raise ValueError(f"bad env kwarg for {env_id}: {exc}; valid keyword arguments: "
+                         f"{', '.join(valid_env_kwargs(env_id))}") from None
+
+
+def start_method() -> str:
+    """``forkserver`` where available (Linux), else ``spawn``: safe with threads (torch, numba)."""
+    return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
+
+
+def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: dict | None = None, monitor_file=None):
+    """``n_envs`` environments (``SubprocVecEnv`` when more than one) seeded ``seed, seed+1, ...`` under a
+    ``VecMonitor`` that appends finished episodes to ``monitor_file``."""
+    from stable_baselines3.common.monitor import ResultsWriter
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
+
+    fns = [functools.partial(make_env, env_id, dict(env_kwargs or {}), i) for i in range(n_envs)]
+    venv = SubprocVecEnv(fns, start_method=start_method()) if n_envs > 1 else DummyVecEnv(fns)
+    venv.seed(seed)
+    venv = VecMonitor(venv)
+    if monitor_file is not None:
+        monitor_file = Path(monitor_file)
+        append = monitor_file.exists() and monitor_file.stat().st_size > 0
+        venv.results_writer = ResultsWriter(str(monitor_file), header={"t_start": venv.t_start, "env_id": env_id},
+                                            override_existing=not append)
+    return venv
+
+
+# ---------------------------------------------------------------------------------------------- algorithms
+def algo_class(algo: str):
+    """The stable-baselines3 class of ``algo`` (``"ppo"`` or ``"sac"``, case-insensitive)."""
+    name = str(algo).lower()
+    if name not in ALGOS:
+        raise unknown("algorithm", algo, ALGOS)
+    import stable_baselines3
+
+    return getattr(stable_baselines3, name.upper())
+
+
+def _jsonable(value):
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if value is None or isinstance(value, (bool, int, str)):
+        return value
+    if isinstance(value, float):
+        return value if math.isfinite(value) else repr(value)
+    if isinstance(value, type):
+        return f"{value.__module__}.{value.__qualname__}"
+    return repr(value)
+
+
+def default_hyperparams(algo: str) -> dict:
+    """Every hyper-parameter of ``algo``'s constructor with SB3's default."""
+    sig = inspect.signature(algo_class(algo).__init__)
+    return {n: p.default for n, p in sig.parameters.items()
+            if n not in NOT_HYPERPARAMS and p.default is not inspect.Parameter.empty}
+
+
+def resolve_hyperparams(algo: str, hyperparams: dict | None, timesteps: int) -> tuple[dict, dict]:
+    """(arguments to pass to the constructor, the full effective set for config.json)."""
+    defaults = default_hyperparams(algo)
+    given = dict(hyperparams or {})
+    for name in given:
+        if name not in defaults:
+            raise unknown(f"{algo.upper()} hyper-parameter", name, defaults)
+    if algo == "sac" and "buffer_size" not in given:
+        given["buffer_size"] = int(min(SAC_MAX_BUFFER, timesteps))
+    return given, _jsonable({**defaults, **given})
+
+
+# ---------------------------------------------------------------------------------------------- files
+def _fsync(path: Path) -> None:
+    with open(path, "rb+") as fh:
+        os.fsync(fh.fileno())
+
+
+def atomic_write(path, write) -> Path:
+    """Call ``write(tmp_path)``, flush the file to disk, then rename it to ``path`` (atomic on POSIX)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        write(tmp)
+        _fsync(tmp)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
+
+
+def write_json(path, data: dict) -> Path:
+    def write(tmp):
+        with open(tmp, "w") as fh:
+            json.dump(data, fh, indent=2, sort_keys=False)
+            fh.write("\n")
+    return atomic_write(path, write)
+
+
+def checkpoint_path(out_dir, step: int) -> Path:
+    return Path(out_dir) / CHECKPOINT_DIR / f"step_{int(step):010d}.zip"
+
+
+def side_file(model_path, suffix: str) -> Path:
+    """``.../step_N.zip`` -> ``.../step_N<suffix>`` (VecNormalize statistics, replay buffer)."""
+    model_path = Path(model_path)
+    return model_path.with_name(model_path.name[: -len(".zip")] + suffix)
+
+
+def list_checkpoints(out_dir) -> list[tuple[int, Path]]:
+    """Complete checkpoints in ``out_dir`` as ``(num_timesteps, path)``, oldest first."""
+    folder = Path(out_dir) / CHECKPOINT_DIR
+    if not folder.is_dir():
+        return []
+    found = []
+    for p in folder.iterdir():
+        m = _CKPT_RE.match(p.name)
+        if m and p.is_file():
+            found.append((int(m.group(1)), p))
+    return sorted(found)
+
+
+def find_config(model_path) -> Path | None:
+    """The ``config.json`` of the run a model belongs to (its folder, or the parent of ``checkpoints/``)."""
+    model_path = Path(model_path)
+    for folder in (model_path.parent, model_path.parent.parent):
+        if (folder / CONFIG_NAME).is_file():
+            return folder / CONFIG_NAME
+    return None
+
+
+def load_config(path) -> dict:
+    with open(path) as fh:
+        return json.load(fh)
+
+
+def versions() -> dict:
+    from importlib import metadata
+
+    out = {"python": sys.version.split()[0]}
+    for pkg in ("mjrft", "stable-baselines3", "torch", "gymnasium", "mujoco", "numpy", "numba"):
+        try:
+            out[pkg] = metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            out[pkg] = None
+    return out
+
+
+def save_checkpoint(model, out_dir, final: bool = False) -> Path:
+    """Save ``model`` as ``checkpoints/step_<num_timesteps>.zip`` (with VecNormalize statistics and, for
+    off-policy algorithms, the replay buffer; older checkpoints' buffers are deleted), and also as
+    ``model.zip`` when ``final``. Every file is written atomically, the ``.zip`` last."""
+    step = int(model.num_timesteps)
+    ckpt = checkpoint_path(out_dir, step)
+    ckpt.parent.mkdir(parents=True, exist_ok=True)
+    vecnorm = model.get_vec_normalize_env()
+    targets = [ckpt] + ([Path(out_dir) / MODEL_NAME] if final else [])
+    for target in targets:
+        if vecnorm is not None:
+            atomic_write(side_file(target, VECNORM_SUFFIX), vecnorm.save)
+        if target == ckpt and hasattr(model, "save_replay_buffer") and getattr(model, "replay_buffer", None) is not None:
+            atomic_write(side_file(target, BUFFER_SUFFIX), model.save_replay_buffer)
+        atomic_write(target, model.save)
+    if hasattr(model, "save_replay_buffer"):
+        for _, old in list_checkpoints(out_dir):
+            if old != ckpt and side_file(old, BUFFER_SUFFIX).exists():
+                side_file(old, BUFFER_SUFFIX).unlink()
+    return ckpt
+
+
+def _periodic_save_callback(out_dir, every: int, on_save):
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    class PeriodicSave(BaseCallback):
+        """Checkpoint each time ``num_timesteps`` crosses a multiple of ``every`` (aligned across resumes)."""
+
+        def _on_training_start(self) -> None:
+            self._next = (self.model.num_timesteps // every + 1) * every
+
+        def _on_step(self) -> bool:
+            if self.model.num_timesteps >= self._next:
+                on_save(save_checkpoint(self.model, out_dir))
+                self._next = (self.model.num_timesteps // every + 1) * every
+            return True
+
+    return PeriodicSave()
+
+
+# ---------------------------------------------------------------------------------------------- training
+@dataclass
+class TrainResult:
+    out_dir: Path
+    model_path: Path
+    config_path: Path
+    num_timesteps: int
+    interrupted: bool = False
+    resumed_from: Path | None = None
+    checkpoints: list = field(default_factory=list)
+
+
+def _check_same(saved: dict, name: str, given, saved_value) -> None:
+    if given is not None and _jsonable(given) != _jsonable(saved_value):
+        raise ValueError(f"{name} {given!r} differs from the run being resumed ({saved_value!r} in "
+                         f"{saved['_path']}); use a new --out folder or pass resume=False (--no-resume) to start over")
+
+
+def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 100_000, n_envs: int = 1,
+          seed: int = 0, out_dir="runs/mjrft", env_kwargs: dict | None = None, checkpoint_every: int = 10_000,
+          resume: bool = True, *, hyperparams: dict | None = None, normalize: bool | None = None,
+          device: str = "cpu", progress_bar: bool = False, verbose: int = 0, callback=None) -> TrainResult:
+    """Train ``algo`` on ``env_id`` until ``num_timesteps`` reaches ``timesteps``; resumable (see module doc).
+
+    Args:
+        env_id: registered gymnasium id (``mjrft.envs.ENV_IDS``); ``None`` on resume takes the saved one.
+        algo: ``"ppo"`` or ``"sac"``; ``None``: the saved one on resume, else ``"ppo"``.
+        timesteps: total environment steps of the run folder (over all environments and resumes).
+        n_envs: environments stepped together (subprocesses when > 1).
+        seed: seeds the algorithm (torch, numpy) and the environments (``seed + i`` for env ``i``).
+        out_dir: run folder (created).
+        env_kwargs: keyword arguments of the environment (``max_episode_steps`` sets the time limit).
+        checkpoint_every: save a checkpoint each time the step count crosses a multiple of this.
+        resume: continue from the newest checkpoint in ``out_dir`` if there is one (else start over,
+            replacing the folder's config and checkpoints).
+        hyperparams: constructor arguments of the SB3 algorithm (``n_steps``, ``learning_rate``, ...).
+        normalize: wrap the environments in ``VecNormalize`` (observations and rewards); default False.
+        device: torch device (``"cpu"``, ``"cuda"``, ``"auto"``).
+        progress_bar: SB3's progress bar (tqdm + rich).
+        verbose: SB3 verbosity (1 prints the training log).
+        callback: extra SB3 callback(s) (a ``BaseCallback`` or a list).
+
+    Returns:
+        :class:`TrainResult`; ``interrupted`` is True when a ``KeyboardInterrupt`` stopped training (the
+        model, a checkpoint and the config were saved first).
+    """
+    out_dir = Path(out_dir)
+    timesteps = _check_int("timesteps", timesteps, 1)
+    n_envs = _check_int("n_envs", n_envs, 1)
+    seed = _check_int("seed", seed, 0)
+    checkpoint_every = _check_int("checkpoint_every", checkpoint_every, 1)
+    if algo is not None:
+        algo_class(algo)
+    if env_id is not None:
+        check_env_id(env_id)
+    if env_kwargs is not None and not isinstance(env_kwargs, dict):
+        raise ValueError(f"env_kwargs must be a dict, got {env_kwargs!r}")
+
+    config_path = out_dir / CONFIG_NAME
+    checkpoints = list_checkpoints(out_dir) if resume else []
+    saved = None
+    if checkpoints:
+        if not config_path.is_file():
+            raise ValueError(f"{out_dir} has checkpoints but no {CONFIG_NAME}; cannot resume (use another --out)")
+        saved = load_config(config_path)
+        saved["_path"] = str(config_path)
+        _check_same(saved, "env id", env_id, saved["env_id"])
+        _check_same(saved, "algorithm", None if algo is None else algo.lower(), saved["algo"])
+        _check_same(saved, "env kwargs", env_kwargs or None, saved["env_kwargs"])
+        _check_same(saved, "normalize", normalize, saved["normalize"])
+        env_id, algo, env_kwargs = saved["env_id"], saved["algo"], saved["env_kwargs"]
+        normalize = saved["normalize"]
+        if hyperparams:
+            for k, v in hyperparams.items():
+                _check_same(saved, f"hyper-parameter {k}", v, saved["hyperparams"].get(k))
+        ctor_kwargs = dict(saved.get("hyperparams_given", {}))
+        effective = saved["hyperparams"]
+    else:
+        if env_id is None:
+            raise ValueError(f"env id is required to start a new run in {out_dir} (valid choices: "
+                             f"{', '.join(_mjrft_env_ids())})")
+        algo = (algo or "ppo").lower()
+        env_kwargs = dict(env_kwargs or {})
+        normalize = bool(normalize)
+        ctor_kwargs, effective = resolve_hyperparams(algo, hyperparams, timesteps)
+    cls = algo_class(algo)
+
+    # validate the env kwargs in this process (clear error before any worker starts)
+    probe = make_env(env_id, env_kwargs)
+    probe.close()
+
+    start_step = checkpoints[-1][0] if checkpoints else 0
+    history = list(saved.get("runs", [])) if saved else []
+    config = {
+        "env_id": env_id,
+        "env_kwargs": _jsonable(env_kwargs),
+        "algo": algo,
+        "policy": POLICY,
+        "hyperparams": effective,
+        "hyperparams_given": _jsonable(ctor_kwargs),
+        "normalize": normalize,
+        "seed": seed,
+        "n_envs": n_envs,
+        "timesteps": timesteps,
+        "checkpoint_every": checkpoint_every,
+        "device": device,
+        "vec_env": "SubprocVecEnv" if n_envs > 1 else "DummyVecEnv",
+        "start_method": start_method() if n_envs > 1 else None,
+        "versions": versions(),
+        "created": saved["created"] if saved else _now(),
+        "num_timesteps": start_step,
+        "model": None,
+        "runs": history,
+    }
+    if start_step >= timesteps:  # nothing to do: the run already reached its budget
+        model_path = out_dir / MODEL_NAME
+        return TrainResult(out_dir, model_path if model_path.exists() else checkpoints[-1][1], config_path,
+                           start_step, resumed_from=checkpoints[-1][1],
+                           checkpoints=[p for _, p in list_checkpoints(out_dir)])
+
+    out_dir.mkdir(parents=True, exist_ok=True)
+    if not checkpoints:  # a fresh run replaces what a previous one left (resume=False or no checkpoint)
+        for _, old in list_checkpoints(out_dir):
+            for p in (old, side_file(old, VECNORM_SUFFIX), side_file(old, BUFFER_SUFFIX)):
+                p.unlink(missing_ok=True)
+        for p in (out_dir / MODEL_NAME, out_dir / ("model" + VECNORM_SUFFIX), out_dir / "monitor.csv"):
+            p.unlink(missing_ok=True)
+    run = {"started": _now(), "from_step": start_step, "target": timesteps, "n_envs": n_envs, "seed": seed,
+           "status": "running"}
+    config["runs"].append(run)
+    write_json(config_path, config)
+
+    env_seed = seed + start_step
+    venv = make_vec_env(env_id, n_envs, env_seed, env_kwargs, out_dir / "monitor.csv")
+    try:
+        resumed_from = None
+        if checkpoints:
+            resumed_from = checkpoints[-1][1]
+            model = _load_for_resume(cls, resumed_from, venv, device, n_envs)
+            model.set_random_seed(env_seed)
+        else:
+            if normalize:
+                from stable_baselines3.common.vec_env import VecNormalize
+
+                venv = VecNormalize(venv, gamma=float(effective.get("gamma", 0.99)))
+            model = cls(POLICY, venv, seed=seed, device=device, verbose=verbose, **ctor_kwargs)
+        from stable_baselines3.common.logger import configure
+
+        log_dir = out_dir / "logs" / f"from_{start_step:010d}"
+        model.set_logger(configure(str(log_dir), ["csv"] + (["stdout"] if verbose else [])))
+
+        saved_paths = []
+        callbacks = [_periodic_save_callback(out_dir, checkpoint_every, saved_paths.append)]
+        if callback is not None:
+            callbacks += list(callback) if isinstance(callback, (list, tuple)) else [callback]
+        interrupted = False
+        try:
+            model.learn(total_timesteps=timesteps - start_step, callback=callbacks, reset_num_timesteps=False,
+                        progress_bar=progress_bar)
+        except KeyboardInterrupt:
+            interrupted = True
+        ckpt = save_checkpoint(model, out_dir, final=True)
+        run.update(status="interrupted" if interrupted else "finished", ended=_now(),
+                   to_step=int(model.num_timesteps))
+        config.update(num_timesteps=int(model.num_timesteps), model=MODEL_NAME, checkpoint=ckpt.name)
+        write_json(config_path, config)
+        return TrainResult(out_dir, out_dir / MODEL_NAME, config_path, int(model.num_timesteps), interrupted,
+                           resumed_from, [p for _, p in list_checkpoints(out_dir)])
+    finally:
+        try:
+            venv.close()
+        except (EOFError, BrokenPipeError, ConnectionResetError):  # a worker already gone
+            pass
+
+
+def _load_for_resume(cls, path: Path, venv, device: str, n_envs: int):
+    vn_path = side_file(path, VECNORM_SUFFIX)
+    if vn_path.exists():
+        from stable_baselines3.common.vec_env import VecNormalize
+
+        venv = VecNormalize.load(str(vn_path), venv)
+        venv.training = True
+    model = cls.load(str(path), env=venv, device=device)
+    if hasattr(model, "load_replay_buffer"):
+        buf = side_file(path, BUFFER_SUFFIX)
+        if buf.exists():
+            model.load_replay_buffer(str(buf))
+            if model.replay_buffer.n_envs != n_envs:
+                raise ValueError(f"the SAC run was trained with n_envs={model.replay_buffer.n_envs} (its replay "
+                                 f"buffer is laid out per environment); resume with n_envs="
+                                 f"{model.replay_buffer.n_envs}")
+        else:
+            warnings.warn(f"{buf.name} is missing: SAC resumes with an empty replay buffer and refills it with "
+                          f"{model.learning_starts} random steps first", RuntimeWarning, stacklevel=3)
+            model.learning_starts = model.num_timesteps + model.learning_starts
+    return model
+
+
+def _now() -> str:
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def _mjrft_env_ids() -> list[str]:
+    from mjrft.envs import ENV_IDS
+
+    return sorted(ENV_IDS)
+
+
+# ---------------------------------------------------------------------------------------------- CLI
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--env", dest="env_id", default=None,
+                        help="environment id, e.g. mjrft/HexapodSand-v0 (required for a new run)")
+    parser.add_argument("--algo", default=None, help="ppo or sac (default ppo; on resume the saved one)")
+    parser.add_argument("--timesteps", type=_int_arg, default=100_000,
+                        help="total environment steps of the run (resuming continues up to this; default 1e5)")
+    parser.add_argument("--n-envs", type=_int_arg, default=1, help="parallel environments (subprocesses if > 1)")
+    parser.add_argument("--seed", type=_int_arg, default=0, help="random seed (default 0)")
+    parser.add_argument("--out", default="runs/mjrft", help="run folder (default runs/mjrft)")
+    parser.add_argument("--checkpoint-every", type=_int_arg, default=10_000,
+                        help="steps between checkpoints (default 10000)")
+    parser.add_argument("--hp", action="append", default=[], metavar="KEY=VALUE",
+                        help="SB3 hyper-parameter, repeatable: --hp n_steps=512 --hp learning_rate=1e-4 "
+                             "--hp 'policy_kwargs={\"net_arch\": [64, 64]}'")
+    parser.add_argument("--normalize", action="store_true", default=None,
+                        help="VecNormalize observations and rewards (statistics saved with the model)")
+    parser.add_argument("--device", default="cpu", help="torch device: cpu (default), cuda, auto")
+    parser.add_argument("--no-resume", dest="resume", action="store_false",
+                        help="start over even if the folder has checkpoints")
+    parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    parser.add_argument("--verbose", type=int, default=0, help="SB3 verbosity (1: training log)")
+    parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
+                        help="environment keyword arguments, e.g. resolution=0.02 medium=poppy_lp "
+                             "max_episode_steps=500")
+
+
+def main(args) -> int:
+    env_kwargs = parse_kwargs(args.env_kwargs, "env kwarg") or None
+    hyperparams = parse_kwargs(args.hp, "--hp") or None
+    out = Path(args.out)
+    if args.resume and list_checkpoints(out):
+        step, path = list_checkpoints(out)[-1]
+        print(f"resuming {out} from {path.relative_to(out)} at {step} steps (target {args.timesteps})")
+    result = train(args.env_id, args.algo, args.timesteps, args.n_envs, args.seed, out, env_kwargs,
+                   args.checkpoint_every, args.resume, hyperparams=hyperparams, normalize=args.normalize,
+                   device=args.device, progress_bar=args.progress, verbose=args.verbose)
+    cfg = load_config(result.config_path)
+    if result.interrupted:
+        print(f"interrupted at {result.num_timesteps} steps; saved {result.model_path} and a checkpoint. "
+              f"Run the same command to resume.")
+        return 130
+    print(f"{cfg['algo'].upper()} on {cfg['env_id']}: {result.num_timesteps} steps; model {result.model_path}, "
+          f"config {result.config_path}, {len(result.checkpoints)} checkpoint(s) in {out / CHECKPOINT_DIR}")
+    print(f"evaluate: mjrft eval --policy {result.model_path} --episodes 10")
+    return 0
