@@ -57,25 +57,38 @@ Choices where the papers are silent
   positive toe-down) along the top edge, holds it during the intrusion and returns to flat over the
   first quarter of the stance. Torso pitch is not compensated (open loop).
 * **stand / shift.** Joint targets come from leg inverse kinematics in the pelvis frame (feet flat,
-  pelvis assumed upright). ``crouch`` is the knee bend (rad) of the standing posture. ``shift``: each
-  step of ``period`` seconds is: lift the swing foot by ``lift`` (15% of the step), carry it forward
-  to ``+step/2`` (25%), intrude it down to ``depth`` below the sole level (30%: the intrusion phase)
-  while the stance foot slides back to ``-step/2``; the pelvis moves sideways from over the stance
-  foot to over the stepping foot (by ``sway`` m to either side of centre, in 30% of the step),
-  starting at ``shift`` of the intrusion phase (0: as the intrusion starts; 1: once the foot is
-  fully down, the hard-ground gait). A first half step moves the pelvis over the right foot; the
-  left foot steps first.
+  pelvis assumed upright). ``crouch`` is the knee bend (rad) of the posture; ``stand`` bends the knees
+  from the straight initial pose over its first second (a sudden crouch throws the robot over).
+  ``shift``: the first half step bends the knees and moves the pelvis over the right foot; then each
+  step of ``period`` seconds lifts the swing foot by ``lift`` (15% of the step), carries it forward to
+  ``+step/2`` (20%), intrudes it down to ``depth`` below the standing sole level (20%: the intrusion
+  phase) while the stance foot slides back to ``-step/2``, and moves the pelvis sideways from over the
+  stance foot to over the stepping foot (``sway`` m to either side of centre, in 30% of the step),
+  starting at ``shift`` of the intrusion phase (0: as the intrusion starts; 1: once the foot is fully
+  down, the hard-ground gait); the rest of the step holds. The left foot steps first. Defaults are
+  slow (6 s steps) because the gait is quasi-static: measured in this session it walks 12 s on
+  ``HumanoidRigid-v0``; on ``HumanoidSand-v0`` (15.2 cm feet, poppy seeds) the loaded stance foot
+  yields and the robot tips over in its first single support, ~3 s in (no feedback balances it).
+* **rect on a pitch-free torso.** The reference gait study held the biped's torso pitch (sagittal
+  plane, fore-aft and vertical only; pitch was free only in the balance study), so ``rect`` is meant
+  for ``BipedSand(pitch_free=False)``: there it walks ~4 cm/s. On the default pitch-free biped it still
+  runs but tips over within ~2 s; :func:`make_gait` warns (``GaitWarning``) in that case.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from mjrft.errors import unknown
+
+
+class GaitWarning(UserWarning):
+    """A gait runs on an environment it was not designed for (see the message)."""
 
 # ----------------------------------------------------------------------------- gait definitions
 
@@ -238,8 +251,13 @@ def biped_leg_ik(x: float, z: float, thigh: float, link: float, shank: float) ->
 
 
 def rect_path(s: float, length: float, height: float, duty: float, presentation: float,
-              depth: float) -> tuple[float, float, float]:
+              depth: float, x0: float = 0.0) -> tuple[float, float, float]:
     """Foot centre (x, z) relative to the hip and foot pitch (rad) at cycle fraction ``s`` in [0, 1)."""
+    x, z, pitch = _rect_path(s, length, height, duty, presentation, depth)
+    return x + x0, z, pitch
+
+
+def _rect_path(s, length, height, duty, presentation, depth):
     half = length / 2.0
     swing = 1.0 - duty
     per = swing / (2.0 * height + length)  # cycle fraction per metre of swing path
@@ -265,9 +283,9 @@ def _build_rect(env, p: dict) -> Callable[[float], np.ndarray]:
     from mjrft.models import biped as bm
 
     period, length, height, duty = p["period"], p["length"], p["height"], p["duty"]
-    angle, depth = math.radians(p["angle"]), p["depth"]
-    for x, z in ((length / 2, -depth), (-length / 2, -depth), (0.0, -depth + height),
-                 (length / 2, -depth + height)):
+    angle, depth, x0 = math.radians(p["angle"]), p["depth"], p["x0"]
+    for x, z in ((x0 + length / 2, -depth), (x0 - length / 2, -depth), (x0, -depth + height),
+                 (x0 + length / 2, -depth + height), (x0 - length / 2, -depth + height)):
         try:
             biped_leg_ik(x, z, bm.THIGH, bm.KNEE_LINK, bm.SHANK)
         except ValueError as exc:
@@ -275,12 +293,16 @@ def _build_rect(env, p: dict) -> Callable[[float], np.ndarray]:
                              "use a shorter rectangle or a smaller depth") from None
     index = _actuator_index(env)
     lo, hi = bm.RANGES["knee_upper"]
+    if "rooty" in {env.model.joint(j).name for j in range(env.model.njnt)}:
+        warnings.warn("gait 'rect' drives a biped whose torso pitch is free; the reference gait study held "
+                      "the pitch (make the env with pitch_free=False), open loop it tips over", GaitWarning,
+                      stacklevel=4)
 
     def act(t: float) -> np.ndarray:
         targets = {}
         for side, ph in (("left", 0.0), ("right", 0.5)):
             s = ((t + env.dt) / period + ph) % 1.0
-            x, z, pitch = rect_path(s, length, height, duty, angle, depth)
+            x, z, pitch = rect_path(s, length, height, duty, angle, depth, x0)
             hip, knee = biped_leg_ik(x, z, bm.THIGH, bm.KNEE_LINK, bm.SHANK)
             k = min(max(knee / 2.0, lo), hi)
             targets[f"{side}_hip"] = hip
@@ -322,37 +344,49 @@ def _humanoid_dims():
     return hm.THIGH, hm.SHANK
 
 
+def _leg_height(crouch: float, thigh: float, shank: float) -> float:
+    """Hip-to-ankle distance of a leg with knee bend ``crouch`` (rad)."""
+    return math.sqrt(thigh ** 2 + shank ** 2 + 2 * thigh * shank * math.cos(crouch))
+
+
+#: seconds over which ``stand`` bends the knees from the straight initial pose to ``crouch``
+STAND_RAMP = 1.0
+
+
 def _build_stand(env, p: dict) -> Callable[[float], np.ndarray]:
     thigh, shank = _humanoid_dims()
-    crouch = p["crouch"]
-    h = math.sqrt(thigh ** 2 + shank ** 2 + 2 * thigh * shank * math.cos(crouch))
     index = _actuator_index(env)
-    targets = {}
-    for side in ("left", "right"):
-        for j, v in humanoid_leg_ik(0.0, 0.0, -h, thigh, shank).items():
-            targets[f"{side}_{j}"] = v
-    action = _joint_targets_to_action(env, index, targets)
 
     def act(t: float) -> np.ndarray:
-        return action.copy()
+        h = _leg_height(p["crouch"] * _smooth((t + env.dt) / STAND_RAMP), thigh, shank)
+        targets = {}
+        for side in ("left", "right"):
+            for j, v in humanoid_leg_ik(0.0, 0.0, -h, thigh, shank).items():
+                targets[f"{side}_{j}"] = v
+        return _joint_targets_to_action(env, index, targets)
 
     return act
 
 
-# fractions of a step (the shift gait)
-LIFT, SWING, INTRUDE, SHIFT = 0.15, 0.25, 0.30, 0.30
+# fractions of a step (the shift gait): lift, swing forward, intrusion, CoM shift; the rest is a hold
+LIFT, SWING, INTRUDE, SHIFT = 0.15, 0.20, 0.20, 0.30
 
 
-def shift_pose(t: float, p: dict, h: float) -> tuple[dict[str, tuple[float, float, float]], float]:
+def shift_pose(t: float, p: dict) -> tuple[dict[str, tuple[float, float, float]], float]:
     """Ankle targets relative to each hip (x, y, z) and the pelvis sideways offset at time ``t``.
 
-    Returns ``({"left": (x, y, z), "right": (...)}, y_pelvis)``; see the module docstring.
+    ``p`` holds every parameter of the ``shift`` gait. Returns ``({"left": (x, y, z), "right":
+    (...)}, y_pelvis)``; see the module docstring.
     """
+    thigh, shank = _humanoid_dims()
     T, step, lift, sway, depth = p["period"], p["step"], p["lift"], p["sway"], p["depth"]
-    start = 0.5 * T  # first half step: pelvis over the right (stance) foot
+    start = 0.5 * T  # first half step: bend the knees and move the pelvis over the right (stance) foot
     if t < start:
-        y_p = -sway * _smooth(t / start)
+        u = _smooth(t / start)
+        h = _leg_height(p["crouch"] * u, thigh, shank)
+        y_p = -sway * u
         return {"left": (0.0, -y_p, -h), "right": (0.0, -y_p, -h)}, y_p
+    h = _leg_height(p["crouch"], thigh, shank)
     k, s = divmod((t - start) / T, 1.0)
     k = int(k)
     swing_side, stance_side = ("left", "right") if k % 2 == 0 else ("right", "left")
@@ -379,7 +413,7 @@ def shift_pose(t: float, p: dict, h: float) -> tuple[dict[str, tuple[float, floa
 
 def _build_shift(env, p: dict) -> Callable[[float], np.ndarray]:
     thigh, shank = _humanoid_dims()
-    h = math.sqrt(thigh ** 2 + shank ** 2 + 2 * thigh * shank * math.cos(p["crouch"]))
+    h = _leg_height(p["crouch"], thigh, shank)
     reach = math.hypot(p["step"] / 2.0, math.hypot(h + p["depth"], p["sway"]))
     if reach > (thigh + shank) * 0.9995:
         raise ValueError(f"gait 'shift' step={p['step']:g}, depth={p['depth']:g}, sway={p['sway']:g} with "
@@ -388,7 +422,7 @@ def _build_shift(env, p: dict) -> Callable[[float], np.ndarray]:
     index = _actuator_index(env)
 
     def act(t: float) -> np.ndarray:
-        feet, _ = shift_pose(t + env.dt, p, h)
+        feet, _ = shift_pose(t + env.dt, p)
         targets = {}
         for side, (x, y, z) in feet.items():
             for j, v in humanoid_leg_ik(x, y, z, thigh, shank).items():
@@ -426,6 +460,7 @@ GAITS: dict[str, GaitDef] = {
             "duty": Param(5 / 8, "-", "fraction of the period on the bottom edge", 0.0, 1.0, True, True),
             "angle": Param(0.0, "deg", "presentation angle on intrusion, positive toe-down", -90.0, 90.0),
             "depth": Param(0.14, "m", "bottom edge below the hip axis", 0.0, math.inf, low_open=True),
+            "x0": Param(0.0, "m", "rectangle centre ahead of the hip axis", -0.2, 0.2),
         },
         _build_rect,
     ),
@@ -439,12 +474,12 @@ GAITS: dict[str, GaitDef] = {
         {
             "shift": Param(0.5, "-", "CoM shift start as a fraction of the stepping foot's intrusion phase",
                            0.0, 1.0),
-            "period": Param(2.0, "s", "duration of one step", 0.0, math.inf, low_open=True),
-            "step": Param(0.08, "m", "step length (foot travel relative to the pelvis)", 0.0, 0.5),
-            "lift": Param(0.04, "m", "swing foot lift", 0.0, 0.3),
-            "sway": Param(0.08, "m", "sideways pelvis shift to either side of centre", 0.0, 0.25),
+            "period": Param(6.0, "s", "duration of one step", 0.0, math.inf, low_open=True),
+            "step": Param(0.05, "m", "step length (foot travel relative to the pelvis)", 0.0, 0.5),
+            "lift": Param(0.03, "m", "swing foot lift", 0.0, 0.3),
+            "sway": Param(0.10, "m", "sideways pelvis shift to either side of centre", 0.0, 0.25),
             "depth": Param(0.01, "m", "intrusion target below the standing sole level", 0.0, 0.1),
-            "crouch": Param(0.5, "rad", "knee bend of the stance posture", 0.0, 2.0),
+            "crouch": Param(0.8, "rad", "knee bend of the stance posture", 0.0, 2.0),
         },
         _build_shift,
     ),
@@ -536,5 +571,5 @@ def make_gait(spec: str, env) -> GaitPolicy:
     return GaitPolicy(spec=spec, name=name, params=params, envs=envs, _fns=fns)
 
 
-__all__ = ["GAITS", "GaitDef", "GaitPolicy", "Param", "describe", "is_gait_spec", "make_gait", "parse_gait_spec",
+__all__ = ["GAITS", "GaitDef", "GaitWarning", "GaitPolicy", "Param", "describe", "is_gait_spec", "make_gait", "parse_gait_spec",
            "buehler_angle", "biped_leg_ik", "humanoid_leg_ik", "rect_path", "shift_pose"]
