@@ -20,27 +20,36 @@ import mjrft
 from mjrft.models import hexapod_model
 
 
-def tripod_ctrl(model, data, t, freq=2.0):
-    """Alternating tripod: every hip target advances at freq rev/s, tripod B half a cycle behind."""
-    phase = 2 * np.pi * freq * t
+def tripod_offsets(model) -> np.ndarray:
+    """Phase offset of each actuator: 0 for tripod A (lf, rm, lr), pi for tripod B."""
     a = {"leg_lf", "leg_rm", "leg_lr"}
+    off = np.zeros(model.nu)
     for i in range(model.nu):
-        joint = model.actuator_trnid[i, 0]
-        body = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.jnt_bodyid[joint])
-        data.ctrl[i] = phase + (0.0 if body in a else np.pi)
+        body = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.jnt_bodyid[model.actuator_trnid[i, 0]])
+        off[i] = 0.0 if body in a else np.pi
+    return off
 
 
-def run(model, data, terrain, steps, chunk=10):
+def tripod_ctrl(model, data, t, freq=2.0, offsets=None):
+    """Alternating tripod: every hip target advances at freq rev/s, tripod B half a cycle behind."""
+    data.ctrl[:] = 2 * np.pi * freq * t + (tripod_offsets(model) if offsets is None else offsets)
+
+
+def run(model, data, terrain, steps, chunk=10, buried=None):
+    """Seconds per physics step; appends the number of buried elements after each chunk to ``buried``."""
     mujoco.mj_resetData(model, data)
     if terrain is not None:
         terrain.reset()
+    off = tripod_offsets(model)
     t0 = time.perf_counter()
     for _ in range(steps // chunk):
-        tripod_ctrl(model, data, data.time)
+        tripod_ctrl(model, data, data.time, offsets=off)
         if terrain is None:
             mujoco.mj_step(model, data, chunk)
         else:
             terrain.step(data, chunk)
+            if buried is not None:
+                buried.append(int(np.count_nonzero(terrain.depth > 0)))
     return (time.perf_counter() - t0) / steps
 
 
@@ -58,16 +67,18 @@ def main():
     for t in cases.values():  # compile / load the cache outside the timing
         run(model, data, t, 200)
     times = {k: [] for k in ["bare", *cases]}
+    buried = {k: [] for k in cases}
     for _ in range(args.repeats):
         times["bare"].append(run(model, data, None, args.steps))
         for k, t in cases.items():
-            times[k].append(run(model, data, t, args.steps))
+            times[k].append(run(model, data, t, args.steps, buried=buried[k]))
     bare = np.median(times["bare"])
     print(f"hexapod (RHex-class, 6 C-legs + torso), tripod gait at 2 Hz, {args.steps} steps x {args.repeats} repeats")
-    print(f"{'case':8s} {'elements':>8s} {'ratio to bare step':>20s}")
-    print(f"{'bare':8s} {0:8d} {1.0:20.2f}")
+    print(f"{'case':8s} {'elements':>8s} {'on legs':>8s} {'buried (mean)':>14s} {'ratio to bare step':>20s}")
+    print(f"{'bare':8s} {0:8d} {0:8d} {0:14d} {1.0:20.2f}")
     for k, t in cases.items():
-        print(f"{k:8s} {t.n_elements:8d} {np.median(times[k]) / bare:20.2f}")
+        legs = int(np.count_nonzero(t.elem_body != mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "torso")))
+        print(f"{k:8s} {t.n_elements:8d} {legs:8d} {np.mean(buried[k]):14.0f} {np.median(times[k]) / bare:20.2f}")
     # memory does not grow with steps
     t = cases["fine"]
     tracemalloc.start()

@@ -174,9 +174,8 @@ class GranularTerrain:
         self._g_body = np.array([model.geom_bodyid[g] for g in self.geom_ids], dtype=np.int64)
         counts = [len(el) for _, el in groups]
         self._g_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-        self._g_rbound = np.array([model.geom_rbound[g] for g in self.geom_ids], dtype=np.float64)
-        # a geom whose bounding sphere is 0 (mesh/zero-size) is never culled
-        self._g_rbound[self._g_rbound <= 0] = np.inf
+        # per-geom cull box (centre, half sizes in the geom frame); elements lie on the geom's surface, inside it
+        self._g_aabb = np.ascontiguousarray(model.geom_aabb[self.geom_ids], dtype=np.float64).reshape(-1, 6)
         self.elements = Elements.concatenate([el for _, el in groups])
         n = len(self.elements)
         self._e_lpos = np.ascontiguousarray(self.elements.pos, dtype=np.float64)
@@ -240,7 +239,7 @@ class GranularTerrain:
         if data.xpos.shape[0] != self.model.nbody or data.qpos.shape[0] != self.model.nq:
             raise ValueError("data does not belong to this terrain's model")
         self._data = data
-        self._views = (data.geom_xpos, data.xpos, data.xmat, data.xipos, data.cvel, data.subtree_com)
+        self._views = (data.geom_xpos, data.geom_xmat, data.xpos, data.xmat, data.xipos, data.cvel, data.subtree_com)
         self.reset()
 
     def reset(self) -> None:
@@ -279,7 +278,7 @@ class GranularTerrain:
         return self.wrench
 
     def _kernel_args(self, dt) -> tuple:
-        return (self.geom_ids, self._g_body, self._g_start, self._g_rbound, self._g_active,
+        return (self.geom_ids, self._g_body, self._g_start, self._g_aabb, self._g_active,
                 self._e_lpos, self._e_lnrm, self.area, *self._views, self._rootid,
                 self.surface, self.surface, self._reg_bounds, self._reg_law, self._reg_params,
                 dt, self.yield_displacement, self.damping_time, self.v_eps,

@@ -51,15 +51,23 @@ def _isfinite3(x, y, z):
     return math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
 
 
-@njit(cache=True, error_model="numpy")
-def terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active,
+# contract (FMA), arcp (multiply by reciprocals), nsz: a few % faster; no nnan/ninf, so the finiteness
+# checks stay exact.
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
+def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    e_lpos, e_lnrm, e_area,
-                   geom_xpos, xpos, xmat, xipos, cvel, subtree_com, rootid,
+                   geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
                    surface, top, reg_bounds, reg_law, reg_params,
                    dt, delta, tau, v_eps,
                    u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
                    wrench, stiff, damp):
-    """Evaluate every element of every geom that can reach below ``top``; returns (status, body)."""
+    """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
+
+    A geom is culled (no element work at all) while the lowest corner of its bounding box
+    (``g_aabb``: MuJoCo's ``geom_aabb``, centre and half sizes in the geom frame) is at or above
+    ``top``: exact for boxes, tight for the other shapes, so a torso riding just above the sand costs
+    nothing.
+    """
     cur_reg = 0
     p = reg_params[0]
     for b in range(wrench.shape[0]):
@@ -70,7 +78,11 @@ def terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active,
     for g in range(g_geom.shape[0]):
         e0 = g_start[g]
         e1 = g_start[g + 1]
-        if geom_xpos[g_geom[g], 2] - g_rbound[g] >= top:
+        gid = g_geom[g]
+        G = geom_xmat[gid]
+        lowest = (geom_xpos[gid, 2] + G[6] * g_aabb[g, 0] + G[7] * g_aabb[g, 1] + G[8] * g_aabb[g, 2]
+                  - abs(G[6]) * g_aabb[g, 3] - abs(G[7]) * g_aabb[g, 4] - abs(G[8]) * g_aabb[g, 5])
+        if lowest >= top:
             if g_active[g]:
                 for i in range(e0, e1):
                     for j in range(3):
@@ -98,11 +110,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active,
                 # above the grains (and no layer above them): only the position is kept up to date
                 out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
                 out_depth[i] = depth
-                if out_force[i, 0] != 0.0 or out_force[i, 1] != 0.0 or out_force[i, 2] != 0.0 or u[i, 0] != 0.0 \
-                        or u[i, 1] != 0.0 or u[i, 2] != 0.0:
-                    for j in range(3):
-                        u[i, j] = 0.0
-                        out_force[i, j] = 0.0
+                for j in range(3):
+                    u[i, j] = 0.0
+                    out_force[i, j] = 0.0
                 continue
             ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
             nx = R[0] * ax + R[1] * ay + R[2] * az
@@ -153,7 +163,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active,
             fy = 0.0
             fz = 0.0
             if ml > 0.0:
-                sx, sy, sz = element_stress(reg_law[reg], depth, nx, ny, nz, mx / ml, my / ml, mz / ml, speed, p)
+                iml = 1.0 / ml
+                sx, sy, sz = element_stress(reg_law[reg], depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, p)
                 k = e_area[i]
                 fx, fy, fz = sx * k, sy * k, sz * k
                 if not _isfinite3(fx, fy, fz):
@@ -250,8 +261,8 @@ def mujoco_step_functions():
 
 @njit(cache=True, error_model="numpy")
 def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
-              g_geom, g_body, g_start, g_rbound, g_active, e_lpos, e_lnrm, e_area,
-              geom_xpos, xpos, xmat, xipos, cvel, subtree_com, rootid,
+              g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
+              geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
               surface, top, reg_bounds, reg_law, reg_params, dt, delta, tau, v_eps,
               u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp,
               stiff_max, damp_max):
@@ -262,8 +273,8 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
     """
     for s in range(nstep):
         _call_mj(f_step1, m_addr, d_addr)
-        status, body = terrain_kernel(g_geom, g_body, g_start, g_rbound, g_active, e_lpos, e_lnrm, e_area,
-                                      geom_xpos, xpos, xmat, xipos, cvel, subtree_com, rootid,
+        status, body = terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
+                                      geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
                                       surface, top, reg_bounds, reg_law, reg_params, dt, delta, tau, v_eps,
                                       u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
                                       wrench, stiff, damp)
