@@ -197,9 +197,9 @@ class GranularTerrain:
         self.region = np.zeros(n, dtype=np.int64)
         self.wrench = np.zeros((model.nbody, 6))
         self._saved = np.zeros((model.nbody, 6))
-        self._stiff = np.zeros(model.nbody)
+        self._stiff = np.zeros((model.nbody, 10))  # moments of the element stiffness (kernel.terrain_kernel)
         self._damp = np.zeros(model.nbody)
-        self._stiff_max = np.zeros(model.nbody)  # largest values since the last stability check
+        self._stiff_max = np.zeros((model.nbody, 10))  # the stiffest step since the last stability check
         self._damp_max = np.zeros(model.nbody)
         self._data = None
         self._last_time = -np.inf
@@ -271,7 +271,8 @@ class GranularTerrain:
         if dt is None:
             dt = self.model.opt.timestep
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
-        np.maximum(self._stiff_max, self._stiff, out=self._stiff_max)
+        stiffer = self._stiff[:, 0] > self._stiff_max[:, 0]
+        self._stiff_max[stiffer] = self._stiff[stiffer]
         np.maximum(self._damp_max, self._damp, out=self._damp_max)
         self._last_time = data.time
         self._finish(data, status, body, dt, 1)
@@ -379,29 +380,54 @@ class GranularTerrain:
         stiff, damp = self._stiff_max.copy(), self._damp_max.copy()
         self._stiff_max[:] = 0.0
         self._damp_max[:] = 0.0
+        viscous = self.yield_displacement == 0
         for b in self.body_ids:
-            K, c = stiff[b], damp[b]
-            if (K <= 0 and c <= 0) or b in self._warned:
+            if stiff[b, 0] <= 0 or b in self._warned:
                 continue
-            w = self.inverse_mass(data, int(b))
-            if not kernel.stable_step(K, c, w, dt):
+            lam = self.critical_rate(data, int(b), stiff[b])
+            K, c = (0.0, lam) if viscous else (lam, self.damping_time * lam)
+            if not kernel.stable_step(K, c, 1.0, dt):
                 self._warned.add(int(b))
                 name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
+                what = (f"damping {stiff[b, 0]:.3g} N s/m" if viscous else
+                        f"stiffness {stiff[b, 0]:.3g} N/m, damping {damp[b]:.3g} N s/m")
                 warnings.warn(TerrainStabilityWarning(
                     f"mjrft: timestep {dt:g} s exceeds the stability limit "
-                    f"{kernel.max_stable_dt(K, c, w):.3g} s of the granular stiffness on body '{name}' at "
-                    f"t = {data.time:.4g} s (stiffness {K:.3g} N/m, damping {c:.3g} N s/m, effective mass "
-                    f"{1 / w:.3g} kg); reduce the timestep or increase yield_displacement"), stacklevel=3)
+                    f"{kernel.max_stable_dt(K, c, 1.0):.3g} s of the granular stiffness on body '{name}' at "
+                    f"t = {data.time:.4g} s ({what}, effective mass {stiff[b, 0] / lam:.3g} kg in its stiffest "
+                    "mode); reduce the timestep or increase yield_displacement"), stacklevel=3)
+
+    def critical_rate(self, data, body: int, moments) -> float:
+        """Largest eigenvalue of ``W6 K6`` for ``body``: omega^2 (1/s^2), or 1/s in the viscous mode.
+
+        ``moments`` are the kernel's stiffness moments of the body (see :mod:`mjrft.kernel`), ``K6``
+        the 6x6 stiffness they describe and ``W6`` the body's :meth:`mobility`.
+        """
+        s0, s1, s2 = moments[0], moments[1:4], moments[4:10]
+        cross = np.array([[0.0, -s1[2], s1[1]], [s1[2], 0.0, -s1[0]], [-s1[1], s1[0], 0.0]])
+        second = np.array([[s2[0], s2[1], s2[2]], [s2[1], s2[3], s2[4]], [s2[2], s2[4], s2[5]]])
+        k6 = np.zeros((6, 6))
+        k6[:3, :3] = s0 * np.eye(3)
+        k6[:3, 3:] = -cross
+        k6[3:, :3] = cross
+        k6[3:, 3:] = np.trace(second) * np.eye(3) - second
+        ev, vec = np.linalg.eigh(self.mobility(data, body))
+        half = (vec * np.sqrt(np.clip(ev, 0.0, None))) @ vec.T
+        return float(np.linalg.eigvalsh(half @ k6 @ half)[-1])
+
+    def mobility(self, data, body: int) -> np.ndarray:
+        """6x6 ``J M^-1 J^T`` of ``body``'s CoM translation (rows 0-2, 1/kg) and rotation (3-5), world frame."""
+        m = self.model
+        jac = np.zeros((6, m.nv))
+        mujoco.mj_jacBodyCom(m, data, jac[:3], jac[3:], body)
+        x = np.zeros((6, m.nv))
+        mujoco.mj_solveM(m, data, x, jac)
+        a = jac @ x.T
+        return 0.5 * (a + a.T)
 
     def inverse_mass(self, data, body: int) -> float:
         """Largest eigenvalue of J M^-1 J^T for the translation of ``body``'s centre of mass (1/kg)."""
-        m = self.model
-        jac = np.zeros((3, m.nv))
-        mujoco.mj_jacBodyCom(m, data, jac, None, body)
-        x = np.zeros((3, m.nv))
-        mujoco.mj_solveM(m, data, x, jac)
-        a = jac @ x.T
-        return float(np.linalg.eigvalsh(0.5 * (a + a.T))[-1])
+        return float(np.linalg.eigvalsh(self.mobility(data, body)[:3, :3])[-1])
 
     def sinkage(self) -> np.ndarray:
         """Deepest element depth (m, >= 0) of each body, shape (nbody,), from the last step."""
