@@ -3,7 +3,8 @@
 ``model_path(name)`` gives the path of a committed default model (regenerate
 them with ``python -m mjrft.models.generate``); the parametric generators
 ``hexapod_xml/hexapod_model``, ``biped_xml/biped_model`` and
-``humanoid_xml/humanoid_model`` are re-exported here (imported lazily).
+``humanoid_xml/humanoid_model`` and the rigs' ``plate_rig_xml/leg_rig_xml`` are re-exported here
+(imported lazily).
 """
 
 from __future__ import annotations
@@ -24,12 +25,15 @@ MODEL_NAMES = (
     "humanoid",
     "humanoid_cutout",
     "humanoid_rigid",
+    "plate_rig",
+    "leg_rig",
 )
 
 _LAZY = {
     "hexapod_xml": "hexapod", "hexapod_model": "hexapod",
     "biped_xml": "biped", "biped_model": "biped",
     "humanoid_xml": "humanoid", "humanoid_model": "humanoid",
+    "plate_rig_xml": "rigs", "leg_rig_xml": "rigs",
 }
 
 __all__ = ["MODEL_NAMES", "model_path", *_LAZY]

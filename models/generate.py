@@ -14,6 +14,7 @@ from . import MODEL_NAMES, model_path
 from .biped import biped_xml
 from .hexapod import hexapod_xml
 from .humanoid import humanoid_xml
+from .rigs import leg_rig_xml, plate_rig_xml
 
 #: name -> (generator, kwargs)
 DEFAULTS = {
@@ -27,6 +28,8 @@ DEFAULTS = {
     "humanoid": (humanoid_xml, dict(sand=True)),
     "humanoid_cutout": (humanoid_xml, dict(foot_cutout=True, sand=True)),
     "humanoid_rigid": (humanoid_xml, dict(sand=False)),
+    "plate_rig": (plate_rig_xml, dict()),
+    "leg_rig": (leg_rig_xml, dict(shape="c")),
 }
 assert tuple(DEFAULTS) == MODEL_NAMES
 

@@ -1,0 +1,232 @@
+"""MJCF builders of the two measurement rigs: a plate intruder and a rotating-leg rig.
+
+Both rigs are *kinematic*: :mod:`mjrft.rigs` prescribes ``qpos``/``qvel`` exactly at every sample
+(no integration, no actuators), recomputes the kinematics and reads the granular wrench from
+:class:`mjrft.GranularTerrain`. The sand is the usual visual-only bed with its top at ``surface``
+(default z = 0); the rig geoms have ``contype = conaffinity = 0``. Frame: x forward, y left, z up;
+the plane of motion is x-z.
+
+Plate intruder (:func:`plate_rig_xml`, committed default ``plate_rig.xml``)
+---------------------------------------------------------------------------
+Body ``plate`` (origin at the plate centre) with three joints, in this ``qpos`` order:
+``plate_x`` (slide along +x), ``plate_z`` (slide along +z) and ``plate_attack`` (hinge about -y,
+``qpos`` = the attack angle beta). Geom ``plate``: a box ``length`` (local x, in the plane of motion)
+x ``width`` (y, across it) x ``thickness``. At beta = 0 the plate is horizontal; at beta its faces'
+normals are +-(sin beta, 0, -cos beta), Li 2013's convention: with beta > 0 the face that leads when
+dragged toward +x faces forward-and-down. Defaults: Li 2013's plate rig, 3.81 x 2.54 x 0.64 cm
+(which side lies in the plane of motion is not stated; we put the 3.81 cm side in it).
+
+Rotating leg (:func:`leg_rig_xml`, committed default ``leg_rig.xml``)
+---------------------------------------------------------------------
+A fixed body ``axle`` at height ``axle_height`` above the surface and a child body ``leg`` on the
+hinge ``axle`` (axis +y, ``qpos`` = leg angle theta, measured from straight down; theta > 0 has
+swung the tip backward, toward -x, so a leg turning at omega > 0 sweeps its buried part backward
+and the grains push it forward). The leg hangs along -z from the axle at theta = 0; the model's
+initial pose ``qpos0`` is theta = pi (pointing up, out of the sand: the body is built upside down
+and the hinge has ``ref = pi``). Shapes:
+
+=================  ===================================================================================
+``flat``           straight bar of length ``chord`` (one box)
+``c``              circular arc, hip-to-tip ``chord``, curvature ``+curvature`` (default the semicircle
+                   2/chord): bows toward +x when hanging, the hexapod's C-leg (:mod:`.hexapod`)
+``reversed_c``     the same arc bowing toward -x (curvature ``-curvature``)
+``semi_ellipse``   semi-ellipse, semi-axes ``a`` along the leg (hip-to-tip 2a) and ``b`` across, convex
+                   side leading (``bulge=+1``: bowing toward -x, the side that moves first when omega
+                   > 0) or trailing (``bulge=-1``), the hybrid paper's legs and the convention of
+                   :func:`mjrft.laws.hybrid.rotating_leg_profile`
+=================  ===================================================================================
+
+Defaults: Li 2013's leg rotation rig for ``flat``/``c``/``reversed_c`` (legs 7.62 cm hip to tip,
+2.54 cm wide, 0.64 cm thick, axle 2 cm above the surface) and the hybrid paper's rig for
+``semi_ellipse`` (a = b = 4.5 cm, axle 5 cm above the surface; width 2.54 cm and thickness 0.64 cm
+are our assumptions, the paper's reference values give neither).
+
+Curved legs are one closed triangle mesh (geom ``leg``, mesh asset ``leg``, built by
+:func:`mjrft.geometry.curved_leg.leg_mesh`), not the chain of boxes the robots use: the boxes' end
+faces lie inside the leg at every joint, and a surface-element law counts each pair as an extra thin
+plate across the leg, so the box leg's force grows with the number of boxes (Li RFT on the C-leg
+rig: peak thrust 6.9 / 13.0 / 36.9 N with 4 / 16 / 64 boxes). The mesh leg has no inner faces.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from mjrft.geometry.curved_leg import curved_leg_boxes, curved_leg_mesh, semi_ellipse_mesh
+
+from .scene import SceneOptions, assemble, check_positive, fmt
+
+# Li 2013 plate rig (reference section 6)
+PLATE_LENGTH = 0.0381
+PLATE_WIDTH = 0.0254
+PLATE_THICKNESS = 0.0064
+# Li 2013 leg rotation rig
+LEG_CHORD = 0.0762
+LEG_WIDTH = 0.0254
+LEG_THICKNESS = 0.0064
+LI_AXLE_HEIGHT = 0.02
+# hybrid paper's rig (semicircle case a = b = 4.5 cm, axle 5 cm above the surface)
+HYBRID_A = 0.045
+HYBRID_AXLE_HEIGHT = 0.05
+
+LEG_SHAPES = ("flat", "c", "reversed_c", "semi_ellipse")
+ALUMINIUM = 2700.0  # kg/m^3, only for the (unused) inertia of the kinematic bodies
+RIG_RESOLUTION = 0.005
+NO_CONTACT = 'contype="0" conaffinity="0"'
+NO_ACTUATORS = "    <!-- none: mjrft.rigs drives the joints kinematically (qpos and qvel prescribed) -->"
+
+
+def _scene(medium, law, resolution, surface, bodies, bed_length, bed_width, bed_depth) -> SceneOptions:
+    opts = SceneOptions(sand=True, bed_depth=bed_depth, bed_length=bed_length, bed_width=bed_width,
+                        medium=medium, law=law, resolution=resolution, surface=surface, granular_bodies=bodies)
+    opts.validate()
+    return opts
+
+
+def plate_rig_xml(length: float = PLATE_LENGTH, width: float = PLATE_WIDTH, thickness: float = PLATE_THICKNESS,
+                  *, medium: str = "poppy_cp", law: str = "rft", resolution: float = RIG_RESOLUTION,
+                  surface: float = 0.0) -> str:
+    """MJCF text of the plate intruder (module docstring); at ``qpos = 0`` the plate lies flat on the
+    surface (beta = 0, centre half a thickness above it)."""
+    length = check_positive("plate length", length)
+    width = check_positive("plate width", width)
+    thickness = check_positive("plate thickness", thickness)
+    opts = _scene(medium, law, resolution, surface, ["plate"], 1.0, 0.4, 0.2)
+    half = (length / 2, width / 2, thickness / 2)
+    mass = ALUMINIUM * length * width * thickness
+    z0 = float(surface) + thickness / 2
+    robot = "\n".join([
+        f'    <body name="plate" pos="{fmt(0, 0, z0)}">',
+        f'      <camera name="track" mode="trackcom" pos="{fmt(0, -0.3, 0)}" xyaxes="1 0 0 0 0 1"/>',
+        '      <joint name="plate_x" type="slide" axis="1 0 0"/>',
+        '      <joint name="plate_z" type="slide" axis="0 0 1"/>',
+        '      <joint name="plate_attack" type="hinge" axis="0 -1 0"/>',
+        f'      <geom name="plate" type="box" size="{fmt(half)}" mass="{fmt(mass)}" material="limb" {NO_CONTACT}/>',
+        "    </body>",
+    ])
+    comment = (
+        f"Plate intruder rig: plate {length * 100:g} x {width * 100:g} x {thickness * 100:g} cm "
+        "(length in the plane of motion x width x thickness), moved kinematically by mjrft.rigs.plate_intrusion.\n"
+        "Joints (qpos order): plate_x slide +x, plate_z slide +z, plate_attack hinge about -y (= beta).\n"
+        "See mjrft/models/rigs.py."
+    )
+    return assemble(model="plate_rig", comment=comment, opts=opts, robot=robot, actuators=NO_ACTUATORS,
+                    extent=0.3, center=(0.0, 0.0, 0.0), custom_extra='    <text name="rig:kind" data="plate"/>')
+
+
+def leg_geometry(shape: str = "c", *, chord: float | None = None, curvature: float | None = None,
+                 a: float | None = None, b: float | None = None, bulge: int = 1, width: float = LEG_WIDTH,
+                 thickness: float = LEG_THICKNESS, n_segments: int = 32) -> dict:
+    """Checked leg parameters with the shape's defaults filled in, and the leg's surface.
+
+    A flat leg is one box; curved legs are ONE closed mesh (:func:`mjrft.geometry.curved_leg.leg_mesh`
+    of a centre line of ``n_segments`` pieces), not a chain of boxes, whose internal end faces would
+    act as extra plates across the leg. Returns ``shape``, ``length`` (hip to tip, m), ``width``,
+    ``thickness``, the shape's own numbers (``chord``, ``curvature`` or ``a``, ``b``, ``bulge``),
+    ``vertices`` (surface points in the leg body frame: the mesh vertices or the box corners) and
+    ``mesh`` (``(vertices, faces)``, None for the flat leg).
+    """
+    if shape not in LEG_SHAPES:
+        raise ValueError(f"unknown leg shape {shape!r}; valid choices: {', '.join(LEG_SHAPES)}")
+    width = check_positive("leg width", width)
+    thickness = check_positive("leg thickness", thickness)
+    out = {"shape": shape, "width": width, "thickness": thickness}
+    if shape == "semi_ellipse":
+        if chord is not None or curvature is not None:
+            raise ValueError("shape 'semi_ellipse' takes the semi-axes a and b, not chord or curvature")
+        if bulge not in (1, -1):
+            raise ValueError(f"bulge must be +1 (convex side leading) or -1 (trailing), got {bulge!r}")
+        a = check_positive("semi-axis a", HYBRID_A if a is None else a)
+        b = check_positive("semi-axis b", HYBRID_A if b is None else b)
+        signed_b = -bulge * b  # +1: convex side toward -x, the side that leads when omega > 0
+        mesh = semi_ellipse_mesh(a, signed_b, width, thickness, n_segments)
+        out.update(a=a, b=b, bulge=bulge, length=2 * a, mesh=mesh, vertices=mesh[0])
+        return out
+    if a is not None or b is not None:
+        raise ValueError(f"the semi-axes a and b apply to shape 'semi_ellipse' only, not {shape!r}")
+    chord = check_positive("leg chord", LEG_CHORD if chord is None else chord)
+    out.update(chord=chord, length=chord)
+    if shape == "flat":
+        if curvature not in (None, 0, 0.0):
+            raise ValueError(f"shape 'flat' has no curvature, got {curvature!r}")
+        box = curved_leg_boxes(chord, 0.0, width, thickness, 1)[0]
+        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * box["size"]
+        out.update(curvature=0.0, mesh=None, box=box, vertices=corners + box["pos"])
+        return out
+    kmax = 2.0 / chord
+    k = kmax if curvature is None else check_positive("curvature", curvature)
+    if k > kmax * (1 + 1e-9):
+        raise ValueError(f"curvature {curvature!r} 1/m out of range for chord {chord!r} m: valid (0, 2/chord] = "
+                         f"(0, {kmax:.6g}] 1/m (the sign comes from the shape: 'c' or 'reversed_c')")
+    k = min(k, kmax) * (1.0 if shape == "c" else -1.0)
+    mesh = curved_leg_mesh(chord, k, width, thickness, n_segments)
+    out.update(curvature=k, mesh=mesh, vertices=mesh[0])
+    return out
+
+
+def default_axle_height(shape: str) -> float:
+    """Axle height above the surface (m) when none is given: 2 cm (Li 2013) or 5 cm (``semi_ellipse``)."""
+    return HYBRID_AXLE_HEIGHT if shape == "semi_ellipse" else LI_AXLE_HEIGHT
+
+
+def leg_rig_xml(shape: str = "c", *, axle_height: float | None = None, medium: str = "poppy_cp", law: str = "rft",
+                resolution: float = RIG_RESOLUTION, surface: float = 0.0, **leg) -> str:
+    """MJCF text of the rotating-leg rig (module docstring); ``**leg`` goes to :func:`leg_geometry`."""
+    geo = leg_geometry(shape, **leg)
+    h = default_axle_height(shape) if axle_height is None else check_positive("axle_height", axle_height)
+    opts = _scene(medium, law, resolution, surface, ["leg"], 1.0, 0.4, 0.3)
+    mass = ALUMINIUM * geo["width"] * geo["thickness"] * geo["length"]
+    if geo["mesh"] is None:
+        bx = geo["box"]
+        legxml = (f'        <geom name="leg" type="box" pos="{fmt(bx["pos"])}" size="{fmt(bx["size"])}" '
+                  f'mass="{fmt(mass)}" material="limb" {NO_CONTACT}/>')
+        assets = ""
+    else:
+        verts, faces = geo["mesh"]
+        legxml = f'        <geom name="leg" type="mesh" mesh="leg" mass="{fmt(mass)}" material="limb" {NO_CONTACT}/>'
+        assets = f'    <mesh name="leg" vertex="{fmt(verts)}" face="{" ".join(str(int(f)) for f in faces.ravel())}"/>'
+    axle_r = 0.004
+    half_w = geo["width"] / 2 + 0.01
+    z_axle = float(surface) + h
+    robot = "\n".join([
+        f'    <body name="axle" pos="{fmt(0, 0, z_axle)}">',
+        f'      <geom name="axle" type="cylinder" fromto="{fmt(0, -half_w, 0, 0, half_w, 0)}" size="{fmt(axle_r)}" '
+        f'material="body" {NO_CONTACT} mass="0.1"/>',
+        f'      <camera name="track" mode="track" pos="{fmt(0, -0.45, -0.02)}" xyaxes="1 0 0 0 0 1"/>',
+        # built pointing up (out of the sand) with ref = pi, so qpos is still the angle from straight down
+        '      <body name="leg" pos="0 0 0" quat="0 0 1 0">',
+        f'        <joint name="axle" type="hinge" axis="0 1 0" ref="{math.pi!r}"/>',
+        legxml,
+        "      </body>",
+        "    </body>",
+    ])
+    if shape == "semi_ellipse":
+        what = (f"semi-ellipse a = {geo['a'] * 100:g} cm, b = {geo['b'] * 100:g} cm, convex side "
+                f"{'leading' if geo['bulge'] == 1 else 'trailing'}")
+    else:
+        what = f"{shape}, hip to tip {geo['chord'] * 100:g} cm, curvature {geo['curvature']:.6g} 1/m"
+    comment = (
+        f"Rotating-leg rig: leg {what}, width {geo['width'] * 100:g} cm, thickness {geo['thickness'] * 100:g} cm;\n"
+        f"axle {h * 100:g} cm above the sand surface, hinge 'axle' about +y (qpos = leg angle from straight down,\n"
+        "positive = tip swung toward -x). Driven kinematically by mjrft.rigs.rotating_leg. See mjrft/models/rigs.py."
+    )
+    custom = "\n".join([
+        '    <text name="rig:kind" data="leg"/>',
+        f'    <text name="rig:shape" data="{shape}"/>',
+        f'    <numeric name="rig:axle_height" data="{fmt(h)}"/>',
+    ])
+    return assemble(model=f"leg_rig_{shape}", comment=comment, opts=opts, robot=robot, actuators=NO_ACTUATORS,
+                    extent=0.4, center=(0.0, 0.0, 0.0), custom_extra=custom, assets=assets)
+
+
+def plate_rig_model(*args, **kw) -> mujoco.MjModel:
+    """Compiled :func:`plate_rig_xml`."""
+    return mujoco.MjModel.from_xml_string(plate_rig_xml(*args, **kw))
+
+
+def leg_rig_model(shape: str = "c", **kw) -> mujoco.MjModel:
+    """Compiled :func:`leg_rig_xml`."""
+    return mujoco.MjModel.from_xml_string(leg_rig_xml(shape, **kw))
