@@ -385,7 +385,7 @@ class GranularTerrain:
             if stiff[b, 0] <= 0 or b in self._warned:
                 continue
             lam = self.critical_rate(data, int(b), stiff[b])
-            K, c = (0.0, lam) if viscous else (lam, self.damping_time * lam)
+            K, c = self._spring(lam)
             if not kernel.stable_step(K, c, 1.0, dt):
                 self._warned.add(int(b))
                 name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
@@ -396,6 +396,24 @@ class GranularTerrain:
                     f"{kernel.max_stable_dt(K, c, 1.0):.3g} s of the granular stiffness on body '{name}' at "
                     f"t = {data.time:.4g} s ({what}, effective mass {stiff[b, 0] / lam:.3g} kg in its stiffest "
                     "mode); reduce the timestep or increase yield_displacement"), stacklevel=3)
+
+    def _spring(self, lam: float) -> tuple[float, float]:
+        """(K, c) per unit mass of the stiffest mode, for kernel.stable_step / max_stable_dt with w = 1."""
+        return (0.0, lam) if self.yield_displacement == 0 else (lam, self.damping_time * lam)
+
+    def stable_timestep(self, data: mujoco.MjData) -> np.ndarray:
+        """Largest stable timestep (s) of each body for the granular stiffness of the last step, shape (nbody,).
+
+        The limit the stability check warns about (see :mod:`mjrft.kernel`), evaluated now; ``inf``
+        for bodies with nothing below the surface.
+        """
+        if data is not self._data:
+            raise ValueError("stable_timestep needs the MjData this terrain last stepped")
+        out = np.full(self.model.nbody, np.inf)
+        for b in self.body_ids:
+            if self._stiff[b, 0] > 0:
+                out[b] = kernel.max_stable_dt(*self._spring(self.critical_rate(data, int(b), self._stiff[b])), 1.0)
+        return out
 
     def critical_rate(self, data, body: int, moments) -> float:
         """Largest eigenvalue of ``W6 K6`` for ``body``: omega^2 (1/s^2), or 1/s in the viscous mode.
