@@ -30,8 +30,20 @@ ENV_IDS = {
     "mjrft/HumanoidRigid-v0": "mjrft.envs.humanoid:HumanoidRigid",
 }
 MAX_EPISODE_STEPS = 1000
+#: ``vector_entry_point`` of each id (``gymnasium.make_vec(id, num_envs)``): a batched ``GranularVectorEnv``
+VECTOR_ENTRY_POINTS = {env_id: "mjrft.envs.vector:" + env_id.split("/")[1].split("-")[0] + "Vector"
+                       for env_id in ENV_IDS}
 
-__all__ = ["ENV_IDS", "register_envs"]
+__all__ = ["ENV_IDS", "VECTOR_ENTRY_POINTS", "make_vector", "register_envs"]
+
+
+def make_vector(env_id: str, num_envs: int = 1, **kwargs):
+    """``num_envs`` copies of ``env_id`` stepped as one batch: a :class:`mjrft.envs.vector.GranularVectorEnv`
+    (gymnasium vector API; keyword arguments: ``max_episode_steps``, ``autoreset_mode``, ``parallel`` and the
+    environment's own). ``gymnasium.make_vec(env_id, num_envs)`` builds the same."""
+    from .vector import GranularVectorEnv
+
+    return GranularVectorEnv(env_id, num_envs, **kwargs)
 
 
 def register_envs() -> list[str]:
@@ -42,7 +54,8 @@ def register_envs() -> list[str]:
         return []
     for env_id, entry_point in ENV_IDS.items():
         if env_id not in gymnasium.registry:
-            gymnasium.register(id=env_id, entry_point=entry_point, max_episode_steps=MAX_EPISODE_STEPS)
+            gymnasium.register(id=env_id, entry_point=entry_point, max_episode_steps=MAX_EPISODE_STEPS,
+                               vector_entry_point=VECTOR_ENTRY_POINTS[env_id])
     return list(ENV_IDS)
 
 

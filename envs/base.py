@@ -166,12 +166,19 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
     def do_simulation(self, ctrl, n_frames) -> None:
         """``n_frames`` physics steps with ``ctrl``: one ``terrain.step(data, n_frames)`` on sand."""
+        self._set_ctrl(ctrl)
+        self._advance(n_frames)
+
+    def _set_ctrl(self, ctrl) -> None:
         ctrl = np.asarray(ctrl, dtype=np.float64)
         if ctrl.shape != (self.model.nu,):
             raise ValueError(f"Action dimension mismatch. Expected {(self.model.nu,)}, found {ctrl.shape}")
         if not np.all(np.isfinite(ctrl)):
             raise ValueError(f"control contains NaN or infinite values: {ctrl!r}")
         self.data.ctrl[:] = ctrl
+
+    def _advance(self, n_frames) -> None:
+        """The physics alone (``mjrft.envs.vector`` replaces this call by one batched call for all its envs)."""
         if self.terrain is not None:
             self.terrain.step(self.data, n_frames)
         else:
@@ -219,10 +226,20 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         return self._forward_reward_weight * x_velocity
 
     def step(self, action):
+        before = self._begin_step(action)
+        self._advance(self.frame_skip)
+        return self._end_step(*before)
+
+    def _begin_step(self, action) -> tuple:
+        """``step`` before the physics: check the action, note the start state, set ``data.ctrl``."""
         a = self._check_action(action)
         x_before = self.data.qpos[0].copy()
         com_before = self.data.subtree_com[self._torso_id, :2].copy()
-        self.do_simulation(self.action_to_ctrl(a), self.frame_skip)
+        self._set_ctrl(self.action_to_ctrl(a))
+        return a, x_before, com_before
+
+    def _end_step(self, a, x_before, com_before):
+        """``step`` after the physics: observation, reward, termination, truncation and info."""
         x_after = self.data.qpos[0]
         x_velocity = float((x_after - x_before) / self.dt)
         xy_velocity = (self.data.subtree_com[self._torso_id, :2] - com_before) / self.dt
