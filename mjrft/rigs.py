@@ -317,7 +317,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     else:
         label = {"flat": "flat", "c": "C-leg", "reversed_c": "reversed C-leg"}[shape]
     return LegProfile(angle=angles, time=times, depth=depth, forward=force[:, 0].copy(), support=force[:, 2].copy(),
-                      torque=-tau_axle[:, 1], settings=settings, label=label)
+                      torque=0.0 - tau_axle[:, 1], settings=settings, label=label)
 
 
 def rotating_leg_family(a: float | None = None, **kw) -> dict[str, LegProfile]:
