@@ -39,6 +39,7 @@ Choices (the issue is silent on them):
 * With ``n_envs > 1`` the environments run in subprocesses (``SubprocVecEnv``, ``forkserver`` start
   method on Linux, ``spawn`` elsewhere); the workers ignore SIGINT, so Ctrl-C reaches only the trainer,
   which saves ``model.zip``, a checkpoint and ``config.json`` and returns (``interrupted=True``).
+  SIGTERM (e.g. a cluster scheduler stopping the job) is handled the same way.
 """
 
 from __future__ import annotations
@@ -381,7 +382,8 @@ def _check_same(saved: dict, name: str, given, saved_value) -> None:
 def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 100_000, n_envs: int = 1,
           seed: int = 0, out_dir="runs/mjrft", env_kwargs: dict | None = None, checkpoint_every: int = 10_000,
           resume: bool = True, *, hyperparams: dict | None = None, normalize: bool | None = None,
-          device: str = "cpu", progress_bar: bool = False, verbose: int = 0, callback=None) -> TrainResult:
+          device: str = "cpu", torch_threads: int | None = 1, progress_bar: bool = False, verbose: int = 0,
+          callback=None) -> TrainResult:
     """Train ``algo`` on ``env_id`` until ``num_timesteps`` reaches ``timesteps``; resumable (see module doc).
 
     Args:
@@ -398,6 +400,9 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         hyperparams: constructor arguments of the SB3 algorithm (``n_steps``, ``learning_rate``, ...).
         normalize: wrap the environments in ``VecNormalize`` (observations and rewards); default False.
         device: torch device (``"cpu"``, ``"cuda"``, ``"auto"``).
+        torch_threads: torch CPU threads while training (restored afterwards); ``None`` leaves torch's
+            setting. Default 1: the policies are small MLPs, and on a busy 2-core machine one thread ran
+            SAC's updates 3.7x faster than two (measured: 100 SAC steps 2.2 s vs 8.2 s).
         progress_bar: SB3's progress bar (tqdm + rich).
         verbose: SB3 verbosity (1 prints the training log).
         callback: extra SB3 callback(s) (a ``BaseCallback`` or a list).
@@ -411,6 +416,8 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
     n_envs = _check_int("n_envs", n_envs, 1)
     seed = _check_int("seed", seed, 0)
     checkpoint_every = _check_int("checkpoint_every", checkpoint_every, 1)
+    if torch_threads is not None:
+        torch_threads = _check_int("torch_threads", torch_threads, 1)
     if algo is not None:
         algo_class(algo)
     if env_id is not None:
@@ -466,6 +473,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         "timesteps": timesteps,
         "checkpoint_every": checkpoint_every,
         "device": device,
+        "torch_threads": torch_threads,
         "vec_env": "SubprocVecEnv" if n_envs > 1 else "DummyVecEnv",
         "start_method": start_method() if n_envs > 1 else None,
         "versions": versions(),
@@ -492,8 +500,13 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
     config["runs"].append(run)
     write_json(config_path, config)
 
+    import torch
+
     env_seed = seed + start_step
     venv = make_vec_env(env_id, n_envs, env_seed, env_kwargs, out_dir / "monitor.csv")
+    threads_before = torch.get_num_threads()
+    if torch_threads is not None:
+        torch.set_num_threads(torch_threads)
     try:
         resumed_from = None
         if checkpoints:
@@ -516,11 +529,15 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         if callback is not None:
             callbacks += list(callback) if isinstance(callback, (list, tuple)) else [callback]
         interrupted = False
+        old_term = _catch_sigterm()
         try:
             model.learn(total_timesteps=timesteps - start_step, callback=callbacks, reset_num_timesteps=False,
                         progress_bar=progress_bar)
         except KeyboardInterrupt:
             interrupted = True
+        finally:
+            if old_term is not None:
+                signal.signal(signal.SIGTERM, old_term)
         ckpt = save_checkpoint(model, out_dir, final=True)
         run.update(status="interrupted" if interrupted else "finished", ended=_now(),
                    to_step=int(model.num_timesteps))
@@ -529,10 +546,24 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         return TrainResult(out_dir, out_dir / MODEL_NAME, config_path, int(model.num_timesteps), interrupted,
                            resumed_from, [p for _, p in list_checkpoints(out_dir)])
     finally:
+        torch.set_num_threads(threads_before)
         try:
             venv.close()
         except (EOFError, BrokenPipeError, ConnectionResetError):  # a worker already gone
             pass
+
+
+def _sigterm(signum, frame):
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+def _catch_sigterm():
+    """Treat SIGTERM (a scheduler's stop) like Ctrl-C while training; returns the previous handler."""
+    import threading
+
+    if threading.current_thread() is not threading.main_thread():
+        return None
+    return signal.signal(signal.SIGTERM, _sigterm)
 
 
 def _load_for_resume(cls, path: Path, venv, device: str, n_envs: int):
@@ -586,6 +617,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--normalize", action="store_true", default=None,
                         help="VecNormalize observations and rewards (statistics saved with the model)")
     parser.add_argument("--device", default="cpu", help="torch device: cpu (default), cuda, auto")
+    parser.add_argument("--torch-threads", type=_int_arg, default=1,
+                        help="torch CPU threads (default 1: fastest for these small MLP policies)")
     parser.add_argument("--no-resume", dest="resume", action="store_false",
                         help="start over even if the folder has checkpoints")
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
@@ -604,7 +637,8 @@ def main(args) -> int:
         print(f"resuming {out} from {path.relative_to(out)} at {step} steps (target {args.timesteps})")
     result = train(args.env_id, args.algo, args.timesteps, args.n_envs, args.seed, out, env_kwargs,
                    args.checkpoint_every, args.resume, hyperparams=hyperparams, normalize=args.normalize,
-                   device=args.device, progress_bar=args.progress, verbose=args.verbose)
+                   device=args.device, torch_threads=args.torch_threads, progress_bar=args.progress,
+                   verbose=args.verbose)
     cfg = load_config(result.config_path)
     if result.interrupted:
         print(f"interrupted at {result.num_timesteps} steps; saved {result.model_path} and a checkpoint. "
