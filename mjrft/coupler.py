@@ -34,10 +34,11 @@ import mujoco
 import numpy as np
 
 from . import kernel
-from .errors import NonFiniteError, TerrainStabilityWarning, check_finite, check_positive, unknown
+from .errors import NonFiniteError, TerrainStabilityWarning, UnknownNameError, check_finite, check_positive, unknown
 from .geometry import Elements, discretize_geom
-from .laws import law_id
-from .media import Medium, get_medium
+from .laws import LAW_IDS, law_id
+from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
+from .media import MEDIA, Medium, get_medium
 
 DEFAULTS = {
     "medium": "poppy_cp",
@@ -46,6 +47,8 @@ DEFAULTS = {
     "resolution": 0.005,
     "yield_displacement": 1e-3,
     "v_eps": 1e-3,
+    "transition": 0.01,
+    "buoyancy": 0.0,
 }
 CUSTOM_PREFIX = "mjrft:"
 _SUPPORTED_GEOMS = {
@@ -67,8 +70,9 @@ def _custom(model: mujoco.MjModel) -> dict:
     for i in range(model.nnumeric):
         name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_NUMERIC, i) or ""
         if name.startswith(CUSTOM_PREFIX):
-            adr = model.numeric_adr[i]
-            out[name[len(CUSTOM_PREFIX):]] = float(model.numeric_data[adr])
+            adr, size = model.numeric_adr[i], model.numeric_size[i]
+            vals = model.numeric_data[adr:adr + size]
+            out[name[len(CUSTOM_PREFIX):]] = float(vals[0]) if size == 1 else tuple(float(v) for v in vals)
     return out
 
 
@@ -92,11 +96,128 @@ def _ids(model, kind: mujoco.mjtObj, names, label: str, count: int) -> list[int]
 
 @dataclass(frozen=True)
 class Region:
-    """A strip of the surface ``x_min <= x < x_max`` with its own medium and law (see GranularTerrain)."""
+    """Part of the surface with its own medium, law and water depth (see :class:`GranularTerrain`).
 
-    x_min: float
+    ``x_min``: start of the strip ``x_min <= x < next x_min`` (strips along x); ``None`` for a region
+    used through a :class:`RegionMap`. ``water_depth`` (m, >= 0): free water standing above the sand;
+    ``None`` takes the medium's own ``water_depth`` constant (0 unless set, ``mjrft.laws.wet``).
+    """
+
+    x_min: float | None
     medium: Medium | str
     law: str
+    water_depth: float | None = None
+
+
+@dataclass(frozen=True)
+class RegionMap:
+    """A grid of region ids over the (x, y) plane: ``ids[j, i]`` covers the cell
+    ``x_min + i cell_x <= x < x_min + (i + 1) cell_x``, ``y_min + j cell_y <= y < ...``; id 0 is the
+    terrain's own medium/law/water depth and id k the terrain's ``regions[k - 1]``. Outside the grid the
+    border cells continue."""
+
+    ids: np.ndarray
+    x_min: float
+    y_min: float
+    cell: float | tuple
+
+
+LAW_WATER = LAW_IDS["water"]
+_SATURATED_LAWS = (LAW_IDS["wet"], LAW_WATER)
+
+
+def _region_entries(regions, mapped: bool) -> list[Region]:
+    """Normalise ``regions`` (Region objects, tuples or the MJCF text) to a list of :class:`Region`."""
+    if regions is None:
+        return []
+    if isinstance(regions, str):
+        items = [tuple(part.split()) for part in regions.split(";") if part.strip()]
+    else:
+        items = list(regions)
+    out = []
+    shape = "(medium, law[, water_depth])" if mapped else "(x_min, medium, law[, water_depth])"
+    for k, item in enumerate(items, start=1):
+        if isinstance(item, Region):
+            reg = item
+        else:
+            item = tuple(item)
+            n0 = 0 if mapped else 1
+            if len(item) not in (n0 + 2, n0 + 3):
+                raise ValueError(f"region {k}: expected {shape}, got {item!r}")
+            reg = Region(None if mapped else item[0], item[n0], item[n0 + 1], item[n0 + 2] if len(item) > n0 + 2 else None)
+        if mapped and reg.x_min is not None:
+            raise ValueError(f"region {k}: regions used by a region_map take no x_min, got x_min={reg.x_min!r}; "
+                             f"give {shape}")
+        if not mapped and reg.x_min is None:
+            raise ValueError(f"region {k}: strips along x need x_min (or pass region_map=...); give {shape}")
+        out.append(reg)
+    return out
+
+
+def _region_map(value, n_regions: int, transition: float) -> tuple[np.ndarray, np.ndarray]:
+    """(ids (ny, nx) int64, frame [x_min, y_min, cell_x, cell_y]) from a RegionMap or the MJCF numeric
+    ``x_min y_min cell_x cell_y nx ny ids...``."""
+    if isinstance(value, RegionMap):
+        ids, x0, y0, cell = value.ids, value.x_min, value.y_min, value.cell
+        cx, cy = (cell, cell) if np.ndim(cell) == 0 else tuple(cell)
+    else:
+        vals = np.atleast_1d(np.asarray(value, dtype=float))
+        if vals.size < 7:
+            raise ValueError("region_map from <custom> needs 'x_min y_min cell_x cell_y nx ny id...', "
+                             f"got {vals.size} numbers")
+        x0, y0, cx, cy, nx, ny = vals[:6]
+        if nx != int(nx) or ny != int(ny) or nx < 1 or ny < 1 or vals.size != 6 + int(nx) * int(ny):
+            raise ValueError(f"region_map: nx = {nx:g}, ny = {ny:g} must be integers >= 1 followed by nx x ny ids, "
+                             f"got {vals.size - 6} ids")
+        ids = vals[6:].reshape(int(ny), int(nx))
+    x0, y0 = check_finite("region_map x_min", x0), check_finite("region_map y_min", y0)
+    cx, cy = check_positive("region_map cell_x", cx), check_positive("region_map cell_y", cy)
+    arr = np.asarray(ids)
+    if arr.ndim != 2 or arr.size == 0:
+        raise ValueError(f"region_map ids must be a non-empty 2D array (ny, nx), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr.astype(float))) or np.any(arr != np.round(arr)):
+        raise ValueError("region_map ids must be integers")
+    arr = arr.astype(np.int64)
+    bad = np.argwhere((arr < 0) | (arr > n_regions))
+    if len(bad):
+        j, i = bad[0]
+        raise ValueError(f"region_map id {arr[j, i]} at row {j}, column {i} is not a region: valid ids 0..{n_regions} "
+                         "(0 = the terrain's own medium and law, k = regions[k - 1])")
+    if transition > min(cx, cy):
+        raise ValueError(f"transition width {transition:g} m exceeds the region_map cell {min(cx, cy):g} m; "
+                         "pass transition <= the cell size")
+    return np.ascontiguousarray(arr), np.array([x0, y0, cx, cy], dtype=np.float64)
+
+
+def _hfield_surface(model: mujoco.MjModel, name) -> tuple[int, np.ndarray, np.ndarray]:
+    """(geom id, world heights (nrow, ncol), frame) of the hfield geom ``name`` (see kernel.surface_height)."""
+    hgeoms = [g for g in range(model.ngeom) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_HFIELD]
+    hnames = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or f"#{g}" for g in hgeoms]
+    g = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, str(name))
+    if g < 0:
+        raise UnknownNameError(f"surface {name!r} is neither a number nor a geom of the model; hfield geoms: "
+                               f"{', '.join(hnames) or '(none)'}")
+    if model.geom_type[g] != mujoco.mjtGeom.mjGEOM_HFIELD:
+        raise ValueError(f"surface geom {name!r} has type {mujoco.mjtGeom(model.geom_type[g]).name}, not an hfield; "
+                         f"hfield geoms: {', '.join(hnames) or '(none)'}")
+    if model.body_weldid[model.geom_bodyid[g]] != 0:
+        raise ValueError(f"surface hfield geom {name!r} is on a moving body; the free surface must be fixed to the world")
+    d = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, d)
+    R = d.geom_xmat[g].reshape(3, 3)
+    if abs(R[2, 2] - 1.0) > 1e-9:
+        raise ValueError(f"surface hfield geom {name!r} is tilted (its z axis is {np.round(R[:, 2], 6).tolist()}); "
+                         "only hfields turned about the vertical axis are supported")
+    h = model.geom_dataid[g]
+    nrow, ncol = int(model.hfield_nrow[h]), int(model.hfield_ncol[h])
+    if nrow < 2 or ncol < 2:
+        raise ValueError(f"surface hfield geom {name!r} needs at least 2 x 2 samples, got {nrow} x {ncol}")
+    rx, ry, elev, _ = model.hfield_size[h]
+    adr = model.hfield_adr[h]
+    z = d.geom_xpos[g, 2] + elev * np.asarray(model.hfield_data[adr:adr + nrow * ncol], dtype=np.float64)
+    frame = np.array([d.geom_xpos[g, 0], d.geom_xpos[g, 1], R[0, 0], R[1, 0], rx, ry,
+                      (ncol - 1) / (2 * rx), (nrow - 1) / (2 * ry)], dtype=np.float64)
+    return g, np.ascontiguousarray(z.reshape(nrow, ncol)), frame
 
 
 class GranularTerrain:
@@ -109,7 +230,8 @@ class GranularTerrain:
         bodies: body names/ids whose geoms feel the grains (all their supported geoms).
         geoms: geom names/ids (added to those of ``bodies``). With neither (and nothing in the MJCF),
             every supported geom of every non-world body.
-        surface: height of the flat free surface (m).
+        surface: height of the flat free surface (m), or the name of an ``hfield`` geom whose height
+            field is the free surface (bilinear between its samples; see "Height-field surface" below).
         resolution: target element edge length (m), the one discretisation knob.
         yield_displacement: ``delta`` of the rest regularisation (m); 0 switches it to a viscous ramp.
         damping_time: ``tau`` (s) of the Kelvin-Voigt damping below yield; default ``0.5 sqrt(delta/g)``
@@ -118,12 +240,68 @@ class GranularTerrain:
             load ~2 N) at a 1 ms step; a body resting at its yield load gets zeta = 0.25, and the
             memory's own hysteresis dissipates the rest.
         v_eps: speed (m/s) of the viscous ramp used when ``yield_displacement`` is 0.
-        regions: optional strips along x, ``[(x_min, medium, law), ...]`` sorted by ``x_min``;
-            elements with x below the first ``x_min`` use ``medium``/``law``.
+        water_depth: free water standing above the sand (m) where the terrain's own medium applies;
+            default the medium's ``water_depth`` constant (0: dry).
+        regions: optional strips along x, ``[Region(x_min, medium, law, water_depth), ...]`` (or tuples
+            ``(x_min, medium, law[, water_depth])``) sorted by ``x_min``; x below the first ``x_min`` uses
+            ``medium``/``law``/``water_depth``. With ``region_map``: ``(medium, law[, water_depth])`` entries.
+        region_map: a :class:`RegionMap` (grid of region ids over x, y) instead of strips.
+        transition: width (m) over which two neighbouring regions are blended (default 0.01; 0 = a hard
+            switch). Strips must be at least this wide, map cells at least this large.
+        buoyancy: apply the water's hydrostatic pressure (Archimedes) where there is water (default False).
+        drag_coefficient: the water drag's ``C`` in ``C rho_w v^2 S`` for every region (default: each
+            medium's constant, 0.585 unless set; ``mjrft.laws.wet``).
+        water_density: ``rho_w`` (kg/m^3) of the drag and the buoyancy (default: each medium's, 1000).
+
+    Water layer. Where a region has ``water_depth`` ``h_w > 0``, an element between the sand surface
+    and the water surface (``-h_w < depth <= 0``) feels the SGRFT water drag ``C rho_w v^2 S`` on its
+    leading projected area (law ``water`` of :mod:`mjrft.laws.wet`, evaluated on the element's real
+    velocity: it fades to zero over the 1 mm ``water_skin`` below the water surface and over the same
+    skin into the sand, where the sand law takes over from zero); above the water nothing. Culling
+    uses the highest surface, sand or water, so a dry scene keeps its cost. A region whose law is
+    ``water`` is open water with no granular bottom response (the scene's rigid bed bottom holds).
+
+    Buoyancy (``buoyancy=True``). Every element below the local water surface feels the hydrostatic
+    pressure ``rho_w g (z_water - z)`` along its inward normal. Summed over a closed surface this is,
+    by the divergence theorem, exactly ``rho_w g V_submerged`` upward through the submerged centroid
+    (the pressure is 0 at the water surface, so the cut through the waterline adds nothing and the
+    force grows continuously as a geom sinks); with flat elements the midpoint rule is exact for a
+    fully submerged geom and off by O(element size) at the waterline. ``g`` is ``-gravity_z`` of the
+    model at each step. Which water: regions with ``water_depth > 0`` or the law ``wet``/``water``
+    (saturated sand: the water table is at least at the sand surface). The pressure continues INTO
+    saturated sand (pore water carries it; SGRFT's plate stresses, measured on 2 mm plates, hold no
+    buoyancy of the intruder, so nothing is counted twice). Dry regions get none: the RFT
+    coefficients of dry media are measured with the grains' own weight and air buoyancy is negligible.
+
+    Regions. Elements are evaluated with the law of the region they are in. Within ``transition / 2``
+    of a strip boundary (or of a map cell edge, bilinearly in x and y) the stresses of the
+    neighbouring regions (sand law, water drag and pressure, each with its own water depth) are mixed
+    linearly, so an element crossing the boundary at speed ``v`` sees the force change by
+    ``|sigma_a - sigma_b| v dt / transition`` per step instead of jumping. With a single region the
+    kernel does no region work at all, and a law a scene does not use is never called.
+
+    Height-field surface. ``surface="name"`` (or ``<text name="mjrft:surface_hfield">``) makes the
+    free surface the height field of that ``hfield`` geom: the geom's z plus ``elevation x sample``,
+    bilinear between samples (MuJoCo itself collides with the two triangles of each cell; the robot
+    does not collide with the sand here, so only mjrft's surface matters), in the geom's frame
+    (turned about the vertical axis allowed; tilted geoms and geoms on moving bodies are rejected),
+    read once at construction; outside the grid the border heights continue. Depth is measured
+    vertically, ``depth = surface_height(x, y) - z``, and the laws are evaluated as for a horizontal
+    free surface at that depth: the usual RFT choice on gentle slopes (the fits were made under a
+    level surface; a slope's lower downhill confinement is not modelled). ``surface`` (the attribute)
+    is then the mean height, for display.
+
+    MJCF ``<custom>`` keys for all of this: text ``mjrft:surface_hfield`` (geom name), text
+    ``mjrft:regions`` (``"x_min medium law [water_depth]; ..."``, or ``"medium law [water_depth]; ..."``
+    with a map), numeric ``mjrft:region_map`` (``x_min y_min cell_x cell_y nx ny`` then the nx x ny
+    ids row by row, rows along y), numeric ``mjrft:water_depth``, ``mjrft:transition``,
+    ``mjrft:buoyancy`` (0/1), ``mjrft:drag_coefficient``, ``mjrft:water_density``.
     """
 
     def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, surface=None,
-                 resolution=None, yield_displacement=None, damping_time=None, v_eps=None, regions=None):
+                 resolution=None, yield_displacement=None, damping_time=None, v_eps=None, water_depth=None,
+                 regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
+                 water_density=None):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         self.model = model
@@ -137,7 +315,18 @@ class GranularTerrain:
         self.medium = get_medium(pick("medium", medium))
         self.law = str(pick("law", law))
         lid = law_id(self.law)
-        self.surface = check_finite("surface", pick("surface", surface))
+        if surface is None and "surface_hfield" in cfg:
+            surface = cfg["surface_hfield"]
+        surface = pick("surface", surface)
+        self.surface_hfield = None  # geom id of the hfield surface
+        self._hf_z, self._hf_frame = np.zeros((0, 0)), np.zeros(8)
+        if isinstance(surface, str):
+            try:
+                surface = float(surface)
+            except ValueError:
+                self.surface_hfield, self._hf_z, self._hf_frame = _hfield_surface(model, surface)
+                surface = float(self._hf_z.mean())
+        self.surface = check_finite("surface", surface)
         self.resolution = check_positive("resolution", pick("resolution", resolution))
         self.yield_displacement = check_positive("yield_displacement",
                                                  pick("yield_displacement", yield_displacement), allow_zero=True)
@@ -148,19 +337,63 @@ class GranularTerrain:
             damping_time = cfg.get("damping_time", 0.5 * math.sqrt(self.yield_displacement / 9.81))
         self.damping_time = check_positive("damping_time", damping_time, allow_zero=True)
 
-        # --- regions (strips along x) ---
-        laws, params, bounds = [lid], [self.medium.params()], []
-        for reg in regions or []:
-            x_min, med, lname = (reg.x_min, reg.medium, reg.law) if isinstance(reg, Region) else reg
-            x_min = check_finite("region x_min", x_min)
-            if bounds and x_min <= bounds[-1]:
-                raise ValueError(f"regions must be sorted by increasing x_min, got {x_min!r} after {bounds[-1]!r}")
-            bounds.append(x_min)
-            laws.append(law_id(lname))
-            params.append(get_medium(med).params())
+        # --- regions: strips along x or a map; water layer, buoyancy ---
+        self.transition = check_positive("transition", pick("transition", transition), allow_zero=True)
+        self.buoyancy = bool(pick("buoyancy", buoyancy))
+        if drag_coefficient is None:
+            drag_coefficient = cfg.get("drag_coefficient")
+        if water_density is None:
+            water_density = cfg.get("water_density")
+        if drag_coefficient is not None:
+            drag_coefficient = check_positive("drag_coefficient", drag_coefficient, allow_zero=True)
+        if water_density is not None:
+            water_density = check_positive("water_density", water_density, allow_zero=True)
+        if region_map is None:
+            region_map = cfg.get("region_map")
+        entries = _region_entries(pick("regions", regions), mapped=region_map is not None)
+        base = Region(None, self.medium, self.law, pick("water_depth", water_depth))
+        laws, params, rhos, bounds = [], [], [], []
+        self.regions: list[Region] = []  # region 0 (the terrain's own) first, each with its water depth
+        for k, reg in enumerate([base, *entries]):
+            where = "" if k == 0 else f"region {k} "
+            try:
+                med = get_medium(reg.medium)
+            except UnknownNameError:
+                raise unknown(f"{where}medium", reg.medium, MEDIA) from None
+            try:
+                lid_k = law_id(reg.law)
+            except UnknownNameError:
+                raise unknown(f"{where}law", reg.law, LAW_IDS) from None
+            wc = wet_constants(med)
+            hw = wc["water_depth"] if reg.water_depth is None else reg.water_depth
+            hw = check_positive(f"{where}water_depth", hw, allow_zero=True)
+            rho = wc["water_density"] if water_density is None else water_density
+            cd = wc["drag_coefficient"] if drag_coefficient is None else drag_coefficient
+            p = med.params()
+            p[P_WATER_DEPTH] = hw
+            p[P_WATER_DRAG] = cd * rho
+            laws.append(lid_k)
+            params.append(p)
+            rhos.append(rho if self.buoyancy and (hw > 0 or lid_k in _SATURATED_LAWS) else 0.0)
+            if k > 0 and region_map is None:
+                x_min = check_finite(f"region {k} x_min", reg.x_min)
+                if bounds and x_min <= bounds[-1]:
+                    raise ValueError(f"regions must be sorted by increasing x_min, got {x_min!r} after {bounds[-1]!r}")
+                if bounds and x_min - bounds[-1] < self.transition:
+                    raise ValueError(f"region {k - 1} is {x_min - bounds[-1]:g} m wide (x_min {bounds[-1]!r} to "
+                                     f"{x_min!r}), less than the transition width {self.transition:g} m; "
+                                     "widen it or pass a smaller transition")
+                bounds.append(x_min)
+            self.regions.append(Region(None if k == 0 else reg.x_min, med, str(reg.law), hw))
         self._reg_bounds = np.array(bounds, dtype=np.float64)
         self._reg_law = np.array(laws, dtype=np.int64)
         self._reg_params = np.ascontiguousarray(np.array(params, dtype=np.float64))
+        self._reg_rho = np.array(rhos, dtype=np.float64)
+        self._reg_map, self._reg_map_frame = np.zeros((0, 0), dtype=np.int64), np.zeros(4)
+        if region_map is not None:
+            self._reg_map, self._reg_map_frame = _region_map(region_map, len(entries), self.transition)
+        self.water_depth = float(self._reg_params[:, P_WATER_DEPTH].max())  # deepest water anywhere
+        self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
 
         # --- geoms ---
         geom_ids = self._select_geoms(pick("bodies", bodies), pick("geoms", geoms))
@@ -281,8 +514,9 @@ class GranularTerrain:
     def _kernel_args(self, dt) -> tuple:
         return (self.geom_ids, self._g_body, self._g_start, self._g_aabb, self._g_active,
                 self._e_lpos, self._e_lnrm, self.area, *self._views, self._rootid,
-                self.surface, self.surface, self._reg_bounds, self._reg_law, self._reg_params,
-                dt, self.yield_displacement, self.damping_time, self.v_eps,
+                self.surface, self._top, self._reg_bounds, self._reg_law, self._reg_params,
+                self._hf_z, self._hf_frame, self._reg_map, self._reg_map_frame, self._reg_rho, self.transition,
+                max(0.0, -float(self.model.opt.gravity[2])), dt, self.yield_displacement, self.damping_time, self.v_eps,
                 self._u, self.pos, self.vel, self.normal, self.depth, self.force, self.region,
                 self.wrench, self._stiff, self._damp)
 
@@ -446,6 +680,22 @@ class GranularTerrain:
     def inverse_mass(self, data, body: int) -> float:
         """Largest eigenvalue of J M^-1 J^T for the translation of ``body``'s centre of mass (1/kg)."""
         return float(np.linalg.eigvalsh(self.mobility(data, body)[:3, :3])[-1])
+
+    def surface_height(self, x, y) -> np.ndarray:
+        """Height (m) of the free sand surface at world ``(x, y)`` (arrays broadcast), as the kernel sees it."""
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+        out = np.empty(x.shape)
+        kernel.surface_heights(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), self.surface,
+                               self._hf_z, self._hf_frame, out.reshape(-1))
+        return out
+
+    def region_weights(self, x, y) -> np.ndarray:
+        """Weight of each region (columns: 0 = the terrain's own, k = ``regions[k]``) at world ``(x, y)``."""
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+        out = np.zeros((x.size, len(self.regions)))
+        kernel.region_weights_many(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(),
+                                   self._reg_bounds, self._reg_map, self._reg_map_frame, self.transition, out)
+        return out.reshape(*x.shape, len(self.regions))
 
     def sinkage(self) -> np.ndarray:
         """Deepest element depth (m, >= 0) of each body, shape (nbody,), from the last step."""

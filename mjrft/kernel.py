@@ -47,15 +47,133 @@ from numba import njit, types
 from numba.extending import intrinsic
 
 from .laws.dispatch import element_stress
+from .laws.registry import LAW_IDS
+from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
 
 OK = 0
 BAD_FORCE = 1
 BAD_STATE = 2
+LAW_WATER = LAW_IDS["water"]  # a region of open water: no sand law below it
 
 
 @njit(cache=True, error_model="numpy")
 def _isfinite3(x, y, z):
     return math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
+
+
+@njit(cache=True, error_model="numpy")
+def surface_height(px, py, surface, hf_z, hf_frame):
+    """Height of the free (sand) surface at ``(px, py)``: ``surface``, or with a height field the bilinear
+    interpolation of ``hf_z`` (nrow x ncol world heights; row j at local y = -ry + j cell_y, column i at
+    local x = -rx + i cell_x). ``hf_frame`` = (x, y of the hfield geom, cos, sin of its yaw, rx, ry,
+    1/cell_x, 1/cell_y). Outside the grid the border heights continue (the point is clamped onto it)."""
+    nrow = hf_z.shape[0]
+    if nrow == 0:
+        return surface
+    ncol = hf_z.shape[1]
+    dx = px - hf_frame[0]
+    dy = py - hf_frame[1]
+    c, s = hf_frame[2], hf_frame[3]
+    fx = (c * dx + s * dy + hf_frame[4]) * hf_frame[6]
+    fy = (c * dy - s * dx + hf_frame[5]) * hf_frame[7]
+    if not fx > 0.0:  # also NaN: the caller's finiteness check reports the state
+        fx = 0.0
+    elif fx > ncol - 1.0:
+        fx = ncol - 1.0
+    if not fy > 0.0:
+        fy = 0.0
+    elif fy > nrow - 1.0:
+        fy = nrow - 1.0
+    i = min(int(fx), ncol - 2)
+    j = min(int(fy), nrow - 2)
+    tx = fx - i
+    ty = fy - j
+    z0 = hf_z[j, i] + tx * (hf_z[j, i + 1] - hf_z[j, i])
+    z1 = hf_z[j + 1, i] + tx * (hf_z[j + 1, i + 1] - hf_z[j + 1, i])
+    return z0 + ty * (z1 - z0)
+
+
+@njit(cache=True, error_model="numpy")
+def _map_axis(x, origin, cell, n, blend):
+    """Cells (i0, i1) either side of ``x`` along one axis of a region map and the weight of i1."""
+    t = (x - origin) / cell - 0.5  # in cell-centre units
+    if n == 1 or not t > 0.0:
+        return 0, min(1, n - 1), 0.0
+    if t >= n - 1.0:
+        return n - 1, n - 1, 0.0
+    i0 = int(t)
+    f = t - i0
+    if blend > 0.0:
+        s = 0.5 + (f - 0.5) * cell / blend
+        s = min(1.0, max(0.0, s))
+    else:
+        s = 1.0 if f >= 0.5 else 0.0
+    return i0, i0 + 1, s
+
+
+@njit(cache=True, error_model="numpy")
+def region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend):
+    """Regions at ``(px, py)`` and their weights (four slots, unused ones weigh 0; the weights sum to 1).
+
+    Strips along x (``reg_bounds``, sorted x_min of regions 1..): region k covers
+    ``[bounds[k-1], bounds[k])``; within ``blend / 2`` of a boundary the two neighbours are mixed
+    linearly (half and half on the boundary). Region map (``reg_map`` ny x nx region ids,
+    ``reg_map_frame`` = x_min, y_min, cell_x, cell_y): along each axis the weight moves from one cell to
+    the next over ``blend`` centred on their common edge (bilinear in x and y, up to four regions).
+    ``blend = 0``: hard switch.
+    """
+    if reg_map.shape[0] > 0:
+        i0, i1, sx = _map_axis(px, reg_map_frame[0], reg_map_frame[2], reg_map.shape[1], blend)
+        j0, j1, sy = _map_axis(py, reg_map_frame[1], reg_map_frame[3], reg_map.shape[0], blend)
+        r0, r1, r2, r3 = reg_map[j0, i0], reg_map[j0, i1], reg_map[j1, i0], reg_map[j1, i1]
+        w0, w1, w2, w3 = (1.0 - sx) * (1.0 - sy), sx * (1.0 - sy), (1.0 - sx) * sy, sx * sy
+        if r1 == r0:  # merge repeated regions into their first slot
+            w0 += w1
+            w1 = 0.0
+        if r2 == r0:
+            w0 += w2
+            w2 = 0.0
+        elif r2 == r1:
+            w1 += w2
+            w2 = 0.0
+        if r3 == r0:
+            w0 += w3
+            w3 = 0.0
+        elif r3 == r1:
+            w1 += w3
+            w3 = 0.0
+        elif r3 == r2:
+            w2 += w3
+            w3 = 0.0
+        return (r0, r1, r2, r3), (w0, w1, w2, w3)
+    nb = reg_bounds.shape[0]
+    k = 0
+    while k < nb and px >= reg_bounds[k]:
+        k += 1
+    if blend > 0.0:
+        if k > 0 and px - reg_bounds[k - 1] < 0.5 * blend:
+            s = 0.5 + (px - reg_bounds[k - 1]) / blend
+            return (k, k - 1, 0, 0), (s, 1.0 - s, 0.0, 0.0)
+        if k < nb and reg_bounds[k] - px < 0.5 * blend:
+            s = 0.5 + (px - reg_bounds[k]) / blend
+            return (k + 1, k, 0, 0), (s, 1.0 - s, 0.0, 0.0)
+    return (k, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
+
+
+@njit(cache=True, error_model="numpy")
+def surface_heights(xs, ys, surface, hf_z, hf_frame, out):
+    """:func:`surface_height` at many points (``out[i]`` for ``(xs[i], ys[i])``)."""
+    for i in range(xs.shape[0]):
+        out[i] = surface_height(xs[i], ys[i], surface, hf_z, hf_frame)
+
+
+@njit(cache=True, error_model="numpy")
+def region_weights_many(xs, ys, reg_bounds, reg_map, reg_map_frame, blend, out):
+    """:func:`region_weights` at many points, accumulated into ``out[i, region]`` (zeroed by the caller)."""
+    for i in range(xs.shape[0]):
+        regs, wts = region_weights(xs[i], ys[i], reg_bounds, reg_map, reg_map_frame, blend)
+        for q in range(4):
+            out[i, regs[q]] += wts[q]
 
 
 # contract (FMA), arcp (multiply by reciprocals), nsz: a few % faster; no nnan/ninf, so the finiteness
@@ -65,6 +183,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    e_lpos, e_lnrm, e_area,
                    geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
                    surface, top, reg_bounds, reg_law, reg_params,
+                   hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                    dt, delta, tau, v_eps,
                    u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
                    wrench, stiff, damp):
@@ -72,15 +191,33 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
 
     A geom is culled (no element work at all) while the lowest corner of its bounding box
     (``g_aabb``: MuJoCo's ``geom_aabb``, centre and half sizes in the geom frame) is at or above
-    ``top``: exact for boxes, tight for the other shapes, so a torso riding just above the sand costs
-    nothing.
+    ``top`` (the highest sand or water surface anywhere): exact for boxes, tight for the other
+    shapes, so a torso riding just above the sand costs nothing. An element at or above the highest
+    water surface over its own sand (``depth <= -max water depth``) only has its position updated.
+
+    Per element: ``depth`` = local sand surface height (:func:`surface_height`) - z, positive in the
+    sand; the regions at its (x, y) (:func:`region_weights`; with one region no region work at all)
+    each give, with the region's parameter vector ``reg_params[r]`` (its ``P_WATER_DEPTH`` slot is the
+    region's water depth):
+
+    * the sand law ``reg_law[r]`` (depth > 0; through the rest regularisation; law ``water`` (4) as a
+      region's law means open water without a granular bottom, so no sand law),
+    * the water drag ``water_stress`` (:mod:`mjrft.laws.wet`) inside the water layer and its skin, on
+      the element's real velocity (a rate-dependent drag needs no rest memory); its linearised damping
+      ``2 |F| / |v|`` is added to ``damp`` (in the viscous mode also to the moments),
+    * hydrostatic pressure ``reg_rho[r] x gravity x (water surface - z)`` pushing along ``-n`` when
+      ``reg_rho[r] > 0`` (buoyancy; the pressure is zero at the water surface, so it is continuous),
+
+    and the element's stress is the weighted sum over its regions.
 
     ``stiff`` (nbody, 10) receives per body the moments of the element stiffness ``k_i`` (of the
     damping ``c_i`` in the viscous mode) about its CoM: ``sum k``, ``sum k r`` (x, y, z) and
     ``sum k r r^T`` (xx, xy, xz, yy, yz, zz); ``damp`` (nbody,) the summed damping ``sum c_i``.
     """
-    cur_reg = 0
-    p = reg_params[0]
+    nreg = reg_law.shape[0]
+    wmax = 0.0  # the deepest water layer of any region
+    for r in range(nreg):
+        wmax = max(wmax, reg_params[r, P_WATER_DEPTH])
     for b in range(wrench.shape[0]):
         for j in range(6):
             wrench[b, j] = 0.0
@@ -117,9 +254,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             pz = oz + R[6] * ax + R[7] * ay + R[8] * az
             px = ox + R[0] * ax + R[1] * ay + R[2] * az
             py = oy + R[3] * ax + R[4] * ay + R[5] * az
-            depth = surface - pz
-            if depth <= 0.0 and top <= surface:
-                # above the grains (and no layer above them): only the position is kept up to date
+            depth = surface_height(px, py, surface, hf_z, hf_frame) - pz
+            if depth <= -wmax:
+                # above the grains and any water: only the position is kept up to date
                 out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
                 out_depth[i] = depth
                 for j in range(3):
@@ -140,58 +277,98 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
             out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
             out_depth[i] = depth
-            reg = 0
-            while reg < reg_bounds.shape[0] and px >= reg_bounds[reg]:
-                reg += 1
-            out_region[i] = reg
-            if reg != cur_reg:
-                cur_reg = reg
-                p = reg_params[reg]
-            if depth <= 0.0 or e_area[i] <= 0.0:
+            if nreg == 1:
+                regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
+                out_region[i] = 0
+            else:
+                regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
+                top_q = 0
+                for q in range(1, 4):
+                    if wts[q] > wts[top_q]:
+                        top_q = q
+                out_region[i] = regs[top_q]
+            in_sand = depth > 0.0
+            if not in_sand or e_area[i] <= 0.0:  # out of the grains: no memory
                 u[i, 0] = 0.0
                 u[i, 1] = 0.0
                 u[i, 2] = 0.0
-                out_force[i, 0] = 0.0
-                out_force[i, 1] = 0.0
-                out_force[i, 2] = 0.0
-                continue
+                if e_area[i] <= 0.0:
+                    out_force[i, 0] = 0.0
+                    out_force[i, 1] = 0.0
+                    out_force[i, 2] = 0.0
+                    continue
             speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-            if delta > 0.0:
-                if speed > 0.0:
-                    a = math.exp(-speed * dt / delta)
-                    s = delta / speed
-                    u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
-                    u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
-                    u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
-                mx = u[i, 0] + tau * vx
-                my = u[i, 1] + tau * vy
-                mz = u[i, 2] + tau * vz
-                ml = math.sqrt(mx * mx + my * my + mz * mz)
-                mob = min(1.0, ml / delta)
-            else:
-                mx, my, mz, ml = vx, vy, vz, speed
-                mob = min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0
+            mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0
+            if in_sand:
+                if delta > 0.0:
+                    if speed > 0.0:
+                        a = math.exp(-speed * dt / delta)
+                        s = delta / speed
+                        u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
+                        u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
+                        u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
+                    mx = u[i, 0] + tau * vx
+                    my = u[i, 1] + tau * vy
+                    mz = u[i, 2] + tau * vz
+                    ml = math.sqrt(mx * mx + my * my + mz * mz)
+                    mob = min(1.0, ml / delta)
+                else:
+                    mx, my, mz, ml = vx, vy, vz, speed
+                    mob = min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0
             fx = 0.0
             fy = 0.0
             fz = 0.0
             kk = 0.0
-            if ml > 0.0:
-                iml = 1.0 / ml
-                sx, sy, sz = element_stress(reg_law[reg], depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, p)
-                k = e_area[i]
-                fx, fy, fz = sx * k, sy * k, sz * k
-                if not _isfinite3(fx, fy, fz):
-                    return BAD_FORCE, b
-                fy_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
-                if delta > 0.0:  # linearised stiffness (damping in the viscous mode), module docstring
-                    kk = fy_mag / max(ml, delta)
-                    damp[b] += kk * tau
-                elif v_eps > 0.0:
-                    kk = fy_mag / max(ml, v_eps)
-                    damp[b] += kk
-                fx *= mob
-                fy *= mob
-                fz *= mob
+            for q in range(4):
+                w = wts[q]
+                if not w > 0.0:
+                    continue
+                reg = regs[q]
+                p = reg_params[reg]
+                law = reg_law[reg]
+                k = e_area[i] * w
+                if ml > 0.0 and law != LAW_WATER:
+                    iml = 1.0 / ml
+                    sx, sy, sz = element_stress(law, depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, p)
+                    gx, gy, gz = sx * k, sy * k, sz * k
+                    if not _isfinite3(gx, gy, gz):
+                        return BAD_FORCE, b
+                    g_mag = math.sqrt(gx * gx + gy * gy + gz * gz)
+                    if delta > 0.0:  # linearised stiffness (damping in the viscous mode), module docstring
+                        kq = g_mag / max(ml, delta)
+                        kk += kq
+                        damp[b] += kq * tau
+                    elif v_eps > 0.0:
+                        kq = g_mag / max(ml, v_eps)
+                        kk += kq
+                        damp[b] += kq
+                    fx += gx * mob
+                    fy += gy * mob
+                    fz += gz * mob
+                hw = p[P_WATER_DEPTH]
+                if hw > 0.0:
+                    if speed > 0.0 and depth > -hw and depth < p[P_WATER_SKIN]:
+                        iv = 1.0 / speed
+                        sx, sy, sz = water_stress(depth, nx, ny, nz, vx * iv, vy * iv, vz * iv, speed, p)
+                        gx, gy, gz = sx * k, sy * k, sz * k
+                        if not _isfinite3(gx, gy, gz):
+                            return BAD_FORCE, b
+                        cq = 2.0 * math.sqrt(gx * gx + gy * gy + gz * gz) * iv  # d|F|/d|v| of v^2 drag
+                        damp[b] += cq
+                        if delta <= 0.0:
+                            kk += cq
+                        fx += gx
+                        fy += gy
+                        fz += gz
+                if reg_rho[reg] > 0.0:
+                    pres = reg_rho[reg] * gravity * (depth + hw)  # water surface at sand + hw
+                    if pres > 0.0:
+                        kp = -pres * k
+                        fx += kp * nx
+                        fy += kp * ny
+                        fz += kp * nz
+            if not _isfinite3(fx, fy, fz):
+                return BAD_FORCE, b
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
             rx, ry, rz = px - bx, py - by, pz - bz
             wrench[b, 0] += fx
@@ -288,7 +465,8 @@ def mujoco_step_functions():
 def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
               geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
-              surface, top, reg_bounds, reg_law, reg_params, dt, delta, tau, v_eps,
+              surface, top, reg_bounds, reg_law, reg_params,
+              hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity, dt, delta, tau, v_eps,
               u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp,
               stiff_max, damp_max):
     """``nstep`` x (mj_step1, terrain_kernel, xfrc += wrench, mj_step2, restore xfrc).
@@ -300,7 +478,9 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
         _call_mj(f_step1, m_addr, d_addr)
         status, body = terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
                                       geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
-                                      surface, top, reg_bounds, reg_law, reg_params, dt, delta, tau, v_eps,
+                                      surface, top, reg_bounds, reg_law, reg_params,
+                                      hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
+                                      dt, delta, tau, v_eps,
                                       u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
                                       wrench, stiff, damp)
         if status != OK:
