@@ -78,7 +78,7 @@ def _name(model, kind, i: int, prefix: str) -> str:
 
 
 def _safe(name: str) -> str:
-    """An entity-path part / application id: letters, digits, '_', '-', '.'; anything else becomes '-'."""
+    """An entity-path part: letters, digits, '_', '-', '.'; anything else becomes '-'."""
     return "".join(c if (c.isalnum() or c in "_-.") else "-" for c in name)
 
 
@@ -199,9 +199,9 @@ class RerunLogger:
         self.element_force_scale = (check_positive("element_force_scale", element_force_scale)
                                     if element_force_scale is not None else 10.0 * self.force_scale)
 
-        # rerun application ids are entry names: letters, digits, '-', '_' and '.'
-        self.rec = rr.RecordingStream(_safe(str(name)).replace("/", "-") or "mjrft",
-                                      recording_id=recording_id or str(uuid.uuid4()))
+        # rerun application ids are entry names: letters, digits, '-' and '_'
+        app_id = "".join(c if (c.isalnum() or c in "_-") else "-" for c in str(name)) or "mjrft"
+        self.rec = rr.RecordingStream(app_id, recording_id=recording_id or str(uuid.uuid4()))
         try:
             sinks = []
             if self.path is not None:
