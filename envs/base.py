@@ -13,7 +13,13 @@ Common keyword arguments (all environments):
                            from the model (``poppy_cp``). Checked also for rigid envs (then unused).
 ``law``                    ``"rft"``, ``"rft3d"`` or ``"depth_only"``; default from the model (``rft``).
 ``resolution``             surface element size (m, > 0); default from the model.
-``frame_skip``             physics steps (1 ms each) per ``step()`` (int >= 1).
+``frame_skip``             physics steps per ``step()`` (int >= 1); default 10 (or the preset's).
+``timestep``               physics step (s, > 0); default the model's 1 ms (or the preset's).
+``preset``                 ``"fast"``, ``"default"`` or ``"accurate"`` (:mod:`mjrft.presets`, chosen by the
+                           speed/accuracy study ``mjrft bench``): fills ``law``, ``resolution`` (as a
+                           multiple of the model's own: x4, x1, x0.5), ``timestep`` and ``frame_skip``
+                           (1 ms x 10, 1 ms x 10, 0.5 ms x 20: always a 10 ms control period) where
+                           they are left as None; explicit keyword arguments win.
 ``forward_reward_weight``  weight of the forward speed ``dx/dt`` (m/s) of the torso.
 ``energy_cost_weight``     weight of the dimensionless power ``P / (m g)`` in m/s; ``P = sum |tau_i
                            qdot_i|`` (W) over the actuators. With weight 1 the ratio of this cost to
@@ -51,6 +57,8 @@ from mjrft.errors import check_positive
 from mjrft.laws import law_id
 from mjrft.media import get_medium
 from mjrft.models import model_path
+from mjrft.presets import model_resolution
+from mjrft.presets import resolve as resolve_preset
 
 G = 9.81
 
@@ -73,12 +81,17 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
     default_camera_config = {"trackbodyid": 1, "distance": 1.0, "elevation": -20.0}
 
     def __init__(self, xml: str, *, sand: bool = True, medium=None, law=None, resolution=None,
-                 frame_skip: int = 10, forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.1,
+                 frame_skip: int | None = None, forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.1,
                  ctrl_cost_weight: float = 0.0, healthy_reward: float = 1.0,
                  terminate_when_unhealthy: bool = True, reset_noise_scale: float = 1e-3,
                  episode_seconds: float | None = None, render_mode: str | None = None,
-                 width: int = 480, height: int = 480, camera_name: str | None = None, pickle_kwargs: dict | None = None):
-        frame_skip = check_frame_skip(frame_skip)
+                 width: int = 480, height: int = 480, camera_name: str | None = None, pickle_kwargs: dict | None = None,
+                 preset: str | None = None, timestep: float | None = None):
+        # a preset fills what was left as None (mjrft.presets); explicit keyword arguments win
+        chosen = resolve_preset(preset, law=law, resolution=resolution, timestep=timestep, frame_skip=frame_skip)
+        law, timestep = chosen["law"], chosen["timestep"]
+        frame_skip = check_frame_skip(10 if chosen["frame_skip"] is None else chosen["frame_skip"])
+        self._timestep = None if timestep is None else check_positive("timestep", timestep)
         # early validation (rigid envs too), naming the bad value and the valid choices
         if medium is not None:
             get_medium(medium)
@@ -110,7 +123,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
         # per-instance metadata so MujocoEnv's render_fps check matches this frame_skip
         self.metadata = dict(self.metadata)
-        timestep = mujoco.MjModel.from_xml_string(xml).opt.timestep
+        timestep = self._timestep or mujoco.MjModel.from_xml_string(xml).opt.timestep
         self.metadata["render_fps"] = int(np.round(1.0 / (timestep * frame_skip)))
 
         MujocoEnv.__init__(self, model_path(self.base_model), frame_skip, observation_space=None,
@@ -118,6 +131,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                            default_camera_config=self.default_camera_config)
         utils.EzPickle.__init__(self, **(pickle_kwargs or {}))
 
+        if self.sand and resolution is None and chosen["resolution_scale"] != 1.0:
+            resolution = chosen["resolution_scale"] * model_resolution(self.model)
         self.terrain = (GranularTerrain(self.model, medium, law, resolution=resolution) if self.sand else None)
         self._torso_id = self.model.body(self.torso_name).id
         self._foot_ids = np.array([self.model.body(n).id for n in self.foot_names], dtype=np.int64)
@@ -131,6 +146,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
     # ------------------------------------------------------------------ simulation
     def _initialize_simulation(self):
         model = mujoco.MjModel.from_xml_string(self._xml)
+        if self._timestep is not None:
+            model.opt.timestep = self._timestep
         model.vis.global_.offwidth = max(model.vis.global_.offwidth, self.width)
         model.vis.global_.offheight = max(model.vis.global_.offheight, self.height)
         return model, mujoco.MjData(model)

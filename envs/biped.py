@@ -65,12 +65,13 @@ class BipedSand(GranularMujocoEnv):
     default_camera_config = {"trackbodyid": 1, "distance": 1.2, "elevation": -10.0}
 
     def __init__(self, sand: bool = True, *, foot: str = "round", foot_size: float = 0.085,
-                 pitch_free: bool = True, medium=None, law=None, resolution=None, frame_skip: int = 10,
+                 pitch_free: bool = True, medium=None, law=None, resolution=None, frame_skip: int | None = None,
                  forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.05,
                  ctrl_cost_weight: float = 0.0, healthy_reward: float = 0.5,
                  terminate_when_unhealthy: bool = True, healthy_z_range=(0.12, 0.6), max_tilt: float = 1.0,
                  reset_noise_scale: float = 1e-3, episode_seconds: float | None = None,
-                 render_mode: str | None = None, **kwargs):
+                 render_mode: str | None = None,
+                 preset: str | None = None, timestep: float | None = None, **kwargs):
         pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
         pickle_kwargs.update(kwargs)
         self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
@@ -84,7 +85,7 @@ class BipedSand(GranularMujocoEnv):
             ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
             terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
             episode_seconds=episode_seconds, render_mode=render_mode,
-            pickle_kwargs=pickle_kwargs,
+            pickle_kwargs=pickle_kwargs, preset=preset, timestep=timestep,
         )
 
     def _get_obs(self) -> np.ndarray:

@@ -72,12 +72,13 @@ class HexapodSand(GranularMujocoEnv):
     default_camera_config = {"trackbodyid": 1, "distance": 0.6, "elevation": -20.0}
 
     def __init__(self, sand: bool = True, *, variant: str = "rhex", curvature: float | None = None,
-                 medium=None, law=None, resolution=None, frame_skip: int = 10,
+                 medium=None, law=None, resolution=None, frame_skip: int | None = None,
                  forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.05,
                  ctrl_cost_weight: float = 0.0, healthy_reward: float = 0.1,
                  terminate_when_unhealthy: bool = True, healthy_z_range=(-0.05, 0.5), max_tilt: float = 1.2,
                  max_hip_speed: float = 6 * np.pi, max_lag: float = 1.0, reset_noise_scale: float = 1e-3,
-                 episode_seconds: float | None = None, render_mode: str | None = None, **kwargs):
+                 episode_seconds: float | None = None, render_mode: str | None = None,
+                 preset: str | None = None, timestep: float | None = None, **kwargs):
         pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
         pickle_kwargs.update(kwargs)
         self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
@@ -93,7 +94,7 @@ class HexapodSand(GranularMujocoEnv):
             ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
             terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
             episode_seconds=episode_seconds, render_mode=render_mode,
-            pickle_kwargs=pickle_kwargs,
+            pickle_kwargs=pickle_kwargs, preset=preset, timestep=timestep,
         )
 
     # ------------------------------------------------------------------ actions

@@ -66,11 +66,12 @@ class HumanoidSand(GranularMujocoEnv):
 
     def __init__(self, sand: bool = True, *, task: str = "walk", foot_length: float = FOOT_LENGTH,
                  foot_width: float = FOOT_WIDTH, foot_cutout: bool = False, medium=None, law=None,
-                 resolution=None, frame_skip: int = 10, forward_reward_weight: float = 1.0,
+                 resolution=None, frame_skip: int | None = None, forward_reward_weight: float = 1.0,
                  energy_cost_weight: float = 0.05, ctrl_cost_weight: float = 0.0, healthy_reward: float = 1.0,
                  terminate_when_unhealthy: bool = True, healthy_z_range=(0.5, 1.2), max_tilt: float = 0.8,
                  reset_noise_scale: float = 1e-3, episode_seconds: float | None = None,
-                 render_mode: str | None = None, **kwargs):
+                 render_mode: str | None = None,
+                 preset: str | None = None, timestep: float | None = None, **kwargs):
         pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
         pickle_kwargs.update(kwargs)
         if task not in TASKS:
@@ -88,7 +89,7 @@ class HumanoidSand(GranularMujocoEnv):
             ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
             terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
             episode_seconds=episode_seconds, render_mode=render_mode,
-            pickle_kwargs=pickle_kwargs,
+            pickle_kwargs=pickle_kwargs, preset=preset, timestep=timestep,
         )
 
     def _forward_reward(self, x_velocity: float, xy_velocity: np.ndarray) -> float:
