@@ -153,6 +153,7 @@ class Scenario:
     kinematic: bool = False
     build_bare: Callable[[], mujoco.MjModel] | None = None  # plain-MuJoCo twin (None: ``build`` without terrain)
     resolution_scales: tuple[float, ...] = RESOLUTION_SCALES  # coarse to fine; the finest is the reference's
+    hybrid_extra: Callable[[], dict] | None = None  # medium constants the hybrid law needs (leg width, depth)
 
 
 def _rigs():
@@ -274,6 +275,16 @@ def _leg_model() -> mujoco.MjModel:
     return _heavy(_rigs().leg_rig_xml("c"))
 
 
+def _leg_hybrid_extra() -> dict:
+    """The hybrid law's leg width and maximum penetration depth of the C-leg over the sweep (as ``mjrft.rigs``)."""
+    rigs = _rigs()
+    geo = rigs.leg_geometry("c")
+    v = np.asarray(geo["vertices"], float)
+    theta = LEG_START + LEG_OMEGA * np.linspace(0.0, 2.0, 2001)
+    z = rigs.default_axle_height("c") - np.outer(np.sin(theta), v[:, 0]) + np.outer(np.cos(theta), v[:, 2])
+    return {"hybrid_width": geo["width"], "hybrid_max_depth": float(max(0.0, -z.min()))}
+
+
 def _leg_controller(model, data):
     """Prescribe the leg angle: LEG_START + LEG_OMEGA t."""
 
@@ -289,7 +300,7 @@ SCENARIOS: dict[str, Scenario] = {
     s.name: s for s in (
         Scenario("cleg", "rotating C-leg rig (Li 2013), pi/2 rad/s from -90 to +90 deg", 2.0, 0.005,
                  _leg_model, _leg_controller, ("leg",), None, DRY_LAWS + ("wet", "hybrid"), kinematic=True,
-                 resolution_scales=RIG_RESOLUTION_SCALES),
+                 resolution_scales=RIG_RESOLUTION_SCALES, hybrid_extra=_leg_hybrid_extra),
         Scenario("plate", "plate intrusion (Li 2013 plate), beta 30 deg, gamma 60 deg, 4 cm/s", 2.0, 0.005,
                  _plate_model, _plate_controller, ("plate",), None, DRY_LAWS + ("wet",), kinematic=True,
                  resolution_scales=RIG_RESOLUTION_SCALES),
@@ -417,6 +428,8 @@ def _model_for(scenario: Scenario, timestep: float) -> mujoco.MjModel:
 
 def make_terrain(scenario: Scenario, model: mujoco.MjModel, config: Config) -> GranularTerrain:
     law, medium = law_and_medium(config.law, _custom(model).get("medium", DEFAULTS["medium"]))
+    if config.law == "hybrid" and scenario.hybrid_extra is not None:
+        medium = medium.with_extra(**scenario.hybrid_extra())
     return GranularTerrain(model, medium, law, resolution=scenario.default_resolution * config.resolution_scale)
 
 
@@ -562,16 +575,17 @@ def run_scenario(scenario: Scenario, configs: list[Config], *, repeats: int = 3,
 
 def run_study(scenarios=None, *, quick: bool = False, repeats: int = 3, progress=print,
               grid: Callable[[Scenario], list[Config]] | None = None) -> list[Row]:
-    """Run the study on ``scenarios`` (names; default all) and return the rows."""
-    names = list(SCENARIOS) if scenarios is None else list(scenarios)
-    for n in names:
-        get_scenario(n)
+    """Run the study on ``scenarios`` (names or :class:`Scenario` objects; default all) and return the rows.
+
+    ``grid(scenario)`` replaces :func:`default_grid` (e.g. a hand-picked list of :class:`Config`).
+    """
+    items = list(SCENARIOS) if scenarios is None else list(scenarios)
+    chosen = [n if isinstance(n, Scenario) else get_scenario(n) for n in items]
     rows = []
-    for n in names:
-        sc = SCENARIOS[n]
+    for sc in chosen:
         configs = grid(sc) if grid is not None else default_grid(sc, quick)
         if progress:
-            progress(f"{n}: {sc.description} ({len(configs)} configurations)")
+            progress(f"{sc.name}: {sc.description} ({len(configs)} configurations)")
         rows += run_scenario(sc, configs, repeats=1 if quick else repeats, progress=progress)
     return rows
 

@@ -1,0 +1,247 @@
+"""Tests of the speed/accuracy trade study (mjrft.tradeoff), `mjrft bench` and the presets (mjrft.presets)."""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import replace
+
+import mujoco
+import numpy as np
+import pytest
+
+from mjrft import cli, presets
+from mjrft import tradeoff as T
+from mjrft.media import MEDIA, generic
+
+C = T.Config
+# a tiny grid: the model's resolution, 4x and 2x coarser, and a reference at half the resolution and 0.5 ms
+TINY = [C("default", "default"), C("resolution x4", "resolution", 4.0), C("resolution x2", "resolution", 2.0),
+        T.reference_config(scale=0.5)]
+PLATE = replace(T.SCENARIOS["plate"], duration=0.4)  # the plate is in the grains from t = 0.03 s
+
+
+@pytest.fixture(scope="module")
+def plate_rows():
+    return T.run_study([PLATE], grid=lambda sc: TINY, repeats=1, progress=None)
+
+
+def _row(rows, label):
+    return next(r for r in rows if r.config.label == label)
+
+
+def test_reference_has_zero_error(plate_rows):
+    ref = _row(plate_rows, "reference")
+    assert ref.status == "ok" and ref.config.factor == "reference"
+    assert ref.err_peak == 0.0 and ref.err_rms == 0.0
+    assert ref.elements > _row(plate_rows, "default").elements
+    assert ref.peak_force > 1.0  # the plate is 1.5 cm deep at the end: about 1.6 N
+
+
+def test_errors_grow_as_resolution_coarsens(plate_rows):
+    err = [_row(plate_rows, lab).err_rms for lab in ("reference", "default", "resolution x2", "resolution x4")]
+    assert all(math.isfinite(e) for e in err)
+    assert err[0] < err[1] < err[2] < err[3], err
+    assert err[1] < 0.03  # the default resolution is within 3 % of the reference on this short intrusion
+    elements = [_row(plate_rows, lab).elements for lab in ("resolution x4", "resolution x2", "default")]
+    assert elements == sorted(elements) and elements[0] < elements[-1]
+    # a kinematic rig has no position or sinkage error to report
+    assert all(math.isnan(r.err_position) and math.isnan(r.err_sinkage) for r in plate_rows)
+
+
+def test_costs_are_measured(plate_rows):
+    for r in plate_rows:
+        assert math.isfinite(r.cost_ratio) and r.cost_ratio > 0
+    # four times the elements at twice the steps costs more than the model's own resolution
+    assert _row(plate_rows, "reference").cost_ratio > _row(plate_rows, "default").cost_ratio
+
+
+def test_outputs_written(plate_rows, tmp_path):
+    paths = T.write_outputs(plate_rows, tmp_path / "out")
+    md = open(paths["markdown"]).read()
+    assert "#### plate" in md and "| configuration |" in md and "reference" in md
+    for r in plate_rows:
+        assert f"| {r.config.label} |" in md
+    with open(paths["csv"], newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == len(plate_rows) and tuple(rows[0]) == T.CSV_FIELDS
+    ref = next(r for r in rows if r["factor"] == "reference")
+    assert float(ref["err_rms_force"]) == 0.0 and ref["err_final_position_mm"] == ""
+    assert float(next(r for r in rows if r["config"] == "resolution x4")["err_rms_force"]) > 0
+    with open(paths["png"], "rb") as fh:
+        assert fh.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def test_robot_scenario_reports_position_and_sinkage():
+    hexapod = replace(T.SCENARIOS["hexapod"], duration=0.3)
+    rows = T.run_study([hexapod], grid=lambda sc: [C("resolution x4", "resolution", 4.0),
+                                                   T.reference_config(scale=1.0)], repeats=1, progress=None)
+    coarse, ref = rows
+    assert ref.err_position == 0.0 and ref.err_sinkage == 0.0
+    assert 0 < coarse.err_position < 0.02 and 0 <= coarse.err_sinkage < 0.005
+    assert coarse.sinkage > 0 and np.all(np.isfinite(coarse.final_position))
+    assert math.isfinite(coarse.cost_ratio) and coarse.cost_ratio > 0  # against the rigid-ground twin
+
+
+def test_humanoid_stands_on_one_foot():
+    """The humanoid scenario's posture controller: weight on the right board, left foot out of the grains."""
+    sc = T.SCENARIOS["humanoid"]
+    cfg = C("resolution x4", "resolution", 4.0)
+    model = T._model_for(sc, cfg.timestep)
+    data = mujoco.MjData(model)
+    terrain = T.make_terrain(sc, model, cfg)
+    trace = T.record(sc, model, data, terrain, cfg)
+    assert trace.time[-1] == pytest.approx(sc.duration)
+    left, right = model.body("left_foot").id, model.body("right_foot").id
+    weight = model.body_subtreemass[0] * 9.81
+    assert terrain.wrench[right, 2] == pytest.approx(weight, rel=0.1)
+    assert abs(terrain.wrench[left, 2]) < 0.02 * weight and terrain.sinkage()[left] == 0.0
+    pelvis = model.body("pelvis").id
+    assert data.xpos[pelvis, 2] > 0.7 and np.arccos(data.xmat[pelvis, 8]) < 0.15
+
+
+def test_default_grid():
+    for name, sc in T.SCENARIOS.items():
+        grid = T.default_grid(sc)
+        labels = [c.label for c in grid]
+        assert len({c.key() for c in grid}) == len(grid)
+        assert sum(c.factor == "reference" for c in grid) == 1
+        ref = next(c for c in grid if c.factor == "reference")
+        assert ref.law == "rft" and ref.timestep == min(T.TIMESTEPS)
+        assert ref.resolution_scale == min(sc.resolution_scales)
+        for law in ("depth_only", "rft_generic", "rft3d"):
+            assert f"law {law}" in labels
+        assert ("law wet" in labels) == (name in ("plate", "cleg"))
+        assert ("law hybrid" in labels) == (name == "cleg")
+        assert any("preset fast" in lab for lab in labels) and any("preset accurate" in lab for lab in labels)
+    quick = T.default_grid(T.SCENARIOS["hexapod"], quick=True)
+    assert len(quick) == 5 and quick[-1].factor == "reference"
+
+
+def test_law_variants():
+    law, med = T.law_and_medium("rft_generic", "poppy_cp")
+    assert law == "rft" and med.zeta == MEDIA["poppy_cp"].zeta
+    np.testing.assert_allclose(med.coeffs, np.array(generic.coeffs) * MEDIA["poppy_cp"].zeta / generic.zeta)
+    assert T.law_and_medium("rft", "poppy_cp") == ("rft", MEDIA["poppy_cp"])
+    with pytest.raises(ValueError, match="valid choices: .*rft_generic"):
+        T.law_and_medium("magic", "poppy_cp")
+
+
+def test_pareto_front():
+    pts = [(1.0, 0.5), (2.0, 0.1), (3.0, 0.2), (1.5, 0.6), (4.0, 0.0), (math.nan, 0.0)]
+    assert T.pareto_front(pts) == [0, 1, 4]
+
+
+def _synthetic(scenario, label, scale, dt, fs, cost, rms, peak=0.0, pos=0.0, warnings=0, factor="resolution"):
+    r = T.Row(scenario, C(label, factor, scale, "rft", dt, fs), 0.005 * scale, 100)
+    r.cost_ratio, r.err_rms, r.err_peak, r.err_position, r.warnings = cost, rms, peak, pos, warnings
+    return r
+
+
+def test_recommend_presets():
+    rows = []
+    for sc in ("a", "b"):
+        rows += [_synthetic(sc, "x4", 4, 1e-3, 10, 1.5, 0.15, 0.05, 0.01),
+                 _synthetic(sc, "x8", 8, 1e-3, 10, 1.2, 0.40, 0.20, 0.03),  # too inaccurate for fast
+                 _synthetic(sc, "dt2", 1, 2e-3, 5, 1.0, 0.05, 0.01, 0.001, warnings=2),  # warns: excluded
+                 _synthetic(sc, "x1", 1, 1e-3, 10, 3.0, 0.05, 0.001, 0.005),
+                 _synthetic(sc, "acc", 0.5, 5e-4, 20, 14.0, 0.004, 0.001, 0.0004),
+                 _synthetic(sc, "ref", 0.25, 5e-4, 20, 60.0, 0.0, 0.0, 0.0, factor="reference")]
+    rec = T.recommend_presets(rows)
+    assert rec["fast"]["config"].label == "x4" and rec["fast"]["cost"] == pytest.approx(1.5)
+    assert rec["accurate"]["config"].label == "acc" and rec["accurate"]["err_rms"] == pytest.approx(0.004)
+    assert "fast" in T.recommendation_text(rows) and "acc" in T.recommendation_text(rows)
+
+
+def test_parse_scenarios():
+    assert T.parse_scenarios("all") == list(T.SCENARIOS)
+    assert T.parse_scenarios("hexapod, plate,hexapod") == ["hexapod", "plate"]
+    with pytest.raises(ValueError, match="nope.*valid choices: cleg, hexapod, humanoid, plate"):
+        T.parse_scenarios("hexapod,nope")
+
+
+def test_cli_bad_input(capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["bench", "--scenarios", "sandcastle"])
+    assert exc.value.code == 2
+    err = capsys.readouterr().err
+    assert "sandcastle" in err and "valid choices" in err
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["bench", "--repeats", "0"])
+    assert exc.value.code == 2 and "repeats" in capsys.readouterr().err
+
+
+def test_cli_writes_outputs(monkeypatch, tmp_path, capsys):
+    monkeypatch.setitem(T.SCENARIOS, "plate", replace(PLATE, duration=0.2))
+    monkeypatch.setattr(T, "default_grid", lambda sc, quick=False: [TINY[1], TINY[3]])
+    out = tmp_path / "bench"
+    assert cli.main(["bench", "--scenarios", "plate", "--quick", "--out", str(out)]) == 0
+    for name in ("trade_study.md", "trade_study.csv", "trade_study.png"):
+        assert (out / name).stat().st_size > 0
+    assert "Preset choice" in capsys.readouterr().out
+
+
+# ------------------------------------------------------------------------------------------ presets
+def test_get_preset_and_resolve():
+    assert set(presets.PRESETS) == {"fast", "default", "accurate"}
+    for p in presets.PRESETS.values():  # every preset keeps the 10 ms control period
+        assert p["timestep"] * p["frame_skip"] == pytest.approx(0.01)
+    fast = presets.get_preset("fast")
+    fast["law"] = "changed"
+    assert presets.PRESETS["fast"]["law"] == "rft"  # a copy
+    with pytest.raises(ValueError, match="unknown preset 'turbo'; valid choices: accurate, default, fast"):
+        presets.get_preset("turbo")
+    got = presets.resolve("accurate", law="depth_only", frame_skip=4)
+    assert got == {"law": "depth_only", "resolution": None, "resolution_scale": 0.5, "timestep": 0.0005,
+                   "frame_skip": 4}
+    assert presets.resolve(None) == {"law": None, "resolution": None, "resolution_scale": 1.0, "timestep": None,
+                                     "frame_skip": None}
+    assert presets.resolve("fast", resolution=0.01)["resolution_scale"] == 1.0
+
+
+@pytest.fixture
+def gymnasium():
+    gym = pytest.importorskip("gymnasium")
+    pytest.importorskip("imageio")  # gymnasium.envs.mujoco needs it
+    import mjrft.envs  # noqa: F401  (registers the ids)
+
+    return gym
+
+
+def test_env_presets(gymnasium):
+    env = gymnasium.make("mjrft/HexapodSand-v0", preset="fast", max_episode_steps=5)
+    u = env.unwrapped
+    assert u.terrain.resolution == pytest.approx(4 * presets.model_resolution(u.model)) == pytest.approx(0.02)
+    assert u.model.opt.timestep == 0.001 and u.frame_skip == 10 and u.dt == pytest.approx(0.01)
+    env.reset(seed=0)
+    obs, reward, *_ = env.step(np.zeros(6, np.float32))
+    assert np.all(np.isfinite(obs)) and np.isfinite(reward)
+    env.close()
+    env = gymnasium.make("mjrft/HumanoidSand-v0", preset="accurate", max_episode_steps=5)
+    u = env.unwrapped
+    assert u.model.opt.timestep == 0.0005 and u.frame_skip == 20 and u.dt == pytest.approx(0.01)
+    assert u.terrain.resolution == pytest.approx(0.01) and u.terrain.law == "rft"
+    assert u.metadata["render_fps"] == 100
+    env.close()
+    env = gymnasium.make("mjrft/HexapodRigid-v0", preset="accurate", max_episode_steps=5)
+    assert env.unwrapped.model.opt.timestep == 0.0005 and env.unwrapped.terrain is None
+    env.close()
+
+
+def test_env_explicit_kwargs_override_preset(gymnasium):
+    env = gymnasium.make("mjrft/HexapodSand-v0", preset="accurate", law="depth_only", resolution=0.01,
+                         timestep=0.001, frame_skip=5, max_episode_steps=5)
+    u = env.unwrapped
+    assert u.terrain.law == "depth_only" and u.terrain.resolution == 0.01
+    assert u.model.opt.timestep == 0.001 and u.frame_skip == 5
+    env.close()
+    # no preset: the model's own settings, as before presets existed
+    u = gymnasium.make("mjrft/HexapodSand-v0", max_episode_steps=5).unwrapped
+    assert u.terrain.resolution == 0.005 and u.model.opt.timestep == 0.001 and u.frame_skip == 10
+
+
+def test_env_unknown_preset_lists_valid_names(gymnasium):
+    with pytest.raises(ValueError, match="unknown preset 'turbo'; valid choices: accurate, default, fast"):
+        gymnasium.make("mjrft/HexapodSand-v0", preset="turbo")
+    with pytest.raises(ValueError, match="timestep"):
+        gymnasium.make("mjrft/BipedSand-v0", timestep=-0.001)
