@@ -1,4 +1,5 @@
-# Two commands (see README): `make demo` sets up and runs the demo, `make test` sets up and runs the tests.
+# Two commands (see README): `make demo` sets up and runs the demo (the hexapod's tripod gait on poppy seeds,
+# logged to mjrft-demo.rrd; open it with `rerun mjrft-demo.rrd`), `make test` sets up and runs the tests.
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
