@@ -71,6 +71,9 @@ BUFFER_SUFFIX = "_replay_buffer.pkl"
 SAC_MAX_BUFFER = 1_000_000
 #: constructor arguments of the algorithms that are not hyper-parameters (set by train() itself)
 NOT_HYPERPARAMS = ("self", "policy", "env", "seed", "device", "verbose", "tensorboard_log", "_init_setup_model")
+#: modules the vec-env fork server imports before forking workers
+FORKSERVER_PRELOAD = ["__main__", "stable_baselines3.common.vec_env.subproc_vec_env", "mjrft.train.train",
+                      "mjrft.envs.hexapod", "mjrft.envs.biped", "mjrft.envs.humanoid"]
 _CKPT_RE = re.compile(r"^step_(\d+)\.zip$")
 
 
@@ -189,6 +192,10 @@ def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: dict | None = 
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
     fns = [functools.partial(make_env, env_id, dict(env_kwargs or {}), i) for i in range(n_envs)]
+    if n_envs > 1 and start_method() == "forkserver":
+        # the fork server imports these once; each worker forks from it instead of importing torch, SB3,
+        # gymnasium and mjrft again (no effect once this process's fork server is running)
+        multiprocessing.get_context("forkserver").set_forkserver_preload(FORKSERVER_PRELOAD)
     venv = SubprocVecEnv(fns, start_method=start_method()) if n_envs > 1 else DummyVecEnv(fns)
     venv.seed(seed)
     venv = VecMonitor(venv)
@@ -456,6 +463,11 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
 
     # validate the env kwargs in this process (clear error before any worker starts)
     probe = make_env(env_id, env_kwargs)
+    if n_envs > 1:  # compile (or load) the numba kernels once here, not in every worker at the same time
+        import numpy as np
+
+        probe.reset(seed=seed)
+        probe.step(np.zeros(probe.action_space.shape, dtype=probe.action_space.dtype))
     probe.close()
 
     start_step = checkpoints[-1][0] if checkpoints else 0
