@@ -9,6 +9,7 @@ spends its time (see :func:`breakdown`): MuJoCo's own physics, the granular kern
 stability check and the environment's Python work, on sand and on rigid ground.
 
     python benchmarks/bench_envs.py [--steps N] [--repeats R] [--robots hexapod biped humanoid]
+                                    [--resolutions 0.01 0.02]
 """
 
 from __future__ import annotations
@@ -108,12 +109,18 @@ def main():
     ap.add_argument("--steps", type=int, default=400, help="env steps per timed run")
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=list(ROBOTS))
+    ap.add_argument("--resolutions", nargs="*", type=float, default=[],
+                    help="extra element sizes (m) for the hexapod on sand, timed in the same interleaving")
     args = ap.parse_args()
 
     envs = {}
     for r in args.robots:
         for kind in ("Sand", "Rigid"):
             envs[(r, kind)] = gymnasium.make(f"mjrft/{ROBOTS[r]}{kind}-v0", disable_env_checker=True)
+    if "hexapod" in args.robots:
+        for res in args.resolutions:
+            envs[("hexapod", f"Sand {res * 1000:g} mm")] = gymnasium.make(
+                "mjrft/HexapodSand-v0", disable_env_checker=True, resolution=res)
     acts = {r: actions(envs[(r, "Sand")], args.steps) for r in args.robots}
     for key, env in envs.items():  # warm-up: compiled kernels, caches
         timed_steps(env, acts[key[0]][:50])
@@ -129,6 +136,11 @@ def main():
         rigid = args.steps / np.median(times[(r, "Rigid")])
         n_el = envs[(r, "Sand")].unwrapped.terrain.n_elements
         print(f"{r:10s} {n_el:8d} {sand:10.0f} {rigid:10.0f} {sand / rigid:11.2f}")
+        for key in envs:
+            if key[0] == r and key[1] not in ("Sand", "Rigid"):
+                sand = args.steps / np.median(times[key])
+                n_el = envs[key].unwrapped.terrain.n_elements
+                print(f"{'  ' + key[1][5:]:10s} {n_el:8d} {sand:10.0f} {rigid:10.0f} {sand / rigid:11.2f}")
 
     if "hexapod" in args.robots:
         b = breakdown(envs[("hexapod", "Sand")], envs[("hexapod", "Rigid")], acts["hexapod"])
