@@ -151,6 +151,13 @@ def test_recommend_presets():
     assert rec["fast"]["config"].label == "x4" and rec["fast"]["cost"] == pytest.approx(1.5)
     assert rec["accurate"]["config"].label == "acc" and rec["accurate"]["err_rms"] == pytest.approx(0.004)
     assert "fast" in T.recommendation_text(rows) and "acc" in T.recommendation_text(rows)
+    # as many warnings as the scenario's default configuration is allowed, more is not
+    rows += [_synthetic(sc, "default", 1, 1e-3, 10, 3.0, 0.05, 0.001, 0.005, warnings=2, factor="default")
+             for sc in ("a", "b")]
+    rows = [r for r in rows if r.config.label != "x1"]
+    assert T.recommend_presets(rows)["fast"]["config"].label == "dt2"
+    next(r for r in rows if r.config.label == "dt2" and r.scenario == "a").warnings = 3  # more than the default
+    assert T.recommend_presets(rows)["fast"]["config"].label == "x4"
 
 
 def test_parse_scenarios():
