@@ -176,6 +176,70 @@ def region_weights_many(xs, ys, reg_bounds, reg_map, reg_map_frame, blend, out):
             out[i, regs[q]] += wts[q]
 
 
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
+def _element_force(law, p, rho_w, gravity, k, depth, nx, ny, nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta,
+                   v_eps):
+    """Force (N) of one region on one element of area ``k`` (area x the region's weight); see terrain_kernel.
+
+    Returns (fx, fy, fz, stiffness (damping in the viscous mode) of the sand part, water damping, finite).
+    """
+    fx, fy, fz, kk, cw = 0.0, 0.0, 0.0, 0.0, 0.0
+    if ml > 0.0 and law != LAW_WATER:  # the sand, through the rest regularisation
+        iml = 1.0 / ml
+        sx, sy, sz = element_stress(law, depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, p)
+        fx, fy, fz = sx * k, sy * k, sz * k
+        if not _isfinite3(fx, fy, fz):
+            return fx, fy, fz, kk, cw, False
+        f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
+        if delta > 0.0:  # linearised stiffness (damping in the viscous mode), module docstring
+            kk = f_mag / max(ml, delta)
+        elif v_eps > 0.0:
+            kk = f_mag / max(ml, v_eps)
+        fx *= mob
+        fy *= mob
+        fz *= mob
+    hw = p[P_WATER_DEPTH]
+    if hw > 0.0 and speed > 0.0 and depth > -hw and depth < p[P_WATER_SKIN]:  # the water layer's drag
+        iv = 1.0 / speed
+        sx, sy, sz = water_stress(depth, nx, ny, nz, vx * iv, vy * iv, vz * iv, speed, p)
+        gx, gy, gz = sx * k, sy * k, sz * k
+        if not _isfinite3(gx, gy, gz):
+            return gx, gy, gz, kk, cw, False
+        cw = 2.0 * math.sqrt(gx * gx + gy * gy + gz * gz) * iv  # d|F|/d|v| of a v^2 drag
+        fx += gx
+        fy += gy
+        fz += gz
+    if rho_w > 0.0:  # hydrostatic pressure below the water surface (sand surface + hw)
+        pres = rho_w * gravity * (depth + hw)
+        if pres > 0.0:
+            kp = -pres * k
+            fx += kp * nx
+            fy += kp * ny
+            fz += kp * nz
+    return fx, fy, fz, kk, cw, True
+
+
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
+def _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth, nx, ny, nz, mx, my, mz, ml, mob,
+                   vx, vy, vz, speed, delta, v_eps):
+    """:func:`_element_force` summed over the regions ``regs`` with weights ``wts`` (same returns)."""
+    fx, fy, fz, kk, cw, ok = 0.0, 0.0, 0.0, 0.0, 0.0, True
+    for q in range(4):
+        w = wts[q]
+        if w > 0.0:
+            reg = regs[q]
+            gx, gy, gz, kq, cq, okq = _element_force(reg_law[reg], reg_params[reg], reg_rho[reg], gravity, area * w,
+                                                     depth, nx, ny, nz, mx, my, mz, ml, mob, vx, vy, vz, speed,
+                                                     delta, v_eps)
+            fx += gx
+            fy += gy
+            fz += gz
+            kk += kq
+            cw += cq
+            ok = ok and okq
+    return fx, fy, fz, kk, cw, ok
+
+
 # contract (FMA), arcp (multiply by reciprocals), nsz: a few % faster; no nnan/ninf, so the finiteness
 # checks stay exact.
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
@@ -215,9 +279,19 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     ``sum k r r^T`` (xx, xy, xz, yy, yz, zz); ``damp`` (nbody,) the summed damping ``sum c_i``.
     """
     nreg = reg_law.shape[0]
+    nb = reg_bounds.shape[0]
+    has_hf = hf_z.shape[0] > 0
+    has_map = reg_map.shape[0] > 0
     wmax = 0.0  # the deepest water layer of any region
     for r in range(nreg):
         wmax = max(wmax, reg_params[r, P_WATER_DEPTH])
+    # the current single region's constants, switched only when an element lies in another region
+    cur_reg = 0
+    p = reg_params[0]
+    law = reg_law[0]
+    hw = p[P_WATER_DEPTH]
+    dry = not (hw > 0.0 or reg_rho[0] > 0.0)
+    regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
     for b in range(wrench.shape[0]):
         for j in range(6):
             wrench[b, j] = 0.0
@@ -254,8 +328,38 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             pz = oz + R[6] * ax + R[7] * ay + R[8] * az
             px = ox + R[0] * ax + R[1] * ay + R[2] * az
             py = oy + R[3] * ax + R[4] * ay + R[5] * az
-            depth = surface_height(px, py, surface, hf_z, hf_frame) - pz
-            if depth <= -wmax:
+            if has_hf:
+                depth = surface_height(px, py, surface, hf_z, hf_frame) - pz
+            else:
+                depth = surface - pz
+            single = True  # the element lies in one region (no blending)
+            reg = 0
+            if nreg > 1 and depth > -wmax:
+                if has_map:
+                    regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
+                    reg = regs[0]
+                    single = wts[0] >= 1.0
+                else:  # strips: the lookup inline, the blend only near a boundary
+                    while reg < nb and px >= reg_bounds[reg]:
+                        reg += 1
+                    if blend > 0.0 and ((reg > 0 and px - reg_bounds[reg - 1] < 0.5 * blend)
+                                        or (reg < nb and reg_bounds[reg] - px < 0.5 * blend)):
+                        regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
+                        single = False
+                if not single:  # report the region with the largest weight
+                    top_q = 0
+                    for q in range(1, 4):
+                        if wts[q] > wts[top_q]:
+                            top_q = q
+                    reg = regs[top_q]
+            if single and reg != cur_reg:
+                cur_reg = reg
+                p = reg_params[reg]
+                law = reg_law[reg]
+                hw = p[P_WATER_DEPTH]
+                dry = not (hw > 0.0 or reg_rho[reg] > 0.0)
+            out_region[i] = reg
+            if depth <= -wmax or (single and depth <= -hw):
                 # above the grains and any water: only the position is kept up to date
                 out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
                 out_depth[i] = depth
@@ -277,18 +381,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
             out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
             out_depth[i] = depth
-            if nreg == 1:
-                regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
-                out_region[i] = 0
-            else:
-                regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
-                top_q = 0
-                for q in range(1, 4):
-                    if wts[q] > wts[top_q]:
-                        top_q = q
-                out_region[i] = regs[top_q]
-            in_sand = depth > 0.0
-            if not in_sand or e_area[i] <= 0.0:  # out of the grains: no memory
+            speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+            if depth <= 0.0 or e_area[i] <= 0.0:  # out of the grains: no memory
                 u[i, 0] = 0.0
                 u[i, 1] = 0.0
                 u[i, 2] = 0.0
@@ -297,78 +391,59 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     out_force[i, 1] = 0.0
                     out_force[i, 2] = 0.0
                     continue
-            speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-            mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0
-            if in_sand:
-                if delta > 0.0:
-                    if speed > 0.0:
-                        a = math.exp(-speed * dt / delta)
-                        s = delta / speed
-                        u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
-                        u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
-                        u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
-                    mx = u[i, 0] + tau * vx
-                    my = u[i, 1] + tau * vy
-                    mz = u[i, 2] + tau * vz
-                    ml = math.sqrt(mx * mx + my * my + mz * mz)
-                    mob = min(1.0, ml / delta)
-                else:
-                    mx, my, mz, ml = vx, vy, vz, speed
-                    mob = min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0
+                mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0  # in the water above the sand
+            elif delta > 0.0:
+                if speed > 0.0:
+                    a = math.exp(-speed * dt / delta)
+                    s = delta / speed
+                    u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
+                    u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
+                    u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
+                mx = u[i, 0] + tau * vx
+                my = u[i, 1] + tau * vy
+                mz = u[i, 2] + tau * vz
+                ml = math.sqrt(mx * mx + my * my + mz * mz)
+                mob = min(1.0, ml / delta)
+            else:
+                mx, my, mz, ml = vx, vy, vz, speed
+                mob = min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0
             fx = 0.0
             fy = 0.0
             fz = 0.0
             kk = 0.0
-            for q in range(4):
-                w = wts[q]
-                if not w > 0.0:
-                    continue
-                reg = regs[q]
-                p = reg_params[reg]
-                law = reg_law[reg]
-                k = e_area[i] * w
-                if ml > 0.0 and law != LAW_WATER:
+            if single and dry:  # one dry region, written out: costs what the kernel cost before regions and water
+                if ml > 0.0:
                     iml = 1.0 / ml
                     sx, sy, sz = element_stress(law, depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, p)
-                    gx, gy, gz = sx * k, sy * k, sz * k
-                    if not _isfinite3(gx, gy, gz):
+                    k = e_area[i]
+                    fx, fy, fz = sx * k, sy * k, sz * k
+                    if not _isfinite3(fx, fy, fz):
                         return BAD_FORCE, b
-                    g_mag = math.sqrt(gx * gx + gy * gy + gz * gz)
+                    f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
                     if delta > 0.0:  # linearised stiffness (damping in the viscous mode), module docstring
-                        kq = g_mag / max(ml, delta)
-                        kk += kq
-                        damp[b] += kq * tau
+                        kk = f_mag / max(ml, delta)
+                        damp[b] += kk * tau
                     elif v_eps > 0.0:
-                        kq = g_mag / max(ml, v_eps)
-                        kk += kq
-                        damp[b] += kq
-                    fx += gx * mob
-                    fy += gy * mob
-                    fz += gz * mob
-                hw = p[P_WATER_DEPTH]
-                if hw > 0.0:
-                    if speed > 0.0 and depth > -hw and depth < p[P_WATER_SKIN]:
-                        iv = 1.0 / speed
-                        sx, sy, sz = water_stress(depth, nx, ny, nz, vx * iv, vy * iv, vz * iv, speed, p)
-                        gx, gy, gz = sx * k, sy * k, sz * k
-                        if not _isfinite3(gx, gy, gz):
-                            return BAD_FORCE, b
-                        cq = 2.0 * math.sqrt(gx * gx + gy * gy + gz * gz) * iv  # d|F|/d|v| of v^2 drag
-                        damp[b] += cq
-                        if delta <= 0.0:
-                            kk += cq
-                        fx += gx
-                        fy += gy
-                        fz += gz
-                if reg_rho[reg] > 0.0:
-                    pres = reg_rho[reg] * gravity * (depth + hw)  # water surface at sand + hw
-                    if pres > 0.0:
-                        kp = -pres * k
-                        fx += kp * nx
-                        fy += kp * ny
-                        fz += kp * nz
-            if not _isfinite3(fx, fy, fz):
-                return BAD_FORCE, b
+                        kk = f_mag / max(ml, v_eps)
+                        damp[b] += kk
+                    fx *= mob
+                    fy *= mob
+                    fz *= mob
+            else:
+                if single:
+                    fx, fy, fz, kk, cw, ok = _element_force(law, p, reg_rho[reg], gravity, e_area[i], depth, nx, ny,
+                                                            nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta, v_eps)
+                else:
+                    fx, fy, fz, kk, cw, ok = _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity,
+                                                            e_area[i], depth, nx, ny, nz, mx, my, mz, ml, mob, vx,
+                                                            vy, vz, speed, delta, v_eps)
+                if not (ok and _isfinite3(fx, fy, fz)):
+                    return BAD_FORCE, b
+                if delta > 0.0:
+                    damp[b] += kk * tau + cw
+                else:
+                    kk += cw
+                    damp[b] += kk
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
             rx, ry, rz = px - bx, py - by, pz - bz
             wrench[b, 0] += fx
