@@ -27,8 +27,8 @@ Scenarios (:data:`SCENARIOS`)
 ``plate``     Li 2013's plate (3.81 x 2.54 x 0.64 cm, :func:`mjrft.models.rigs.plate_rig_xml`) at attack
               angle beta = 30 deg, driven at 4 cm/s along intrusion angle gamma = 60 deg from 1 cm above
               the surface to 5.6 cm centre depth, 2 s.
-``cleg``      Li 2013's leg-rotation rig (:func:`mjrft.models.rigs.leg_rig_xml`, C-leg: semicircle of
-              7.62 cm chord, 2.54 cm wide, 0.64 cm thick, axle 2 cm above the surface) turning at
+``cleg``      Li 2013's leg-rotation rig (:func:`mjrft.models.rigs.leg_rig_xml`, C-leg: one closed mesh, a
+              semicircle of 7.62 cm chord, 2.54 cm wide, 0.64 cm thick, axle 2 cm above the surface) turning at
               pi/2 rad/s from leg angle -pi/2 to +pi/2, 2 s (Li's 0.2 rad/s would take 16 s; the dry
               laws are rate-independent, so only the wet law notices the speed).
 
@@ -40,18 +40,21 @@ Configurations (:func:`default_grid`)
 One factor at a time around the scenario's default (the model's own resolution, ``rft`` with the
 medium's own Li fit, 1 ms x 10 steps per control period):
 
-* resolution: 4, 2, 1, 1/2 and 1/4 x the model's resolution (hexapod, plate, C-leg 5 mm; humanoid 2 cm);
+* resolution: 4, 2, 1, 1/2 and 1/4 x the model's resolution (hexapod 5 mm, humanoid 2 cm); the rigs
+  (5 mm) stop at 1/2, where they have converged (1/2 and 1/4 differed by < 0.05 % in a trial run);
 * law: ``depth_only``; ``rft_generic`` (Li RFT with the generic profile scaled to the medium's zeta,
   i.e. Li's scaling routine instead of a measured fit); ``rft`` (the medium's own fit); ``rft3d``;
-  ``wet`` (SGRFT speed factor on the medium's own fit; plate and C-leg, the slow intrusions where
-  its 10-50 mm/s calibration applies) and ``hybrid`` (curved-leg model; C-leg rig only). Rows of
-  ``wet`` and ``hybrid`` measure a different physics, not a discretisation error;
+  ``wet`` (SGRFT speed factor on the medium's own fit; on the rigs: the plate's 40 mm/s lies inside
+  its 10-50 mm/s calibration, the C-leg's elements move up to 12 cm/s, where the factor is held at its
+  50 mm/s value) and ``hybrid`` (curved-leg model, with the leg's width and maximum depth as
+  :mod:`mjrft.rigs` gives them; C-leg rig only). Rows of ``wet`` and ``hybrid`` measure a different
+  physics, not a discretisation error;
 * timestep: 2, 1, 0.5 ms at a fixed control period of 10 ms (frame skip 5, 10, 20);
 * frame skip at 1 ms: 1, 5, 10, 20 (the control period changes with it);
 * the presets of :mod:`mjrft.presets` (``fast``, ``accurate``; ``default`` is the default row).
 
-Reference (error zero by definition): the finest resolution (1/4 x) with the smallest timestep
-(0.5 ms x 20) and the medium's own Li fit.
+Reference (error zero by definition): the scenario's finest resolution (robots 1/4 x, rigs 1/2 x) with
+the smallest timestep (0.5 ms x 20) and the medium's own Li fit.
 
 Measurements
 ------------
@@ -96,6 +99,7 @@ import numpy as np
 from .coupler import DEFAULTS, GranularTerrain, _custom
 from .errors import NonFiniteError, TerrainStabilityWarning, check_positive, unknown
 from .media import generic, get_medium
+from .presets import model_resolution
 
 SAMPLE_DT = 0.002  # s; errors are computed on samples at these instants (a multiple of every timestep)
 CONTROL_PERIOD = 0.01  # s; the default control period (1 ms x 10)
@@ -104,7 +108,7 @@ RIG_RESOLUTION_SCALES = (4.0, 2.0, 1.0, 0.5)  # the rigs converge by 1/2 (x0.5 a
 TIMESTEPS = (0.002, 0.001, 0.0005)
 FRAME_SKIPS = (1, 5, 10, 20)
 DRY_LAWS = ("depth_only", "rft_generic", "rft", "rft3d")
-#: law variants of the study -> (law name in the coupler, how the medium is chosen)
+#: law variants of the study -> law name in the coupler (``rft_generic`` also swaps the medium, see law_and_medium)
 LAW_VARIANTS = {
     "depth_only": "depth_only",
     "rft_generic": "rft",
@@ -125,7 +129,7 @@ MIN_SAMPLE = 0.1  # s; one timing sample repeats a short rollout back to back un
 # ---------------------------------------------------------------------------------------------------
 @dataclass(frozen=True)
 class Config:
-    """One point of the grid. ``resolution_scale`` multiplies the scenario's default resolution."""
+    """One point of the grid. ``resolution_scale`` multiplies the model's own resolution (its ``<custom>``)."""
 
     label: str
     factor: str  # "default", "resolution", "law", "timestep", "frame_skip", "reference", "preset"
@@ -145,7 +149,6 @@ class Scenario:
     name: str
     description: str
     duration: float  # s of simulated time
-    default_resolution: float  # m
     build: Callable[[], mujoco.MjModel]  # the model with terrain settings in <custom>, default timestep
     controller: Callable[[mujoco.MjModel, mujoco.MjData], Callable[[], None]]  # called every control period
     measure_bodies: tuple[str, ...]  # bodies whose granular force is measured
@@ -299,17 +302,17 @@ def _leg_controller(model, data):
 
 SCENARIOS: dict[str, Scenario] = {
     s.name: s for s in (
-        Scenario("cleg", "rotating C-leg rig (Li 2013), pi/2 rad/s from -90 to +90 deg", 2.0, 0.005,
+        Scenario("cleg", "rotating C-leg rig (Li 2013), pi/2 rad/s from -90 to +90 deg", 2.0,
                  _leg_model, _leg_controller, ("leg",), None, DRY_LAWS + ("wet", "hybrid"), kinematic=True,
                  resolution_scales=RIG_RESOLUTION_SCALES, hybrid_extra=_leg_hybrid_extra),
-        Scenario("plate", "plate intrusion (Li 2013 plate), beta 30 deg, gamma 60 deg, 4 cm/s", 2.0, 0.005,
+        Scenario("plate", "plate intrusion (Li 2013 plate), beta 30 deg, gamma 60 deg, 4 cm/s", 2.0,
                  _plate_model, _plate_controller, ("plate",), None, DRY_LAWS + ("wet",), kinematic=True,
                  resolution_scales=RIG_RESOLUTION_SCALES),
-        Scenario("hexapod", "RHex-class hexapod, open-loop tripod at 2 Hz", 2.0, 0.005,
+        Scenario("hexapod", "RHex-class hexapod, open-loop tripod at 2 Hz", 2.0,
                  _hexapod_model, _hexapod_controller,
                  ("torso", "leg_lf", "leg_lm", "leg_lr", "leg_rf", "leg_rm", "leg_rr"), "torso",
                  build_bare=lambda: _hexapod_model(sand=False)),
-        Scenario("humanoid", "HUBO-class humanoid standing on its right foot (30.4 cm boards)", 2.5, 0.02,
+        Scenario("humanoid", "HUBO-class humanoid standing on its right foot (30.4 cm boards)", 2.5,
                  _humanoid_model, _humanoid_controller, ("left_foot", "right_foot"), "pelvis",
                  build_bare=lambda: _humanoid_model(sand=False)),
     )
@@ -431,7 +434,7 @@ def make_terrain(scenario: Scenario, model: mujoco.MjModel, config: Config) -> G
     law, medium = law_and_medium(config.law, _custom(model).get("medium", DEFAULTS["medium"]))
     if config.law == "hybrid" and scenario.hybrid_extra is not None:
         medium = medium.with_extra(**scenario.hybrid_extra())
-    return GranularTerrain(model, medium, law, resolution=scenario.default_resolution * config.resolution_scale)
+    return GranularTerrain(model, medium, law, resolution=model_resolution(model) * config.resolution_scale)
 
 
 def _simulate(model, data, terrain, control, duration, frame_skip, sample_every=0, on_sample=None):
@@ -775,6 +778,7 @@ def plot_pareto(rows: list[Row], path) -> str:
     """Cost ratio (x, log) against RMS force error (y, log), one panel per scenario, Pareto front drawn."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.ticker import FuncFormatter, NullFormatter
 
     names = list(dict.fromkeys(r.scenario for r in rows))
     ncol = 2 if len(names) > 1 else 1
@@ -799,6 +803,9 @@ def plot_pareto(rows: list[Row], path) -> str:
                 label="Pareto front")
         ax.set_xscale("log")
         ax.set_yscale("log")
+        for axis in (ax.xaxis, ax.yaxis):
+            axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+            axis.set_minor_formatter(NullFormatter())
         ax.set_xlabel("cost per simulated second (x bare MuJoCo)")
         ax.set_ylabel("RMS force error (%)")
         ax.set_title(f"{name}", fontsize=10)
