@@ -20,7 +20,8 @@ plain ``mj_step`` per environment).
   ``"Disabled"`` (the caller resets ended ones with ``reset(options={"reset_mask": mask})``).
 * ``max_episode_steps``: truncation after that many steps (gymnasium's ``TimeLimit``); default from
   the registration (1000), as ``gymnasium.make``.
-* ``parallel``: ``True`` / ``False`` / ``None`` (auto), see :mod:`mjrft.batch`.
+* ``parallel``: ``True``: the batched physics on numba's threads; ``False`` (default): one thread
+  (see :mod:`mjrft.batch` for the measurements behind the default).
 * Any other keyword argument goes to every sub-environment (``medium``, ``frame_skip``, ...).
 
 A non-finite action raises ``ValueError`` naming the environment index before anything is stepped;
@@ -98,12 +99,12 @@ class GranularVectorEnv(VectorEnv):
         num_envs: number of sub-environments (int >= 1).
         max_episode_steps: truncate after this many steps; ``None``: the registration's value.
         autoreset_mode: ``"NextStep"`` (default), ``"SameStep"`` or ``"Disabled"`` (or the AutoresetMode).
-        parallel: threads for the batched physics: ``True``, ``False`` or ``None`` (auto).
+        parallel: ``True``: the batched physics on numba's threads; ``False`` (default): one thread.
         **env_kwargs: keyword arguments of every sub-environment.
     """
 
     def __init__(self, env_id: str, num_envs: int = 1, *, max_episode_steps: int | None = None,
-                 autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP, parallel: bool | None = None,
+                 autoreset_mode: str | AutoresetMode = AutoresetMode.NEXT_STEP, parallel: bool = False,
                  **env_kwargs):
         if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")

@@ -18,12 +18,14 @@ an environment whose tuple changed (a new ``MjData`` bound, a replaced array, a 
 list item replaced.
 
 Parallel stepping. With ``parallel=True`` the environments are spread over numba's threads
-(``numba.prange``; MuJoCo's ``mj_step1``/``mj_step2`` are thread-safe for separate ``mjData``). The
-default (``parallel=None``) uses threads when more than one environment steps and numba has more than
-one thread (``NUMBA_NUM_THREADS`` / ``numba.set_num_threads``). A Python MuJoCo callback
-(``mujoco.set_mjcb_*``) needs the GIL, which numba's worker threads do not hold, so while one is
-installed the batch always steps serially. Each environment's arithmetic is the same in either mode:
-serial and parallel results are identical.
+(``numba.prange``; MuJoCo's ``mj_step1``/``mj_step2`` are thread-safe for separate ``mjData``;
+``NUMBA_NUM_THREADS`` / ``numba.set_num_threads`` set how many). The default is one thread: on the
+shared 2-core machine this was measured on (load average 4-6) two threads were as often slower
+(0.16x-0.9x) as faster (up to 1.1x), because a parallel region waits for its slowest thread and
+every thread competes with other processes (``benchmarks/bench_vector.py`` prints the ratio; try it
+on a machine with idle cores). A Python MuJoCo callback (``mujoco.set_mjcb_*``) needs the GIL, which
+numba's worker threads do not hold, so while one is installed the batch always steps on one thread.
+Each environment's arithmetic is the same in either mode: serial and parallel results are identical.
 
 Errors. A non-finite state or force stops that environment inside the failing step (nothing is
 written to its ``xfrc_applied``, as in :meth:`GranularTerrain.step`); the other environments finish
@@ -104,15 +106,14 @@ class BatchedTerrain:
         terrains: one terrain per environment (normally each built on its environment's ``MjModel``;
             the models may be separate objects but must give the terrains' arrays the same types).
         datas: the environments' ``MjData``, in the same order; each belongs to its terrain's model.
-        parallel: ``True``: spread the environments over numba's threads; ``False``: one thread;
-            ``None`` (default): threads when more than one environment steps and numba has more than one.
+        parallel: ``True``: spread the environments over numba's threads; ``False`` (default): one thread.
 
     The terrains stay usable on their own (``terrain.force``, ``terrain.wrench``, ... are filled by the
     batch exactly as by ``terrain.step``).
     """
 
     def __init__(self, terrains: Sequence[GranularTerrain], datas: Sequence[mujoco.MjData], *,
-                 parallel: bool | None = None):
+                 parallel: bool = False):
         self.terrains = list(terrains)
         self.datas = list(datas)
         if not self.terrains:
@@ -132,9 +133,9 @@ class BatchedTerrain:
                     raise ValueError(f"environments {seen[id(obj)]} and {e} share one {what}; each environment needs "
                                      f"its own")
                 seen[id(obj)] = e
-        if parallel is not None and not isinstance(parallel, bool):
-            raise ValueError(f"parallel must be True, False or None, got {parallel!r}")
-        self.parallel = parallel
+        if not isinstance(parallel, (bool, np.bool_)):
+            raise ValueError(f"parallel must be True or False, got {parallel!r}")
+        self.parallel = bool(parallel)
         n = len(self.terrains)
         self._m_addr = np.array([t.model._address for t in self.terrains], dtype=np.int64)
         self._d_addr = np.array([d._address for d in self.datas], dtype=np.int64)
@@ -227,11 +228,7 @@ class BatchedTerrain:
             self._step_each(active, counts)
             return
         self._refresh(active)
-        if self.parallel is None:
-            threads = active.size > 1 and numba.get_num_threads() > 1
-        else:
-            threads = self.parallel
-        run = run_batch_parallel if threads and not python_callbacks_installed() else run_batch_serial
+        run = run_batch_parallel if self.parallel and not python_callbacks_installed() else run_batch_serial
         out = self._out
         run(counts, functions[0], functions[1], self._m_addr, self._d_addr, self._list, out)
         errors = []
