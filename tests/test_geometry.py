@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import time
 
 import mujoco
 import numpy as np
@@ -11,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mjrft.geometry import GEOM_TYPES, Elements, discretize_geom, geom_elements, surface_area
+from mjrft.geometry import GEOM_TYPES, Elements, discretize_geom, exposed, geom_elements, inside_geom, surface_area
 
 RES = 0.005  # default resolution (m)
 
@@ -426,14 +425,28 @@ def test_discretize_geom_errors():
     np.testing.assert_allclose(discretize_geom(model, 1, RES).area.sum(), 4 * math.pi * 0.01)
 
 
-def test_speed():
-    geom_elements("ellipsoid", (0.05, 0.03, 0.02), RES)  # warm-up
-    t0 = time.perf_counter()
-    n = 0
-    for name, size in [("box", (0.05, 0.03, 0.02)), ("sphere", (0.04,)), ("capsule", (0.02, 0.05)),
-                       ("cylinder", (0.03, 0.05)), ("ellipsoid", (0.05, 0.03, 0.02))]:
-        n += len(geom_elements(name, size, RES))
-    n += len(geom_elements("mesh", None, RES, 0.1 * CUBE_V, CUBE_F))
-    elapsed = time.perf_counter() - t0
-    assert n > 1000
-    assert elapsed < 0.5  # typically a few ms; generous for loaded CI machines
+UNION = """<mujoco><worldbody><body name="foot">
+  <geom name="a" type="box" pos="0 0 0" size="0.02 0.01 0.01"/>
+  <geom name="b" type="box" pos="0.02 0 0" size="0.02 0.01 0.01"/>
+  <geom name="c" type="sphere" pos="0 0 0" size="0.005"/>
+  <geom name="d" type="capsule" pos="0 0.1 0" size="0.01 0.02"/>
+</body><body name="other" pos="0 0 0"><geom name="e" type="box" size="0.02 0.01 0.01"/></body>
+</worldbody></mujoco>"""
+
+
+def test_elements_inside_other_geoms_of_the_body_are_dropped():
+    m = mujoco.MjModel.from_xml_string(UNION)
+    ids = list(range(m.ngeom))
+    parts = [discretize_geom(m, g, 0.002) for g in ids]
+    keep = exposed(m, ids, parts)
+    # the two overlapping boxes: exactly the surface of their union (a 6 x 2 x 2 cm box) remains
+    area = sum(parts[g].area[keep[g]].sum() for g in (0, 1))
+    np.testing.assert_allclose(area, 2 * (0.06 * 0.02 * 2 + 0.02 * 0.02), rtol=1e-9)
+    assert not keep[2].any()          # the sphere is buried in box a
+    assert keep[3].all()              # the capsule is apart
+    assert keep[4].all()              # box e overlaps box a, but belongs to another body
+    # inside_geom: strictly inside only (a point on the surface is outside)
+    assert inside_geom(m, 0, [[0, 0, 0], [0.02, 0, 0], [0.0199, 0, 0]]).tolist() == [True, False, True]
+    assert inside_geom(m, 3, [[0, 0.1, 0.025], [0, 0.1, 0.031]]).tolist() == [True, False]
+
+

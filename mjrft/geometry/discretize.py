@@ -348,6 +348,78 @@ def discretize_geom(model: mujoco.MjModel, geom_id: int, resolution: float) -> E
     return local.transform(rot.reshape(3, 3), model.geom_pos[geom_id])
 
 
+def inside_geom(model: mujoco.MjModel, geom_id: int, points, tol: float = 1e-9) -> np.ndarray:
+    """Which ``points`` (N, 3), given in the geom's BODY frame, lie strictly inside geom ``geom_id``.
+
+    Strictly means deeper than ``tol`` (m) below its surface, so a point on the surface (e.g. where two
+    geoms touch face to face) is not inside. Boxes, spheres, capsules, cylinders and ellipsoids are
+    exact; a mesh is treated as containing nothing (its interior is not known without a solid model).
+    """
+    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
+    geom_id = int(geom_id)
+    rot = np.empty(9)
+    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[geom_id], dtype=np.float64))
+    local = (pts - model.geom_pos[geom_id]) @ rot.reshape(3, 3)  # body -> geom frame
+    s = model.geom_size[geom_id]
+    x, y, z = local[:, 0], local[:, 1], local[:, 2]
+    t = int(model.geom_type[geom_id])
+    if t == mujoco.mjtGeom.mjGEOM_BOX:
+        return (np.abs(x) < s[0] - tol) & (np.abs(y) < s[1] - tol) & (np.abs(z) < s[2] - tol)
+    if t == mujoco.mjtGeom.mjGEOM_SPHERE:
+        return np.sqrt(x * x + y * y + z * z) < s[0] - tol
+    if t == mujoco.mjtGeom.mjGEOM_CAPSULE:
+        zc = np.clip(z, -s[1], s[1])
+        return np.sqrt(x * x + y * y + (z - zc) ** 2) < s[0] - tol
+    if t == mujoco.mjtGeom.mjGEOM_CYLINDER:
+        return (np.sqrt(x * x + y * y) < s[0] - tol) & (np.abs(z) < s[1] - tol)
+    if t == mujoco.mjtGeom.mjGEOM_ELLIPSOID:
+        shrunk = np.maximum(s - tol, 0.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            q = (x / shrunk[0]) ** 2 + (y / shrunk[1]) ** 2 + (z / shrunk[2]) ** 2
+        return np.nan_to_num(q, nan=np.inf) < 1.0
+    return np.zeros(len(pts), dtype=bool)
+
+
+def _on_box_face(model: mujoco.MjModel, geom_id: int, points, normals, tol: float = 1e-9) -> np.ndarray:
+    """Which points (body frame) lie on a face of box ``geom_id`` whose outward normal equals theirs."""
+    rot = np.empty(9)
+    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[geom_id], dtype=np.float64))
+    R = rot.reshape(3, 3)
+    local = (np.asarray(points) - model.geom_pos[geom_id]) @ R
+    nloc = np.asarray(normals) @ R
+    s = model.geom_size[geom_id]
+    within = np.all(np.abs(local) <= s + tol, axis=1)
+    out = np.zeros(len(local), dtype=bool)
+    for i in range(3):
+        for sign in (1.0, -1.0):
+            out |= within & (np.abs(sign * local[:, i] - s[i]) <= tol) & (sign * nloc[:, i] > 1.0 - 1e-9)
+    return out
+
+
+def exposed(model: mujoco.MjModel, geom_ids, parts) -> list[np.ndarray]:
+    """For each geom's Elements in ``parts`` (body frame), a mask of the elements on the exposed
+    surface of the union of ``geom_ids`` that share its body.
+
+    A leg or foot built from several overlapping primitives (a C-leg as a chain of boxes) has end
+    faces inside its neighbours; the laws would count each as an extra plate across the leg. Only the
+    exposed surface of the union can push on grains. Dropped: elements strictly inside another geom
+    of the same body, and (boxes) elements lying on a face of an earlier geom with the same outward
+    normal (coplanar overlapping faces count once). Two geoms touching face to face keep both faces.
+    """
+    geom_ids = [int(g) for g in geom_ids]
+    masks = []
+    for k, (g, el) in enumerate(zip(geom_ids, parts)):
+        keep = np.ones(len(el), dtype=bool)
+        for j, h in enumerate(geom_ids):
+            if j == k or model.geom_bodyid[h] != model.geom_bodyid[g] or not len(el):
+                continue
+            keep &= ~inside_geom(model, h, el.pos)
+            if j < k and model.geom_type[h] == mujoco.mjtGeom.mjGEOM_BOX:
+                keep &= ~_on_box_face(model, h, el.pos, el.normal)
+        masks.append(keep)
+    return masks
+
+
 def _carlson_rf(x: float, y: float, z: float) -> float:
     """Carlson's R_F(x, y, z) by duplication (at most one argument zero)."""
     for _ in range(200):
