@@ -11,6 +11,7 @@ id                         entry point                                  max_epis
 ``mjrft/BipedRigid-v0``    ``mjrft.envs.biped:BipedRigid``              1000
 ``mjrft/HumanoidSand-v0``  ``mjrft.envs.humanoid:HumanoidSand``         1000
 ``mjrft/HumanoidRigid-v0`` ``mjrft.envs.humanoid:HumanoidRigid``        1000
+``mjrft/HexapodShoal-v0``  ``mjrft.envs.hexapod:HexapodShoal``          1000
 =========================  ===========================================  ==================
 
 >>> import gymnasium
@@ -28,6 +29,7 @@ ENV_IDS = {
     "mjrft/BipedRigid-v0": "mjrft.envs.biped:BipedRigid",
     "mjrft/HumanoidSand-v0": "mjrft.envs.humanoid:HumanoidSand",
     "mjrft/HumanoidRigid-v0": "mjrft.envs.humanoid:HumanoidRigid",
+    "mjrft/HexapodShoal-v0": "mjrft.envs.hexapod:HexapodShoal",
 }
 MAX_EPISODE_STEPS = 1000
 #: ``vector_entry_point`` of each id (``gymnasium.make_vec(id, num_envs)``): a batched ``GranularVectorEnv``

@@ -1,4 +1,5 @@
-"""RHex-class hexapod on granular media (``mjrft/HexapodSand-v0``) or rigid ground (``mjrft/HexapodRigid-v0``)."""
+"""RHex-class hexapod on granular media (``mjrft/HexapodSand-v0``), rigid ground (``mjrft/HexapodRigid-v0``) or
+the shoal: dry sand, saturated sand, shallow water (``mjrft/HexapodShoal-v0``)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ from gymnasium import spaces
 
 from mjrft.errors import check_positive
 from mjrft.models.hexapod import LEG_NAMES, TRIPOD_A, TRIPOD_B, hexapod_xml
+from mjrft.models.shoal import SHOAL
 
 from .base import GranularMujocoEnv
 
@@ -130,3 +132,20 @@ class HexapodRigid(HexapodSand):
     def __init__(self, **kwargs):
         kwargs.pop("sand", None)
         super().__init__(sand=False, **kwargs)
+
+
+class HexapodShoal(HexapodSand):
+    """:class:`HexapodSand` on the ``shoal`` scene (:mod:`mjrft.models.shoal`): dry poppy seeds for x < 0.5 m,
+    saturated sea sand (law ``wet``) for 0.5 <= x < 1 m, then 2 cm of water over saturated sand, with
+    buoyancy; regions blend over 1 cm. Same spaces, rewards and termination as :class:`HexapodSand`
+    (the tables there); the scene's keyword arguments (``regions``, ``buoyancy``, ``bed_length``,
+    ``medium``/``law`` of the dry strip, ...) can be overridden. The open-loop tripod at 2 Hz reaches
+    the water after about 4 s."""
+
+    base_model = "hexapod_shoal"
+
+    def __init__(self, **kwargs):
+        kwargs.pop("sand", None)
+        for key, value in SHOAL.items():
+            kwargs.setdefault(key, value)
+        super().__init__(sand=True, **kwargs)

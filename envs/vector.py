@@ -299,6 +299,7 @@ BipedSandVector = _vector_entry_point("mjrft/BipedSand-v0", "BipedSandVector")
 BipedRigidVector = _vector_entry_point("mjrft/BipedRigid-v0", "BipedRigidVector")
 HumanoidSandVector = _vector_entry_point("mjrft/HumanoidSand-v0", "HumanoidSandVector")
 HumanoidRigidVector = _vector_entry_point("mjrft/HumanoidRigid-v0", "HumanoidRigidVector")
+HexapodShoalVector = _vector_entry_point("mjrft/HexapodShoal-v0", "HexapodShoalVector")
 
 
 # ---------------------------------------------------------------------------------------------- stable-baselines3

@@ -375,6 +375,7 @@ class GranularTerrain:
             laws.append(lid_k)
             params.append(p)
             rhos.append(rho if self.buoyancy and (hw > 0 or lid_k in _SATURATED_LAWS) else 0.0)
+            x_min = None
             if k > 0 and region_map is None:
                 x_min = check_finite(f"region {k} x_min", reg.x_min)
                 if bounds and x_min <= bounds[-1]:
@@ -384,7 +385,7 @@ class GranularTerrain:
                                      f"{x_min!r}), less than the transition width {self.transition:g} m; "
                                      "widen it or pass a smaller transition")
                 bounds.append(x_min)
-            self.regions.append(Region(None if k == 0 else reg.x_min, med, str(reg.law), hw))
+            self.regions.append(Region(x_min, med, str(reg.law), hw))
         self._reg_bounds = np.array(bounds, dtype=np.float64)
         self._reg_law = np.array(laws, dtype=np.int64)
         self._reg_params = np.ascontiguousarray(np.array(params, dtype=np.float64))

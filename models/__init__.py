@@ -3,8 +3,8 @@
 ``model_path(name)`` gives the path of a committed default model (regenerate
 them with ``python -m mjrft.models.generate``); the parametric generators
 ``hexapod_xml/hexapod_model``, ``biped_xml/biped_model`` and
-``humanoid_xml/humanoid_model`` and the rigs' ``plate_rig_xml/leg_rig_xml`` are re-exported here
-(imported lazily).
+``humanoid_xml/humanoid_model``, the rigs' ``plate_rig_xml/leg_rig_xml`` and the shoal scene's
+``hexapod_shoal_xml/hexapod_shoal_model`` are re-exported here (imported lazily).
 """
 
 from __future__ import annotations
@@ -27,6 +27,7 @@ MODEL_NAMES = (
     "humanoid_rigid",
     "plate_rig",
     "leg_rig",
+    "hexapod_shoal",
 )
 
 _LAZY = {
@@ -34,6 +35,7 @@ _LAZY = {
     "biped_xml": "biped", "biped_model": "biped",
     "humanoid_xml": "humanoid", "humanoid_model": "humanoid",
     "plate_rig_xml": "rigs", "leg_rig_xml": "rigs",
+    "hexapod_shoal_xml": "shoal", "hexapod_shoal_model": "shoal",
 }
 
 __all__ = ["MODEL_NAMES", "model_path", *_LAZY]

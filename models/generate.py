@@ -15,6 +15,7 @@ from .biped import biped_xml
 from .hexapod import hexapod_xml
 from .humanoid import humanoid_xml
 from .rigs import leg_rig_xml, plate_rig_xml
+from .shoal import hexapod_shoal_xml
 
 #: name -> (generator, kwargs)
 DEFAULTS = {
@@ -30,6 +31,7 @@ DEFAULTS = {
     "humanoid_rigid": (humanoid_xml, dict(sand=False)),
     "plate_rig": (plate_rig_xml, dict()),
     "leg_rig": (leg_rig_xml, dict(shape="c")),
+    "hexapod_shoal": (hexapod_shoal_xml, dict()),
 }
 assert tuple(DEFAULTS) == MODEL_NAMES
 

@@ -19,6 +19,17 @@ Scene convention
       <numeric name="mjrft:resolution" data="0.005"/>              (element size, m)
       <numeric name="scene:bed_depth"  data="0.3"/>                (bed depth, m; not an mjrft setting)
 
+  and, for mixed terrain (``regions=[(x_min, medium, law, water_depth), ...]``: strips along x
+  after the base ``medium``/``law``, see :class:`mjrft.GranularTerrain`)::
+
+      <text    name="mjrft:regions"    data="0.3 sea_sand_saturated wet 0; 0.6 ..."/>
+      <numeric name="mjrft:transition" data="0.01"/>                (only if given)
+      <numeric name="mjrft:buoyancy"   data="1"/>                   (only if buoyancy=True)
+      <numeric name="mjrft:water_depth" data="..."/>                (only if water_depth > 0)
+
+  Each strip gets its own visual sand box (darker for the saturated-sand law ``wet``) and, where it
+  has standing water, a translucent visual water box on top (``water_<k>``).
+
 ``sand=False`` (rigid comparison scenes, the ``...Rigid-v0`` environments):
 ``floor`` is a rigid plane at ``z = 0`` that collides; no ``mjrft:*`` custom
 entries are written.
@@ -38,6 +49,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mjrft.errors import check_positive as _check_number
 from mjrft.geometry.curved_leg import positive_finite as check_positive
 
 TIMESTEP = 0.001
@@ -45,6 +57,8 @@ DEFAULT_BED_DEPTH = 0.3
 DEFAULT_MEDIUM = "poppy_cp"
 DEFAULT_LAW = "rft"
 SAND_RGBA = "0.86 0.74 0.52 0.45"
+WET_SAND_RGBA = "0.55 0.45 0.30 0.55"
+WATER_RGBA = "0.25 0.45 0.75 0.35"
 
 #: Collision bits: robot geoms collide with the ground only (never with each other).
 ROBOT_CONTACT = 'contype="1" conaffinity="0"'
@@ -91,6 +105,11 @@ class SceneOptions:
     resolution: float = 0.01
     surface: float = 0.0
     granular_bodies: list[str] = field(default_factory=list)
+    #: mixed terrain: strips ``(x_min, medium, law, water_depth)`` sorted by x_min (see module docstring)
+    regions: list = field(default_factory=list)
+    water_depth: float = 0.0  # standing water over the base medium (m)
+    transition: float | None = None  # region blend width (m); None: mjrft's default
+    buoyancy: bool = False
 
     def validate(self) -> None:
         check_positive("bed_depth", self.bed_depth)
@@ -100,8 +119,34 @@ class SceneOptions:
         if not math.isfinite(float(self.surface)):
             raise ValueError(f"surface must be finite, got {self.surface!r}")
         for name, val in (("medium", self.medium), ("law", self.law)):
-            if not isinstance(val, str) or not val or any(c.isspace() or c in '"<>&' for c in val):
-                raise ValueError(f"{name} must be a non-empty identifier string, got {val!r}")
+            _check_identifier(name, val)
+        _check_number("water_depth", self.water_depth, allow_zero=True)
+        if self.transition is not None:
+            _check_number("transition", self.transition, allow_zero=True)
+        regions = []
+        for k, reg in enumerate(self.regions, start=1):
+            reg = tuple(reg)
+            if len(reg) not in (3, 4):
+                raise ValueError(f"region {k}: expected (x_min, medium, law[, water_depth]), got {reg!r}")
+            x_min, medium, law = reg[:3]
+            water = reg[3] if len(reg) == 4 else 0.0
+            try:
+                x_min = float(x_min)
+            except (TypeError, ValueError):
+                raise ValueError(f"region {k} x_min must be a number, got {x_min!r}") from None
+            if not math.isfinite(x_min):
+                raise ValueError(f"region {k} x_min must be finite, got {x_min!r}")
+            if regions and x_min <= regions[-1][0]:
+                raise ValueError(f"regions must be sorted by increasing x_min, got {x_min!r} after {regions[-1][0]!r}")
+            _check_identifier(f"region {k} medium", medium)
+            _check_identifier(f"region {k} law", law)
+            regions.append((x_min, medium, law, _check_number(f"region {k} water_depth", water, allow_zero=True)))
+        self.regions = regions
+
+
+def _check_identifier(name: str, val) -> None:
+    if not isinstance(val, str) or not val or any(c.isspace() or c in '"<>&;' for c in val):
+        raise ValueError(f"{name} must be a non-empty identifier string, got {val!r}")
 
 
 def pop_scene_options(kw: dict, *, resolution: float, bed_length: float, bed_width: float,
@@ -117,6 +162,10 @@ def pop_scene_options(kw: dict, *, resolution: float, bed_length: float, bed_wid
         resolution=kw.pop("resolution", resolution),
         surface=kw.pop("surface", 0.0),
         granular_bodies=list(kw.pop("granular_bodies", granular_bodies)),
+        regions=list(kw.pop("regions", [])),
+        water_depth=kw.pop("water_depth", 0.0),
+        transition=kw.pop("transition", None),
+        buoyancy=bool(kw.pop("buoyancy", False)),
     )
     opts.validate()
     return opts
@@ -137,15 +186,31 @@ def _ground_xml(opts: SceneOptions) -> str:
     hz = opts.bed_depth / 2.0
     cx = hx - 0.5
     top = float(opts.surface)
-    return "\n".join(
-        [
-            "    <!-- granular bed: visual-only sand (forces come from mjrft), rigid bottom -->",
-            f'    <geom name="sand_surface" type="box" pos="{fmt(cx, 0, top - hz)}" '
-            f'size="{fmt(hx, hy, hz)}" material="sand" {VISUAL_ONLY} group="1"/>',
-            f'    <geom name="bed_bottom" type="plane" pos="{fmt(0, 0, top - opts.bed_depth)}" '
-            f'size="0 0 0.05" material="grid" {GROUND_CONTACT}/>',
-        ]
-    )
+    lines = ["    <!-- granular bed: visual-only sand (forces come from mjrft), rigid bottom -->"]
+    if not opts.regions:
+        lines.append(f'    <geom name="sand_surface" type="box" pos="{fmt(cx, 0, top - hz)}" '
+                     f'size="{fmt(hx, hy, hz)}" material="sand" {VISUAL_ONLY} group="1"/>')
+        strips = []
+    else:  # one visual box per strip, clipped to the bed
+        x0, x1 = -0.5, opts.bed_length - 0.5
+        edges = [x0] + [min(max(r[0], x0), x1) for r in opts.regions] + [x1]
+        strips = [(opts.law, opts.water_depth)] + [(r[2], r[3]) for r in opts.regions]
+        for k, (law, _) in enumerate(strips):
+            a, b = edges[k], edges[k + 1]
+            if b <= a:
+                continue
+            name = "sand_surface" if k == 0 else f"sand_{k}"
+            rgba = WET_SAND_RGBA if law == "wet" else SAND_RGBA
+            lines.append(f'    <geom name="{name}" type="box" pos="{fmt((a + b) / 2, 0, top - hz)}" '
+                         f'size="{fmt((b - a) / 2, hy, hz)}" rgba="{rgba}" {VISUAL_ONLY} group="1"/>')
+    for k, (_, water) in enumerate(strips):
+        a, b = edges[k], edges[k + 1]
+        if water > 0 and b > a:
+            lines.append(f'    <geom name="water_{k}" type="box" pos="{fmt((a + b) / 2, 0, top + water / 2)}" '
+                         f'size="{fmt((b - a) / 2, hy, water / 2)}" rgba="{WATER_RGBA}" {VISUAL_ONLY} group="1"/>')
+    lines.append(f'    <geom name="bed_bottom" type="plane" pos="{fmt(0, 0, top - opts.bed_depth)}" '
+                 f'size="0 0 0.05" material="grid" {GROUND_CONTACT}/>')
+    return "\n".join(lines)
 
 
 def _custom_xml(opts: SceneOptions, extra: str = "") -> str:
@@ -159,6 +224,15 @@ def _custom_xml(opts: SceneOptions, extra: str = "") -> str:
             f'    <numeric name="mjrft:resolution" data="{fmt(opts.resolution)}"/>',
             f'    <numeric name="scene:bed_depth" data="{fmt(opts.bed_depth)}"/>',
         ]
+        if opts.regions:
+            text = "; ".join(f"{fmt(x)} {med} {law} {fmt(w)}" for x, med, law, w in opts.regions)
+            lines.append(f'    <text name="mjrft:regions" data="{text}"/>')
+        if opts.water_depth > 0:
+            lines.append(f'    <numeric name="mjrft:water_depth" data="{fmt(opts.water_depth)}"/>')
+        if opts.transition is not None:
+            lines.append(f'    <numeric name="mjrft:transition" data="{fmt(opts.transition)}"/>')
+        if opts.buoyancy:
+            lines.append('    <numeric name="mjrft:buoyancy" data="1"/>')
     if extra:
         lines.append(extra.rstrip("\n"))
     if not lines:
