@@ -178,6 +178,10 @@ def test_normalize_statistics_are_saved_and_used(tmp_path):
     expected = loaded.model.predict(loaded.vecnormalize.normalize_obs(obs), deterministic=True)[0]
     np.testing.assert_array_equal(loaded.predict(obs)[0], expected)
     env.close()
+    # resuming restores the statistics and keeps updating them
+    train(None, None, 256, 1, 0, tmp_path, None, checkpoint_every=128)
+    count = load_policy(tmp_path / "model.zip").vecnormalize.obs_rms.count
+    assert count == pytest.approx(loaded.vecnormalize.obs_rms.count + 1 + 128)  # the reset, then 128 steps
 
 
 def test_atomic_write_keeps_the_old_file_on_failure(tmp_path):

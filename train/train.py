@@ -146,7 +146,8 @@ def valid_env_kwargs(env_id: str) -> list[str]:
 
         entry = getattr(importlib.import_module(module), attr)
     names = set()
-    for cls in getattr(entry, "__mro__", (entry,)):
+    own = [c for c in getattr(entry, "__mro__", ()) if c.__module__.split(".")[0] == "mjrft"]
+    for cls in own or [entry]:  # mjrft's env classes (not gymnasium's MujocoEnv internals)
         init = getattr(cls, "__init__", None)
         if init is None or cls is object:
             continue
