@@ -25,7 +25,8 @@ Choices (the issue is silent on them):
 
 * ``timesteps`` is the TOTAL budget of the run folder, not an increment: calling :func:`train` again on
   the same folder resumes from the newest checkpoint (``reset_num_timesteps=False``) and trains until
-  ``num_timesteps`` reaches ``timesteps``; a finished run is left alone.
+  ``num_timesteps`` reaches ``timesteps`` (PPO stops at the end of the rollout that reaches it, so it
+  may pass the budget by less than ``n_steps x n_envs``); a finished run is left alone.
 * Every save is atomic: each file is written under a temporary name, flushed to disk and renamed, and
   a checkpoint's ``.zip`` is written after its side files, so an interruption at any moment leaves the
   newest complete checkpoint intact (at worst a stray ``.tmp`` file, removed on the next save).
