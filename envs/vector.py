@@ -283,23 +283,15 @@ class GranularVectorEnv(VectorEnv):
         return self.get_attr("np_random")
 
 
+@functools.cache
 def _vector_entry_point(env_id: str, name: str):
     def create(num_envs: int = 1, **kwargs) -> GranularVectorEnv:
         return GranularVectorEnv(env_id, num_envs, **kwargs)
 
     create.__name__ = create.__qualname__ = name
+    create.__module__ = __name__
     create.__doc__ = f"The ``vector_entry_point`` of ``{env_id}``: ``GranularVectorEnv({env_id!r}, num_envs, **kwargs)``."
     return create
-
-
-# the registered vector entry points (mjrft.envs.VECTOR_ENTRY_POINTS)
-HexapodSandVector = _vector_entry_point("mjrft/HexapodSand-v0", "HexapodSandVector")
-HexapodRigidVector = _vector_entry_point("mjrft/HexapodRigid-v0", "HexapodRigidVector")
-BipedSandVector = _vector_entry_point("mjrft/BipedSand-v0", "BipedSandVector")
-BipedRigidVector = _vector_entry_point("mjrft/BipedRigid-v0", "BipedRigidVector")
-HumanoidSandVector = _vector_entry_point("mjrft/HumanoidSand-v0", "HumanoidSandVector")
-HumanoidRigidVector = _vector_entry_point("mjrft/HumanoidRigid-v0", "HumanoidRigidVector")
-HexapodShoalVector = _vector_entry_point("mjrft/HexapodShoal-v0", "HexapodShoalVector")
 
 
 # ---------------------------------------------------------------------------------------------- stable-baselines3
@@ -424,4 +416,10 @@ def _sb3_class():
 def __getattr__(name: str):
     if name == "SB3VecEnv":  # defined on first use: stable-baselines3 is an optional dependency
         return _sb3_class()
+    # the registered vector entry points, "mjrft.envs.vector:<Name>Vector" (mjrft.envs.VECTOR_ENTRY_POINTS)
+    from . import VECTOR_ENTRY_POINTS
+
+    for env_id, entry_point in VECTOR_ENTRY_POINTS.items():
+        if entry_point == f"{__name__}:{name}":
+            return _vector_entry_point(env_id, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
