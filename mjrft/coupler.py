@@ -142,6 +142,8 @@ def _region_entries(regions, mapped: bool) -> list[Region]:
         else:
             item = tuple(item)
             n0 = 0 if mapped else 1
+            if mapped and item and isinstance(item[0], (int, float, np.number)) and not isinstance(item[0], bool):
+                raise ValueError(f"region {k}: regions used by a region_map take no x_min, got {item!r}; give {shape}")
             if len(item) not in (n0 + 2, n0 + 3):
                 raise ValueError(f"region {k}: expected {shape}, got {item!r}")
             reg = Region(None if mapped else item[0], item[n0], item[n0 + 1], item[n0 + 2] if len(item) > n0 + 2 else None)
@@ -433,7 +435,7 @@ class GranularTerrain:
         self._saved = np.zeros((model.nbody, 6))
         self._stiff = np.zeros((model.nbody, 10))  # moments of the element stiffness (kernel.terrain_kernel)
         self._damp = np.zeros(model.nbody)
-        self._stiff_max = np.zeros((model.nbody, 10))  # the stiffest step since the last stability check
+        self._stiff_max = np.zeros((model.nbody, kernel.HELD_STEPS + 1, 10))  # see kernel.track_stiffness
         self._damp_max = np.zeros(model.nbody)
         self._data = None
         self._last_time = -np.inf
@@ -483,6 +485,7 @@ class GranularTerrain:
         self.depth[:] = 0.0
         self.wrench[:] = 0.0
         self._g_active[:] = False
+        self._stiff_max[:] = 0.0
         self._last_time = -np.inf
 
     # ------------------------------------------------------------------ per-step work
@@ -505,9 +508,7 @@ class GranularTerrain:
         if dt is None:
             dt = self.model.opt.timestep
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
-        stiffer = self._stiff[:, 0] > self._stiff_max[:, 0]
-        self._stiff_max[stiffer] = self._stiff[stiffer]
-        np.maximum(self._damp_max, self._damp, out=self._damp_max)
+        kernel.track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max)
         self._last_time = data.time
         self._finish(data, status, body, dt, 1)
         return self.wrench
@@ -610,27 +611,35 @@ class GranularTerrain:
 
     # ------------------------------------------------------------------ diagnostics
     def _check_stability(self, data, dt) -> None:
-        """Warn once per body when dt exceeds the explicit stability limit (see :mod:`mjrft.kernel`)."""
+        """Warn once per body when dt exceeds the explicit stability limit (see :mod:`mjrft.kernel`):
+        for a stiffness held ``HELD_STEPS`` steps, or a single step that amplifies by ``SPIKE_GROWTH``."""
         m = self.model
-        stiff, damp = self._stiff_max.copy(), self._damp_max.copy()
-        self._stiff_max[:] = 0.0
+        held, spike, damp = self._stiff_max[:, 0].copy(), self._stiff_max[:, 1].copy(), self._damp_max.copy()
+        self._stiff_max[:, :2] = 0.0
         self._damp_max[:] = 0.0
-        viscous = self.yield_displacement == 0
         for b in self.body_ids:
-            if stiff[b, 0] <= 0 or b in self._warned:
+            if spike[b, 0] <= 0 or b in self._warned:
                 continue
-            lam = self.critical_rate(data, int(b), stiff[b])
-            K, c = self._spring(lam)
-            if not kernel.stable_step(K, c, 1.0, dt):
-                self._warned.add(int(b))
-                name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
-                what = (f"damping {stiff[b, 0]:.3g} N s/m" if viscous else
-                        f"stiffness {stiff[b, 0]:.3g} N/m, damping {damp[b]:.3g} N s/m")
-                warnings.warn(TerrainStabilityWarning(
-                    f"mjrft: timestep {dt:g} s exceeds the stability limit "
-                    f"{kernel.max_stable_dt(K, c, 1.0):.3g} s of the granular stiffness on body '{name}' at "
-                    f"t = {data.time:.4g} s ({what}, effective mass {stiff[b, 0] / lam:.3g} kg in its stiffest "
-                    "mode); reduce the timestep or increase yield_displacement"), stacklevel=3)
+            for moments, growth in ((held[b], 1.0), (spike[b], kernel.SPIKE_GROWTH)):
+                if moments[0] <= 0:
+                    continue
+                lam = self.critical_rate(data, int(b), moments)
+                K, c = self._spring(lam)
+                if kernel.step_growth(K, c, 1.0, dt) > growth * (1.0 + 1e-12):
+                    self._warn(data, int(b), dt, moments[0], damp[b], lam)
+                    break
+
+    def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float) -> None:
+        self._warned.add(b)
+        name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
+        K, c = self._spring(lam)
+        what = (f"damping {s0:.3g} N s/m" if self.yield_displacement == 0 else
+                f"stiffness {s0:.3g} N/m, damping {damp:.3g} N s/m")
+        warnings.warn(TerrainStabilityWarning(
+            f"mjrft: timestep {dt:g} s exceeds the stability limit {kernel.max_stable_dt(K, c, 1.0):.3g} s of the "
+            f"granular stiffness on body '{name}' at t = {data.time:.4g} s ({what}, effective mass "
+            f"{s0 / lam:.3g} kg in its stiffest mode); reduce the timestep or increase yield_displacement"),
+            stacklevel=4)
 
     def _spring(self, lam: float) -> tuple[float, float]:
         """(K, c) per unit mass of the stiffest mode, for kernel.stable_step / max_stable_dt with w = 1."""

@@ -28,10 +28,24 @@ for springs acting in every direction. With the body's 6x6 mobility ``W6 = J M^-
 the jacobian of its CoM translation and rotation: a hinged leg's buried tip is lighter than its
 CoM), ``omega^2`` the largest eigenvalue of ``W6 K6``, ``h = omega dt`` and ``zeta = tau omega / 2``,
 MuJoCo's semi-implicit Euler step is stable iff ``h < 2 (sqrt(1 + zeta^2) - zeta)``. A free body
-resting at its yield load has ``omega^2 = g / delta`` (99 rad/s at 1 mm: stable up to 16 ms).
+resting at its yield load has ``omega^2 = g / delta`` (99 rad/s at 1 mm: stable up to 16 ms); a
+body that comes to rest holds its load below yield (``|m| = phi delta``, ``phi < 1``), a little
+deeper and stiffer: ``omega^2 = g / (phi delta)`` (a 1 kg plate: 9 to 12 ms).
 The viscous mode (``c_i = |F_yield,i| / max(|v_i|, v_eps)``, moments of ``c_i``) is stable iff
-``dt lambda_max(W6 C6) < 2``. Springs in every direction make the estimate conservative: measured
-chatter starts at 1.2 to 1.7 times the limit it gives (tests/test_extremes.py).
+``dt lambda_max(W6 C6) < 2``. The estimate is conservative (springs in every direction, and the
+memory's hysteresis dissipates): measured chatter starts at 1.2 to 1.7 times the limit it gives
+(tests/test_extremes.py).
+
+What the coupler warns about: beyond the limit the step multiplies a perturbation by
+:func:`step_growth` ``> 1`` each step. A state held for ``HELD_STEPS`` consecutive steps beyond the
+limit warns; a shorter spike (a leg's impact) warns only if one step more than doubles a
+perturbation (``SPIKE_GROWTH``), since the steps after it damp what it amplified.
+
+Not covered: forces across the motion (RFT's lift on a dragged plate) are not a stiffness. They
+turn the velocity, and a step in which the grains change a body's velocity by about its own size
+(``F dt / (m |v|) ~ 1``: a very light body with a large buried area moving fast, e.g. a 1 kg plate
+63 cm wide dragged at 1 m/s 3 cm deep at 1 ms) can gain energy in that step. The bundled robots
+are far from it (about 0.1 for the hexapod torso dragging its belly at 0.5 m/s).
 """
 
 from __future__ import annotations
@@ -53,6 +67,8 @@ from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
 OK = 0
 BAD_FORCE = 1
 BAD_STATE = 2
+HELD_STEPS = 3  # consecutive steps beyond the stability limit that warn (module docstring)
+SPIKE_GROWTH = 2.0  # growth of a perturbation in a single step that warns even for a shorter spike
 LAW_WATER = LAW_IDS["water"]  # a region of open water: no sand law below it
 
 
@@ -467,6 +483,36 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
 
 
 @njit(cache=True, error_model="numpy")
+def track_stiffness(stiff, stiff_max, damp, damp_max):
+    """After a step, per body, from this step's stiffness moments ``stiff`` (nbody, 10): ``stiff_max``
+    (nbody, HELD_STEPS + 1, 10) keeps in ``[:, 0]`` the stiffest state held for HELD_STEPS consecutive
+    steps (the least stiff of the last HELD_STEPS steps), in ``[:, 1]`` the stiffest single step (both
+    since the coupler last cleared them) and in ``[:, 2:]`` the previous steps; ``damp_max`` the largest
+    summed damping."""
+    n = stiff_max.shape[1]
+    for b in range(stiff.shape[0]):
+        if stiff[b, 0] > stiff_max[b, 1, 0]:
+            for j in range(10):
+                stiff_max[b, 1, j] = stiff[b, j]
+        low = stiff[b, 0]
+        src = -1
+        for h in range(2, n):
+            if stiff_max[b, h, 0] < low:
+                low = stiff_max[b, h, 0]
+                src = h
+        if low > stiff_max[b, 0, 0]:
+            for j in range(10):
+                stiff_max[b, 0, j] = stiff[b, j] if src < 0 else stiff_max[b, src, j]
+        for h in range(n - 1, 2, -1):
+            for j in range(10):
+                stiff_max[b, h, j] = stiff_max[b, h - 1, j]
+        if n > 2:
+            for j in range(10):
+                stiff_max[b, 2, j] = stiff[b, j]
+        damp_max[b] = max(damp_max[b], damp[b])
+
+
+@njit(cache=True, error_model="numpy")
 def add_rows(target, rows, values, saved):
     """saved[rows] = target[rows]; target[rows] += values[rows]."""
     for k in range(rows.shape[0]):
@@ -492,6 +538,15 @@ def stable_step(K: float, c: float, w: float, dt: float) -> bool:
     omega = math.sqrt(K * w)
     zeta = 0.5 * c * w / omega
     return omega * dt < 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta)
+
+
+def step_growth(K: float, c: float, w: float, dt: float) -> float:
+    """Factor by which one semi-implicit Euler step multiplies a perturbation of a spring K (N/m) with
+    damper c (N s/m) on inverse mass w (1/kg): the spectral radius of the step (> 1: unstable)."""
+    a2, b = K * w * dt * dt, c * w * dt
+    # x' = x + dt v', v' = v - dt w (K x + c v): lambda^2 - (2 - a2 - b) lambda + (1 - b) = 0
+    roots = np.roots([1.0, -(2.0 - a2 - b), 1.0 - b])
+    return float(np.max(np.abs(roots)))
 
 
 def max_stable_dt(K: float, c: float, w: float) -> float:
@@ -560,11 +615,7 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                       wrench, stiff, damp)
         if status != OK:
             return status, body, s
-        for b in range(stiff.shape[0]):  # keep the stiffest step's moments since the last check
-            if stiff[b, 0] > stiff_max[b, 0]:
-                for j in range(10):
-                    stiff_max[b, j] = stiff[b, j]
-            damp_max[b] = max(damp_max[b], damp[b])
+        track_stiffness(stiff, stiff_max, damp, damp_max)
         add_rows(xfrc, rows, wrench, saved)
         _call_mj(f_step2, m_addr, d_addr)
         restore_rows(xfrc, rows, saved)
