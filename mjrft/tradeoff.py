@@ -412,6 +412,8 @@ class Row:
     warnings: int = 0
     status: str = "ok"
     trace: Trace | None = field(default=None, repr=False)
+    #: reference row only: errors between the two finest resolutions at the default timestep (see run_scenario)
+    convergence: dict | None = None
 
 
 def law_and_medium(variant: str, medium):
@@ -584,6 +586,14 @@ def run_scenario(scenario: Scenario, configs: list[Config], *, repeats: int = 3,
         if r.status == "ok":
             for k, v in errors(r.trace, ref.trace, scenario.kinematic).items():
                 setattr(r, k, v)
+    # is the reference converged in resolution? errors of the second-finest against the finest resolution
+    # at the default timestep: a reference cannot be trusted to better than this
+    ladder = sorted((r for r in rows if r.status == "ok" and r.config.factor in ("default", "resolution")
+                     and r.config.law == REFERENCE_LAW and r.config.timestep == 0.001 and r.config.frame_skip == 10),
+                    key=lambda r: r.config.resolution_scale)
+    if len(ladder) >= 2:
+        ref.convergence = {"finer": ladder[0].config.label, "coarser": ladder[1].config.label,
+                           **errors(ladder[1].trace, ladder[0].trace, scenario.kinematic)}
     return rows
 
 
@@ -666,6 +676,13 @@ def markdown_table(rows: list[Row]) -> str:
             out.append(f"| {c.label} | {c.law} | {r.resolution * 1e3:g} mm | {r.elements} | "
                        f"{c.timestep * 1e3:g} ms x {c.frame_skip} | {cost} | {_pct(r.err_peak)} | {_pct(r.err_rms)} | "
                        f"{_mm(r.err_position)} | {_mm(r.err_sinkage)} | {'; '.join(notes)} |")
+        conv = next((r.convergence for r in rows if r.scenario == name and r.config.factor == "reference"
+                     and r.convergence), None)
+        if conv:
+            out.append(f"\nResolution convergence at 1 ms, {conv['coarser']} against {conv['finer']}: peak F "
+                       f"{_pct(conv['err_peak'])}, RMS F {_pct(conv['err_rms'])}, final position "
+                       f"{_mm(conv['err_position'])} mm, sinkage {_mm(conv['err_sinkage'])} mm (the reference is "
+                       "no more certain than this).")
         out.append("")
     return "\n".join(out)
 
@@ -685,12 +702,22 @@ def recommend_presets(rows: list[Row]) -> dict:
 
     * fast: the cheapest candidate with RMS force error <= 20 % and peak force error <= 10 %;
     * accurate: the cheapest candidate that is not the reference of every scenario, with RMS and peak
-      force errors <= 1 % and final position error <= 1 mm.
+      force errors <= 1 % and final position error <= 1 mm, in every scenario whose reference is converged:
+      a scenario whose two finest resolutions (at 1 ms) already differ by more than these limits
+      (``Row.convergence`` of its reference row) can not tell such errors apart and is left out of
+      this criterion (its name is listed under ``"unconverged"``).
 
     Returns ``{name: {"config": Config, "cost": geometric-mean ratio, "err_rms": worst, "err_peak": worst,
     "err_position": worst (m, nan without robots)}}`` (a name is missing when no candidate qualifies).
     """
     scenarios = list(dict.fromkeys(r.scenario for r in rows))
+    unconverged = []
+    for r in rows:
+        conv = r.convergence
+        if r.config.factor == "reference" and conv is not None and (
+                conv["err_rms"] > ACCURATE_MAX_RMS or conv["err_peak"] > ACCURATE_MAX_PEAK
+                or conv["err_position"] > ACCURATE_MAX_POSITION):
+            unconverged.append(r.scenario)
     allowed = {sc: 0 for sc in scenarios}
     for r in rows:
         if r.config.factor == "default":
@@ -706,21 +733,30 @@ def recommend_presets(rows: list[Row]) -> dict:
                 or any(r.status != "ok" or r.warnings > allowed[r.scenario] or not math.isfinite(r.cost_ratio)
                        for r in rs)):
             continue
-        pos = [r.err_position for r in rs if math.isfinite(r.err_position)]
+        conv = [r for r in rs if r.scenario not in unconverged]
+
+        def worst(rs_, attr):
+            vals = [getattr(r, attr) for r in rs_ if math.isfinite(getattr(r, attr))]
+            return max(vals) if vals else math.nan
+
         cands.append({"config": c, "cost": float(np.exp(np.mean(np.log([r.cost_ratio for r in rs])))),
-                      "err_rms": max(r.err_rms for r in rs), "err_peak": max(r.err_peak for r in rs),
-                      "err_position": max(pos) if pos else math.nan,
+                      "err_rms": worst(rs, "err_rms"), "err_peak": worst(rs, "err_peak"),
+                      "err_position": worst(rs, "err_position"),
+                      "conv": {k: worst(conv, k) for k in ("err_rms", "err_peak", "err_position")},
                       "reference": all(r.config.factor == "reference" for r in rs)})
     cands.sort(key=lambda d: d["cost"])
     out = {}
     for d in cands:
         if "fast" not in out and d["err_rms"] <= FAST_MAX_RMS and d["err_peak"] <= FAST_MAX_PEAK:
             out["fast"] = d
-        if ("accurate" not in out and not d["reference"] and d["err_rms"] <= ACCURATE_MAX_RMS
-                and d["err_peak"] <= ACCURATE_MAX_PEAK and not d["err_position"] > ACCURATE_MAX_POSITION):
+        e = d["conv"]
+        if ("accurate" not in out and not d["reference"] and e["err_rms"] <= ACCURATE_MAX_RMS
+                and e["err_peak"] <= ACCURATE_MAX_PEAK and not e["err_position"] > ACCURATE_MAX_POSITION):
             out["accurate"] = d
     for d in out.values():
         d.pop("reference")
+        d.pop("conv")
+    out["unconverged"] = unconverged
     return out
 
 
@@ -732,6 +768,8 @@ def recommendation_text(rows: list[Row]) -> str:
     crit = {"fast": f"RMS F <= {FAST_MAX_RMS:.0%}, peak F <= {FAST_MAX_PEAK:.0%}",
             "accurate": f"RMS F <= {ACCURATE_MAX_RMS:.0%}, peak F <= {ACCURATE_MAX_PEAK:.0%}, "
                         f"position <= {ACCURATE_MAX_POSITION * 1e3:g} mm"}
+    if rec["unconverged"]:
+        crit["accurate"] += f" (not judged on {', '.join(rec['unconverged'])}: reference not converged)"
     for name in ("fast", "accurate"):
         d = rec.get(name)
         if d is None:

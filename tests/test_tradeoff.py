@@ -36,6 +36,11 @@ def test_reference_has_zero_error(plate_rows):
     assert ref.err_peak == 0.0 and ref.err_rms == 0.0
     assert ref.elements > _row(plate_rows, "default").elements
     assert ref.peak_force > 1.0  # the plate is 1.5 cm deep at the end: about 1.6 N
+    # convergence of the reference: the two finest resolutions at 1 ms (default against x2 here)
+    conv = ref.convergence
+    assert conv["finer"] == "default" and conv["coarser"] == "resolution x2"
+    assert conv["err_rms"] == pytest.approx(T.errors(_row(plate_rows, "resolution x2").trace,
+                                                     _row(plate_rows, "default").trace, True)["err_rms"])
 
 
 def test_errors_grow_as_resolution_coarsens(plate_rows):
@@ -60,6 +65,7 @@ def test_outputs_written(plate_rows, tmp_path):
     paths = T.write_outputs(plate_rows, tmp_path / "out")
     md = open(paths["markdown"]).read()
     assert "#### plate" in md and "| configuration |" in md and "reference" in md
+    assert "Resolution convergence at 1 ms, resolution x2 against default" in md
     for r in plate_rows:
         assert f"| {r.config.label} |" in md
     with open(paths["csv"], newline="") as fh:
@@ -158,6 +164,20 @@ def test_recommend_presets():
     assert T.recommend_presets(rows)["fast"]["config"].label == "dt2"
     next(r for r in rows if r.config.label == "dt2" and r.scenario == "a").warnings = 3  # more than the default
     assert T.recommend_presets(rows)["fast"]["config"].label == "x4"
+    assert T.recommend_presets(rows)["unconverged"] == []
+
+
+def test_recommend_skips_unconverged_scenarios_for_accurate():
+    rows = []
+    for sc, acc_rms in (("a", 0.004), ("b", 0.08)):  # "b" misses 1 % because its reference is unconverged
+        rows += [_synthetic(sc, "acc", 0.5, 5e-4, 20, 14.0, acc_rms), _synthetic(sc, "x1", 1, 1e-3, 10, 3.0, 0.1),
+                 _synthetic(sc, "ref", 0.25, 5e-4, 20, 60.0, 0.0, factor="reference")]
+    assert "accurate" not in T.recommend_presets(rows)
+    rows[-1].convergence = {"err_rms": 0.05, "err_peak": 0.01, "err_position": 0.002}  # "b": finest two differ
+    rec = T.recommend_presets(rows)
+    assert rec["unconverged"] == ["b"] and rec["accurate"]["config"].label == "acc"
+    assert rec["accurate"]["err_rms"] == pytest.approx(0.08)  # the worst case still reports every scenario
+    assert "not judged on b" in T.recommendation_text(rows)
 
 
 def test_parse_scenarios():
