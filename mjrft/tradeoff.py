@@ -747,15 +747,13 @@ def recommend_presets(rows: list[Row]) -> dict:
     cands.sort(key=lambda d: d["cost"])
     out = {}
     for d in cands:
+        public = {k: v for k, v in d.items() if k not in ("conv", "reference")}
         if "fast" not in out and d["err_rms"] <= FAST_MAX_RMS and d["err_peak"] <= FAST_MAX_PEAK:
-            out["fast"] = d
+            out["fast"] = public
         e = d["conv"]
         if ("accurate" not in out and not d["reference"] and e["err_rms"] <= ACCURATE_MAX_RMS
                 and e["err_peak"] <= ACCURATE_MAX_PEAK and not e["err_position"] > ACCURATE_MAX_POSITION):
-            out["accurate"] = d
-    for d in out.values():
-        d.pop("reference")
-        d.pop("conv")
+            out["accurate"] = public
     out["unconverged"] = unconverged
     return out
 

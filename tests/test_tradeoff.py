@@ -178,6 +178,10 @@ def test_recommend_skips_unconverged_scenarios_for_accurate():
     assert rec["unconverged"] == ["b"] and rec["accurate"]["config"].label == "acc"
     assert rec["accurate"]["err_rms"] == pytest.approx(0.08)  # the worst case still reports every scenario
     assert "not judged on b" in T.recommendation_text(rows)
+    # one configuration may qualify for both presets
+    rows = [_synthetic(sc, "acc", 0.5, 5e-4, 20, 1.0, 0.001) for sc in "ab"]
+    rec = T.recommend_presets(rows)
+    assert rec["fast"]["config"].label == rec["accurate"]["config"].label == "acc"
 
 
 def test_parse_scenarios():
