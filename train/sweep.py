@@ -84,6 +84,12 @@ RAY_HINT = 'Ray is not installed: pip install "mjrft[ray]" (or pip install "ray>
 def _value(text: str):
     from .train import parse_value
 
+    try:
+        number = float(text)
+    except ValueError:
+        number = 0.0
+    if not math.isfinite(number):
+        raise ValueError(f"grid value {text.strip()!r} is not finite")
     return parse_value(text.strip())
 
 
