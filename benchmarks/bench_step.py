@@ -2,7 +2,11 @@
 
 Measured side by side in one run (interleaved repeats, median), on the bundled RHex-class hexapod
 walking an open-loop tripod on poppy seeds: coarse (~200 elements) and fine (~2,000 elements)
-resolution. Prints ratios only; absolute times on a shared 2-core machine mean little.
+resolution. Times are this process's CPU time (on a shared machine wall time also counts the waits
+for a core). Then the shoal scene (``hexapod_shoal``: dry poppy seeds, saturated sand, 2 cm of water
+with buoyancy; mjrft.models.shoal) against the dry scene, same robot and the fine resolution, with
+the robot walking in each strip and across all three. Prints ratios only; absolute times on a shared
+2-core machine mean little.
 
     python benchmarks/bench_step.py [--steps N] [--repeats R]
 """
@@ -17,7 +21,7 @@ import mujoco
 import numpy as np
 
 import mjrft
-from mjrft.models import hexapod_model
+from mjrft.models import hexapod_model, hexapod_shoal_model
 
 
 def tripod_offsets(model) -> np.ndarray:
@@ -35,13 +39,15 @@ def tripod_ctrl(model, data, t, freq=2.0, offsets=None):
     data.ctrl[:] = 2 * np.pi * freq * t + (tripod_offsets(model) if offsets is None else offsets)
 
 
-def run(model, data, terrain, steps, chunk=10, buried=None):
-    """Seconds per physics step; appends the number of buried elements after each chunk to ``buried``."""
+def run(model, data, terrain, steps, chunk=10, buried=None, x0=0.0):
+    """Seconds per physics step (the robot starting at x = x0); appends the number of buried elements
+    after each chunk to ``buried``."""
     mujoco.mj_resetData(model, data)
+    data.qpos[0] = x0
     if terrain is not None:
         terrain.reset()
     off = tripod_offsets(model)
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     for _ in range(steps // chunk):
         tripod_ctrl(model, data, data.time, offsets=off)
         if terrain is None:
@@ -50,7 +56,7 @@ def run(model, data, terrain, steps, chunk=10, buried=None):
             terrain.step(data, chunk)
             if buried is not None:
                 buried.append(int(np.count_nonzero(terrain.depth > 0)))
-    return (time.perf_counter() - t0) / steps
+    return (time.process_time() - t0) / steps
 
 
 def main():
@@ -88,6 +94,44 @@ def main():
     after = tracemalloc.get_traced_memory()[0]
     tracemalloc.stop()
     print(f"python heap growth over 5000 more steps: {after - before} bytes")
+    shoal(args.steps, args.repeats)
+
+
+def shoal(steps, repeats, res=0.0042):
+    """The shoal scene against the dry one: same robot, same resolution, interleaved."""
+    dry_m = hexapod_model()
+    dry_d = mujoco.MjData(dry_m)
+    sh_m = hexapod_shoal_model()
+    sh_d = mujoco.MjData(sh_m)
+    dry = mjrft.GranularTerrain(dry_m, resolution=res)
+    wet = mjrft.GranularTerrain(sh_m, resolution=res)
+    half = max(100, steps // 2)  # ~10 cm of walking: stays inside one 50 cm strip
+    cases = {  # label: (model, data, terrain, steps, start x)
+        "dry scene": (dry_m, dry_d, dry, half, 0.0),
+        "shoal, dry strip": (sh_m, sh_d, wet, half, 0.1),
+        "shoal, saturated": (sh_m, sh_d, wet, half, 0.65),
+        "shoal, water": (sh_m, sh_d, wet, half, 1.15),
+        "shoal, crossing": (sh_m, sh_d, wet, 5000, 0.0),  # 0 -> ~1.1 m: all three strips
+        "dry, same walk": (dry_m, dry_d, dry, 5000, 0.0),
+    }
+    run(dry_m, dry_d, None, 200)
+    for m, d, t, _, x0 in cases.values():
+        run(m, d, t, 200, x0=x0)
+    times = {k: [] for k in ["bare", *cases]}
+    buried = {k: [] for k in cases}
+    for _ in range(repeats):
+        times["bare"].append(run(dry_m, dry_d, None, half))
+        for k, (m, d, t, n, x0) in cases.items():
+            times[k].append(run(m, d, t, n, buried=buried[k], x0=x0))
+    bare = np.median(times["bare"])
+    ref = {"dry scene": np.median(times["dry scene"]), "dry, same walk": np.median(times["dry, same walk"])}
+    print(f"\nshoal scene vs dry scene (same hexapod, resolution {res} m, {wet.n_elements} elements), "
+          f"{repeats} repeats")
+    print(f"{'case':18s} {'buried (mean)':>14s} {'ratio to bare':>14s} {'ratio to dry':>13s}")
+    for k in cases:
+        r = np.median(times[k])
+        dry_ref = ref["dry, same walk"] if cases[k][3] == 5000 else ref["dry scene"]
+        print(f"{k:18s} {np.mean(buried[k]):14.0f} {r / bare:14.2f} {r / dry_ref:13.2f}")
 
 
 if __name__ == "__main__":

@@ -140,7 +140,7 @@ class HexapodShoal(HexapodSand):
     buoyancy; regions blend over 1 cm. Same spaces, rewards and termination as :class:`HexapodSand`
     (the tables there); the scene's keyword arguments (``regions``, ``buoyancy``, ``bed_length``,
     ``medium``/``law`` of the dry strip, ...) can be overridden. The open-loop tripod at 2 Hz reaches
-    the water after about 4 s."""
+    the water after about 4.5 s."""
 
     base_model = "hexapod_shoal"
 

@@ -18,8 +18,8 @@ dry strip is closely packed poppy seeds, whose zeta (0.488 N/cm^3) is within 12 
 (0.436 N/cm^3). 2 cm of water reaches half-way up the RHex-class legs (4.1 cm chord) and stays below
 the belly (~4 cm up). Buoyancy is on (water and saturated sand); neighbouring strips blend over the
 coupler's default 1 cm transition. The bed runs from x = -0.5 to 2.5 m. The strips are placed for
-the open-loop tripod at 2 Hz, which walks about 23 cm/s here, so it reaches the saturated sand after
-~2 s and the water after ~4 s; a 10 s episode crosses all three.
+the open-loop tripod at 2 Hz, which walks about 22 cm/s here, so it reaches the saturated sand after
+~2 s and the water after ~4.5 s; a 10 s episode crosses all three.
 """
 
 from __future__ import annotations
