@@ -58,7 +58,7 @@ from .coupler import CUSTOM_PREFIX, DEFAULTS
 from .errors import unknown
 
 PRESETS: dict[str, dict] = {
-    "fast": {"resolution_scale": 4.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
+    "fast": {"resolution_scale": 2.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
     "default": {"resolution_scale": 1.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
     "accurate": {"resolution_scale": 0.5, "law": "rft", "timestep": 0.0005, "frame_skip": 20},
 }

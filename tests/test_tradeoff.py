@@ -178,6 +178,11 @@ def test_recommend_skips_unconverged_scenarios_for_accurate():
     assert rec["unconverged"] == ["b"] and rec["accurate"]["config"].label == "acc"
     assert rec["accurate"]["err_rms"] == pytest.approx(0.08)  # the worst case still reports every scenario
     assert "not judged on b" in T.recommendation_text(rows)
+    # accurate must also cut the default configuration's force errors four-fold
+    rows += [_synthetic(sc, "default", 1, 1e-3, 10, 3.0, 0.008, 0.004, 0.0002, factor="default") for sc in "ab"]
+    assert "accurate" not in T.recommend_presets(rows)  # "acc" has 0.4 % RMS on "a": more than 0.8 % / 4
+    rows[0].err_rms = 0.001
+    assert T.recommend_presets(rows)["accurate"]["config"].label == "acc"
     # one configuration may qualify for both presets
     rows = [_synthetic(sc, "acc", 0.5, 5e-4, 20, 1.0, 0.001) for sc in "ab"]
     rec = T.recommend_presets(rows)
@@ -242,7 +247,7 @@ def gymnasium():
 def test_env_presets(gymnasium):
     env = gymnasium.make("mjrft/HexapodSand-v0", preset="fast", max_episode_steps=5)
     u = env.unwrapped
-    assert u.terrain.resolution == pytest.approx(4 * presets.model_resolution(u.model)) == pytest.approx(0.02)
+    assert u.terrain.resolution == pytest.approx(2 * presets.model_resolution(u.model)) == pytest.approx(0.01)
     assert u.model.opt.timestep == 0.001 and u.frame_skip == 10 and u.dt == pytest.approx(0.01)
     env.reset(seed=0)
     obs, reward, *_ = env.step(np.zeros(6, np.float32))
