@@ -94,6 +94,21 @@ def _ids(model, kind: mujoco.mjtObj, names, label: str, count: int) -> list[int]
     return ids
 
 
+def _largest_rate(w6: np.ndarray, moments) -> float:
+    """Largest eigenvalue of ``W6 K6``, ``K6`` the 6x6 stiffness of springs in every direction with the
+    given moments about the CoM (``sum k``, ``sum k r``, ``sum k r r^T``; see :mod:`mjrft.kernel`)."""
+    s0, s1, s2 = moments[0], moments[1:4], moments[4:10]
+    cross = np.array([[0.0, -s1[2], s1[1]], [s1[2], 0.0, -s1[0]], [-s1[1], s1[0], 0.0]])
+    second = np.array([[s2[0], s2[1], s2[2]], [s2[1], s2[3], s2[4]], [s2[2], s2[4], s2[5]]])
+    k6 = np.empty((6, 6))
+    k6[:3, :3] = s0 * np.eye(3)
+    k6[:3, 3:] = -cross
+    k6[3:, :3] = cross
+    k6[3:, 3:] = (s2[0] + s2[3] + s2[5]) * np.eye(3) - second
+    # W6 K6 is similar to W6^1/2 K6 W6^1/2 (both symmetric PSD): real eigenvalues >= 0
+    return max(0.0, float(np.max(np.linalg.eigvals(w6 @ k6).real)))
+
+
 @dataclass(frozen=True)
 class Region:
     """Part of the surface with its own medium, law and water depth (see :class:`GranularTerrain`).
@@ -620,10 +635,11 @@ class GranularTerrain:
         for b in self.body_ids:
             if spike[b, 0] <= 0 or b in self._warned:
                 continue
+            w6 = self.mobility(data, int(b))
             for moments, growth in ((held[b], 1.0), (spike[b], kernel.SPIKE_GROWTH)):
                 if moments[0] <= 0:
                     continue
-                lam = self.critical_rate(data, int(b), moments)
+                lam = _largest_rate(w6, moments)
                 K, c = self._spring(lam)
                 if kernel.step_growth(K, c, 1.0, dt) > growth * (1.0 + 1e-12):
                     self._warn(data, int(b), dt, moments[0], damp[b], lam)
@@ -665,17 +681,7 @@ class GranularTerrain:
         ``moments`` are the kernel's stiffness moments of the body (see :mod:`mjrft.kernel`), ``K6``
         the 6x6 stiffness they describe and ``W6`` the body's :meth:`mobility`.
         """
-        s0, s1, s2 = moments[0], moments[1:4], moments[4:10]
-        cross = np.array([[0.0, -s1[2], s1[1]], [s1[2], 0.0, -s1[0]], [-s1[1], s1[0], 0.0]])
-        second = np.array([[s2[0], s2[1], s2[2]], [s2[1], s2[3], s2[4]], [s2[2], s2[4], s2[5]]])
-        k6 = np.zeros((6, 6))
-        k6[:3, :3] = s0 * np.eye(3)
-        k6[:3, 3:] = -cross
-        k6[3:, :3] = cross
-        k6[3:, 3:] = np.trace(second) * np.eye(3) - second
-        ev, vec = np.linalg.eigh(self.mobility(data, body))
-        half = (vec * np.sqrt(np.clip(ev, 0.0, None))) @ vec.T
-        return float(np.linalg.eigvalsh(half @ k6 @ half)[-1])
+        return _largest_rate(self.mobility(data, body), moments)
 
     def mobility(self, data, body: int) -> np.ndarray:
         """6x6 ``J M^-1 J^T`` of ``body``'s CoM translation (rows 0-2, 1/kg) and rotation (3-5), world frame."""

@@ -544,9 +544,13 @@ def step_growth(K: float, c: float, w: float, dt: float) -> float:
     """Factor by which one semi-implicit Euler step multiplies a perturbation of a spring K (N/m) with
     damper c (N s/m) on inverse mass w (1/kg): the spectral radius of the step (> 1: unstable)."""
     a2, b = K * w * dt * dt, c * w * dt
-    # x' = x + dt v', v' = v - dt w (K x + c v): lambda^2 - (2 - a2 - b) lambda + (1 - b) = 0
-    roots = np.roots([1.0, -(2.0 - a2 - b), 1.0 - b])
-    return float(np.max(np.abs(roots)))
+    # x' = x + dt v', v' = v - dt w (K x + c v): lambda^2 - p lambda + q = 0
+    p, q = 2.0 - a2 - b, 1.0 - b
+    disc = p * p - 4.0 * q
+    if disc >= 0.0:
+        r = math.sqrt(disc)
+        return 0.5 * max(abs(p + r), abs(p - r))
+    return math.sqrt(q)  # a complex pair: |lambda|^2 = q
 
 
 def max_stable_dt(K: float, c: float, w: float) -> float:
