@@ -15,7 +15,7 @@ run (interleaved repeats, median):
 Prints env steps/s and the ratios, by wall clock and (for the single-threaded cases) by CPU time,
 which a busy shared machine disturbs less; absolute numbers on a shared 2-core machine mean little.
 
-    python benchmarks/bench_vector.py [--sizes 1 8 64] [--repeats 5] [--work 240] [--steps 10]
+    python benchmarks/bench_vector.py [--sizes 1 8 64] [--repeats 3] [--work 240] [--steps 10]
 """
 
 from __future__ import annotations
@@ -103,7 +103,7 @@ def measure(n_envs: int, repeats: int, work: int, n_steps: int, frame_skip: int)
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", type=int, nargs="+", default=[1, 8, 64])
-    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--work", type=int, default=240, help="env steps per measurement (at least one chunk)")
     ap.add_argument("--steps", type=int, default=10,
                     help="env steps after each reset (rounded up to whole stability-check periods)")
