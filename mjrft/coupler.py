@@ -440,6 +440,8 @@ class GranularTerrain:
         # --- per-step state and outputs ---
         self._g_active = np.zeros(len(self.geom_ids), dtype=np.bool_)
         self._u = np.zeros((n, 3))
+        self._scr_f = np.zeros((12, n))  # the kernel's gather/scatter scratch (batched law)
+        self._scr_i = np.zeros((2, n), dtype=np.int64)
         self.pos = np.zeros((n, 3))
         self.vel = np.zeros((n, 3))
         self.normal = np.zeros((n, 3))
@@ -535,7 +537,7 @@ class GranularTerrain:
                 self._hf_z, self._hf_frame, self._reg_map, self._reg_map_frame, self._reg_rho, self.transition,
                 max(0.0, -float(self.model.opt.gravity[2])), dt, self.yield_displacement, self.damping_time, self.v_eps,
                 self._u, self.pos, self.vel, self.normal, self.depth, self.force, self.region,
-                self.wrench, self._stiff, self._damp)
+                self.wrench, self._stiff, self._damp, self._scr_f, self._scr_i)
 
     def _step_args(self, data, dt) -> tuple:
         """Arguments of ``kernel.run_steps`` after ``(nstep, f_step1, f_step2, m_addr, d_addr)`` (also used by

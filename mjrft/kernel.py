@@ -61,6 +61,7 @@ from numba import njit, types
 from numba.extending import intrinsic
 
 from .laws.dispatch import element_stress
+from .laws.rft import rft_stress_batch
 from .laws.registry import LAW_IDS
 from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
 
@@ -266,7 +267,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                    dt, delta, tau, v_eps,
                    u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                   wrench, stiff, damp):
+                   wrench, stiff, damp, scr_f, scr_i):
     """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
 
     A geom is culled (no element work at all) while the lowest corner of its bounding box
@@ -290,6 +291,10 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
 
     and the element's stress is the weighted sum over its regions.
 
+    Speed: with one dry region under Li RFT (the common case) the buried elements are gathered into
+    the scratch arrays ``scr_f`` (12, n) and ``scr_i`` (2, n) and the law runs once over all of them
+    (:func:`mjrft.laws.rft.rft_stress_batch`, vectorised); the forces are then scattered back.
+
     ``stiff`` (nbody, 10) receives per body the moments of the element stiffness ``k_i`` (of the
     damping ``c_i`` in the viscous mode) about its CoM: ``sum k``, ``sum k r`` (x, y, z) and
     ``sum k r r^T`` (xx, xy, xz, yy, yz, zz); ``damp`` (nbody,) the summed damping ``sum c_i``.
@@ -307,6 +312,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     law = reg_law[0]
     hw = p[P_WATER_DEPTH]
     dry = not (hw > 0.0 or reg_rho[0] > 0.0)
+    batched = nreg == 1 and law == 0 and dry  # Li RFT on one dry region: gather, one vectorised law call
+    nbat = 0
     regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
     for b in range(wrench.shape[0]):
         for j in range(6):
@@ -374,7 +381,6 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 law = reg_law[reg]
                 hw = p[P_WATER_DEPTH]
                 dry = not (hw > 0.0 or reg_rho[reg] > 0.0)
-            out_region[i] = reg
             if depth <= -wmax or (single and depth <= -hw):
                 # above the grains and any water: only the position is kept up to date
                 out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
@@ -397,6 +403,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
             out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
             out_depth[i] = depth
+            out_region[i] = reg
             speed = math.sqrt(vx * vx + vy * vy + vz * vz)
             if depth <= 0.0 or e_area[i] <= 0.0:  # out of the grains: no memory
                 u[i, 0] = 0.0
@@ -427,6 +434,26 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             fy = 0.0
             fz = 0.0
             kk = 0.0
+            if batched:
+                if ml > 0.0:  # gathered; force, wrench and stiffness after the loop (_scatter_batch)
+                    iml = 1.0 / ml
+                    scr_f[0, nbat] = nx
+                    scr_f[1, nbat] = ny
+                    scr_f[2, nbat] = nz
+                    scr_f[3, nbat] = mx * iml
+                    scr_f[4, nbat] = my * iml
+                    scr_f[5, nbat] = mz * iml
+                    scr_f[6, nbat] = depth
+                    scr_f[7, nbat] = mob
+                    scr_f[8, nbat] = ml
+                    scr_i[0, nbat] = i
+                    scr_i[1, nbat] = b
+                    nbat += 1
+                else:
+                    out_force[i, 0] = 0.0
+                    out_force[i, 1] = 0.0
+                    out_force[i, 2] = 0.0
+                continue
             if single and dry:  # one dry region, written out: costs what the kernel cost before regions and water
                 if ml > 0.0:
                     iml = 1.0 / ml
@@ -479,6 +506,55 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 stiff[b, 7] += kk * ry * ry
                 stiff[b, 8] += kk * ry * rz
                 stiff[b, 9] += kk * rz * rz
+    if nbat > 0:
+        rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], p, scr_f[9:12])
+        return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
+                              wrench, stiff, damp)
+    return OK, -1
+
+
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
+def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp):
+    """The batched elements' forces, wrench and stiffness moments (what the element loop does inline)."""
+    for j in range(nbat):
+        i = scr_i[0, j]
+        b = scr_i[1, j]
+        k = e_area[i]
+        fx, fy, fz = scr_f[9, j] * k, scr_f[10, j] * k, scr_f[11, j] * k
+        if not _isfinite3(fx, fy, fz):
+            return BAD_FORCE, b
+        f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
+        ml = scr_f[8, j]
+        kk = 0.0
+        if delta > 0.0:
+            kk = f_mag / max(ml, delta)
+            damp[b] += kk * tau
+        elif v_eps > 0.0:
+            kk = f_mag / max(ml, v_eps)
+            damp[b] += kk
+        mob = scr_f[7, j]
+        fx *= mob
+        fy *= mob
+        fz *= mob
+        out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
+        rx, ry, rz = out_pos[i, 0] - xipos[b, 0], out_pos[i, 1] - xipos[b, 1], out_pos[i, 2] - xipos[b, 2]
+        wrench[b, 0] += fx
+        wrench[b, 1] += fy
+        wrench[b, 2] += fz
+        wrench[b, 3] += ry * fz - rz * fy
+        wrench[b, 4] += rz * fx - rx * fz
+        wrench[b, 5] += rx * fy - ry * fx
+        if kk > 0.0:
+            stiff[b, 0] += kk
+            stiff[b, 1] += kk * rx
+            stiff[b, 2] += kk * ry
+            stiff[b, 3] += kk * rz
+            stiff[b, 4] += kk * rx * rx
+            stiff[b, 5] += kk * rx * ry
+            stiff[b, 6] += kk * rx * rz
+            stiff[b, 7] += kk * ry * ry
+            stiff[b, 8] += kk * ry * rz
+            stiff[b, 9] += kk * rz * rz
     return OK, -1
 
 
@@ -601,7 +677,7 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
               surface, top, reg_bounds, reg_law, reg_params,
               hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity, dt, delta, tau, v_eps,
-              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp,
+              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp, scr_f, scr_i,
               stiff_max, damp_max):
     """``nstep`` x (mj_step1, terrain_kernel, xfrc += wrench, mj_step2, restore xfrc).
 
@@ -616,7 +692,7 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                       hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                                       dt, delta, tau, v_eps,
                                       u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                                      wrench, stiff, damp)
+                                      wrench, stiff, damp, scr_f, scr_i)
         if status != OK:
             return status, body, s
         track_stiffness(stiff, stiff_max, damp, damp_max)

@@ -182,3 +182,41 @@ def test_bad_input_errors():
         laws.rft(0.01, (0, 0, -1), (0, 0, -1), -1.0)
     with pytest.raises(ValueError, match="3 components"):
         laws.rft(0.01, (0, -1), (0, 0, -1), 1.0)
+
+
+def test_batched_rft_equals_the_element_law():
+    from mjrft.laws.rft import rft_stress, rft_stress_batch
+
+    rng = np.random.default_rng(3)
+    n = 400
+    nrm = rng.normal(size=(n, 3))
+    mot = rng.normal(size=(n, 3))
+    nrm[:50, :2] = 0.0                      # horizontal faces
+    mot[50:100, :2] = 0.0                   # vertical motion
+    mot[100:150, :2] *= 1e-14               # motion within rounding of vertical
+    nrm[150:200, 2] = 0.0                   # vertical faces ...
+    mot[150:200, :2] *= 1e-3                # ... moving almost vertically
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    mot /= np.linalg.norm(mot, axis=1)[:, None]
+    depth = rng.uniform(1e-4, 0.05, n)
+    p = MEDIA["poppy_cp"].params()
+    out = np.zeros((3, n))
+    rft_stress_batch(n, depth, np.ascontiguousarray(nrm.T), np.ascontiguousarray(mot.T), p, out)
+    ref = np.array([rft_stress(depth[i], *nrm[i], *mot[i], 1.0, p) for i in range(n)])
+    np.testing.assert_allclose(out.T, ref, rtol=1e-9, atol=1e-9 * np.abs(ref).max())
+
+
+def test_vertical_face_force_is_continuous_as_motion_turns_vertical():
+    """The plane of motion turns smoothly to the normal's as the motion turns vertical: a vertical face
+    moving down keeps its force whichever way a vanishing horizontal motion points."""
+    p = MEDIA["poppy_cp"].params()
+    from mjrft.laws.rft import rft_stress
+
+    n = (1.0, 0.0, 0.0)
+    straight = np.array(rft_stress(0.02, *n, 0.0, 0.0, -1.0, 1.0, p))
+    assert straight[2] != 0.0
+    for eps in (1e-15, 1e-12, 1e-9, 1e-6):
+        for direction in ((0.0, 1.0), (1.0, 0.0), (-1.0, 0.0), (0.6, -0.8)):
+            m = unit([eps * direction[0], eps * direction[1], -1.0])
+            f = np.array(rft_stress(0.02, *n, *m, 1.0, p))
+            np.testing.assert_allclose(f, straight, atol=1e-4 * np.abs(straight).max() + 1e3 * eps * np.abs(straight).max())

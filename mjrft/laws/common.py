@@ -15,6 +15,7 @@ import math
 from numba import njit
 
 LEAD_EPS = 0.05
+PLANE_EPS = 0.05  # see motion_plane
 TINY = 1e-12
 
 
@@ -30,17 +31,22 @@ def lead_weight(n_dot_v):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def motion_plane(nx, ny, mx, my):
-    """Unit horizontal axis r of the vertical plane of motion.
+    """Unit horizontal axis r of the element's vertical plane of motion.
 
-    The horizontal direction of the motion; if the motion is vertical, the horizontal direction of
-    the normal; if both are vertical, +x.
+    ``normalize(m_h + PLANE_EPS n_h)`` for the unit motion m and unit normal n (h: horizontal part):
+    the horizontal direction of the motion, turning smoothly to that of the normal when the motion is
+    within a few degrees of vertical (|m_h| ~ PLANE_EPS), and +x if both vanish. Choice: a hard
+    switch at exactly vertical motion (r = m_h / |m_h| however small m_h is) makes the force on a
+    vertical face that moves (almost) vertically depend on rounding noise in m_h, from full (plane
+    through n) to nothing (plane across n); a body resting on sand then creeps. The blend keeps the
+    force continuous in m; it changes nothing once the motion is more than ~10 degrees off vertical
+    (every reference-table case is exactly horizontal or exactly vertical motion).
     """
-    h = math.sqrt(mx * mx + my * my)
+    hx = mx + PLANE_EPS * nx
+    hy = my + PLANE_EPS * ny
+    h = math.sqrt(hx * hx + hy * hy)
     if h > TINY:
-        return mx / h, my / h
-    hn = math.sqrt(nx * nx + ny * ny)
-    if hn > TINY:
-        return nx / hn, ny / hn
+        return hx / h, hy / h
     return 1.0, 0.0
 
 

@@ -1,7 +1,7 @@
 """Three-dimensional RFT (Agarwal, Goldman & Kamrin, PNAS 2023; Treers et al. RA-L 2021).
 
-Per element: local frame z_hat (up), r_hat (horizontal direction of motion; of the normal if the
-motion is vertical; +x if both are), theta_hat = z_hat x r_hat. Angles beta (from n), gamma (from
+Per element: local frame z_hat (up), r_hat (horizontal direction of motion, turning smoothly to that of
+the normal within a few degrees of vertical motion: :func:`mjrft.laws.common.motion_plane`), theta_hat = z_hat x r_hat. Angles beta (from n), gamma (from
 the motion, negative when moving up) and psi (normal's horizontal part against r_hat) feed three
 cubic fits f1, f2, f3 in x1 = sin gamma, x2 = cos beta, x3 = cos psi cos gamma sin beta +
 sin gamma cos beta, giving the generic response
