@@ -96,6 +96,25 @@ def test_batched_follows_changed_arguments_and_python_fallback(monkeypatch):
     assert dats[1].time == pytest.approx(20 * 0.001 + 23 * 0.0005)
 
 
+def test_python_callback_keeps_threads_off():
+    from mjrft.batch import python_callbacks_installed
+
+    _, dats, ters = hexapods(2)
+    _, refd, reft = hexapods(2)
+    calls = []
+    mujoco.set_mjcb_control(lambda m, d: calls.append(d.time))  # Python: needs the GIL, so no worker threads
+    try:
+        assert python_callbacks_installed() == ["mjcb_control"]
+        BatchedTerrain(ters, dats, parallel=True).step(3)
+        for d, t in zip(refd, reft):
+            t.step(d, 3)
+    finally:
+        mujoco.set_mjcb_control(None)
+    assert python_callbacks_installed() == [] and len(calls) == 12
+    for e in range(2):
+        assert_same(state(dats[e], ters[e]), state(refd[e], reft[e]))
+
+
 @pytest.mark.filterwarnings("ignore:overflow:RuntimeWarning")
 def test_batched_nonfinite_names_env_body_and_time():
     huge = mjrft.Medium("huge", tuple(c * 5e302 for c in mjrft.generic.coeffs), 1e308)  # finite, sums overflow
