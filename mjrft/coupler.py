@@ -94,21 +94,6 @@ def _ids(model, kind: mujoco.mjtObj, names, label: str, count: int) -> list[int]
     return ids
 
 
-def _largest_rate(w6: np.ndarray, moments) -> float:
-    """Largest eigenvalue of ``W6 K6``, ``K6`` the 6x6 stiffness of springs in every direction with the
-    given moments about the CoM (``sum k``, ``sum k r``, ``sum k r r^T``; see :mod:`mjrft.kernel`)."""
-    s0, s1, s2 = moments[0], moments[1:4], moments[4:10]
-    cross = np.array([[0.0, -s1[2], s1[1]], [s1[2], 0.0, -s1[0]], [-s1[1], s1[0], 0.0]])
-    second = np.array([[s2[0], s2[1], s2[2]], [s2[1], s2[3], s2[4]], [s2[2], s2[4], s2[5]]])
-    k6 = np.empty((6, 6))
-    k6[:3, :3] = s0 * np.eye(3)
-    k6[:3, 3:] = -cross
-    k6[3:, :3] = cross
-    k6[3:, 3:] = (s2[0] + s2[3] + s2[5]) * np.eye(3) - second
-    # W6 K6 is similar to W6^1/2 K6 W6^1/2 (both symmetric PSD): real eigenvalues >= 0
-    return max(0.0, float(np.max(np.linalg.eigvals(w6 @ k6).real)))
-
-
 @dataclass(frozen=True)
 class Region:
     """Part of the surface with its own medium, law and water depth (see :class:`GranularTerrain`).
@@ -453,6 +438,7 @@ class GranularTerrain:
         self._stiff = np.zeros((model.nbody, 10))  # moments of the element stiffness (kernel.terrain_kernel)
         self._damp = np.zeros(model.nbody)
         self._stiff_max = np.zeros((model.nbody, kernel.HELD_STEPS + 1, 10))  # see kernel.track_stiffness
+        self._jac6 = (np.zeros((6, model.nv)), np.zeros((6, model.nv)))  # stability check scratch
         self._damp_max = np.zeros(model.nbody)
         self._data = None
         self._last_time = -np.inf
@@ -637,11 +623,11 @@ class GranularTerrain:
         for b in self.body_ids:
             if spike[b, 0] <= 0 or b in self._warned:
                 continue
-            w6 = self.mobility(data, int(b))
+            jac, minv_jac = self._jacobians(data, int(b))
             for moments, growth in ((held[b], 1.0), (spike[b], kernel.SPIKE_GROWTH)):
                 if moments[0] <= 0:
                     continue
-                lam = _largest_rate(w6, moments)
+                lam = kernel.largest_rate(jac, minv_jac, moments)
                 K, c = self._spring(lam)
                 if kernel.step_growth(K, c, 1.0, dt) > growth * (1.0 + 1e-12):
                     self._warn(data, int(b), dt, moments[0], damp[b], lam)
@@ -683,7 +669,14 @@ class GranularTerrain:
         ``moments`` are the kernel's stiffness moments of the body (see :mod:`mjrft.kernel`), ``K6``
         the 6x6 stiffness they describe and ``W6`` the body's :meth:`mobility`.
         """
-        return _largest_rate(self.mobility(data, body), moments)
+        return kernel.largest_rate(*self._jacobians(data, body), np.ascontiguousarray(moments, dtype=np.float64))
+
+    def _jacobians(self, data, body: int) -> tuple[np.ndarray, np.ndarray]:
+        """(J, (M^-1 J^T)^T) of ``body``'s CoM translation (rows 0-2) and rotation (3-5), in scratch arrays."""
+        jac, minv_jac = self._jac6
+        mujoco.mj_jacBodyCom(self.model, data, jac[:3], jac[3:], body)
+        mujoco.mj_solveM(self.model, data, minv_jac, jac)
+        return jac, minv_jac
 
     def mobility(self, data, body: int) -> np.ndarray:
         """6x6 ``J M^-1 J^T`` of ``body``'s CoM translation (rows 0-2, 1/kg) and rotation (3-5), world frame."""
