@@ -123,6 +123,14 @@ def test_region_map_cells_and_bilinear_blend():
     assert len(set(np.unique(t.region[t.depth > 0]))) >= 3
     assert np.any(t.force[(t.depth < 0) & (w[:, 3] > 0)] != 0)  # the water over region 3
     np.testing.assert_allclose(t.force, expected_forces(t, w), rtol=1e-9, atol=1e-12)
+    # with the narrow transition most elements lie inside one cell (looked up inline, no blending)
+    place(m, d, (0.06, 0.05, -0.004), (0.04, -0.02, -0.03))
+    t2.compute(d, DT)
+    w2 = t2.region_weights(t2.pos[:, 0], t2.pos[:, 1])
+    below = t2.depth > 0
+    assert (w2[below].max(axis=1) == 1).sum() > 0.5 * below.sum() and (w2[below].max(axis=1) < 1).sum() >= 4
+    np.testing.assert_array_equal(t2.region[below], np.argmax(w2[below], axis=1))
+    np.testing.assert_allclose(t2.force, expected_forces(t2, w2), rtol=1e-9, atol=1e-12)
     # continuity: along a path the weights change by at most v dt / transition per axis per step
     xs = np.arange(0.0, 0.15, 1e-4)
     wp = rw(xs, 0.03 + 0.2 * xs)
