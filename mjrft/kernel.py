@@ -291,9 +291,10 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
 
     and the element's stress is the weighted sum over its regions.
 
-    Speed: with one dry region under Li RFT (the common case) the buried elements are gathered into
-    the scratch arrays ``scr_f`` (12, n) and ``scr_i`` (2, n) and the law runs once over all of them
-    (:func:`mjrft.laws.rft.rft_stress_batch`, vectorised); the forces are then scattered back.
+    Speed: in a dry region under Li RFT (the common case; with several regions the first such one) the
+    buried elements lying wholly in that region are gathered into the scratch arrays ``scr_f`` (12, n)
+    and ``scr_i`` (2, n) and the law runs once over all of them (:func:`mjrft.laws.rft.rft_stress_batch`,
+    vectorised); the forces are then scattered back.
 
     ``stiff`` (nbody, 10) receives per body the moments of the element stiffness ``k_i`` (of the
     damping ``c_i`` in the viscous mode) about its CoM: ``sum k``, ``sum k r`` (x, y, z) and
@@ -312,7 +313,13 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     law = reg_law[0]
     hw = p[P_WATER_DEPTH]
     dry = not (hw > 0.0 or reg_rho[0] > 0.0)
-    batched = nreg == 1 and law == 0 and dry  # Li RFT on one dry region: gather, one vectorised law call
+    # Li RFT on a dry region: its single-region elements are gathered for one vectorised law call (with
+    # several regions, the first dry Li-RFT one: e.g. a scene's dry strip keeps the batched cost)
+    breg = -1
+    for r in range(nreg):
+        if breg < 0 and reg_law[r] == 0 and not (reg_params[r, P_WATER_DEPTH] > 0.0 or reg_rho[r] > 0.0):
+            breg = r
+    pb = reg_params[max(breg, 0)]
     nbat = 0
     regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
     for b in range(wrench.shape[0]):
@@ -445,7 +452,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             fy = 0.0
             fz = 0.0
             kk = 0.0
-            if batched:
+            if single and reg == breg:
                 if ml > 0.0:  # gathered; force, wrench and stiffness after the loop (_scatter_batch)
                     iml = 1.0 / ml
                     scr_f[0, nbat] = nx
@@ -518,7 +525,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 stiff[b, 8] += kk * ry * rz
                 stiff[b, 9] += kk * rz * rz
     if nbat > 0:
-        rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], p, scr_f[9:12])
+        rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
         return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
                               wrench, stiff, damp)
     return OK, -1
