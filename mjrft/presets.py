@@ -13,38 +13,45 @@ Each preset sets:
   keep the control period ``timestep x frame_skip`` at 10 ms, so a policy sees the same task under
   every preset.
 
-How they were chosen (``mjrft bench``, :mod:`mjrft.tradeoff`; the committed run is
-``benchmarks/results/trade_study.md``, 2 shared cores). Cost is the wall time per simulated second
-relative to the bare MuJoCo model (robots: their rigid-ground twin); errors are against the converged
-reference (1/4 of the model's resolution, 0.5 ms, the medium's own fit):
+How they were chosen (``mjrft bench`` / ``python benchmarks/trade_study.py``, :mod:`mjrft.tradeoff`; the
+committed run is ``benchmarks/results/trade_study.md``, 2 cores shared with other jobs). Cost is the wall
+time per simulated second relative to the bare MuJoCo model (robots: their rigid-ground twin with the
+same controller); errors are against the reference (1/4 of the model's resolution, 0.5 ms, the medium's
+own fit), RMS and peak of the net granular force, final position of the torso / pelvis:
 
-========  =====  ======  ==========  =====================================================================
-preset    scale  law     dt x skip   measured (hexapod tripod 2 s / humanoid on one foot 2.5 s)
-========  =====  ======  ==========  =====================================================================
-fast      4      rft     1 ms x 10   cost 1.83x / 0.96x (default 2.88x / 2.48x); RMS force error 17.0 % /
-                                     0.93 %, peak 6.2 % / 0.4 %, final position 18.8 / 2.9 mm
-default   1      rft     1 ms x 10   cost 2.88x / 2.48x; RMS force 6.9 % / 0.84 %, peak 0.03 % / 0.2 %,
-                                     final position 6.0 / 0.08 mm
-accurate  0.5    rft     0.5 ms x 20 cost 14.2x / 20.7x; RMS force 0.41 % / 0.03 %, peak 0.07 % / 0.0 %,
-                                     final position 0.37 / 0.02 mm
-========  =====  ======  ==========  =====================================================================
+========  =====  ======  ===========  ==================================================================
+preset    scale  law     dt x skip    measured: hexapod tripod 2 s | humanoid on one foot 2.5 s
+========  =====  ======  ===========  ==================================================================
+fast      2      rft     1 ms x 10    1.82x, RMS 8.3 %, peak 0.7 %, 7.0 mm | 1.24x, 0.88 %, 0.23 %, 0.6 mm
+default   1      rft     1 ms x 10    3.23x, RMS 7.9 %, peak 1.1 %, 2.6 mm | 2.09x, 0.84 %, 0.19 %, 0.1 mm
+accurate  0.5    rft     0.5 ms x 20  13.9x, RMS 11.4 %, peak 2.4 %, 10.7 mm | 10.6x, 0.02 %, 0.00 %, 0.02 mm
+========  =====  ======  ===========  ==================================================================
 
-The rules (:func:`mjrft.tradeoff.recommend_presets`, worst case over the four scenarios, candidates
-with the ``rft`` law, a 10 ms control period and no stability warning): *fast* is the cheapest with RMS
-force error <= 20 % and peak force error <= 10 %; *accurate* the cheapest non-reference configuration
-with RMS and peak force errors <= 1 % and final position error <= 1 mm. What the study showed:
+(Rigs, same order: plate 3.51x / 4.94x / 28.2x, C-leg 19.5x / 47.4x / 240x against a bare rig of a few
+microseconds per step, force errors <= 0.25 %; ``accurate`` is their reference.)
 
-* the timestep dominates the robots' error: at the model's resolution going from 1 ms to 0.5 ms cuts the
-  hexapod's RMS force error from 6.9 % to 1.25 %, while refining the elements 4-fold at 1 ms leaves it
-  at 6.9 %;
-* 2 ms steps are cheap (hexapod 1.43x) but exceed the explicit stability limit of the granular stiffness
-  (``TerrainStabilityWarning`` on the hexapod and the humanoid) and give 41 % RMS force error on the
-  hexapod, so no preset uses them;
-* Li's fit of the medium (``rft``) costs no more than the cheaper-looking laws: ``depth_only`` saves
-  about 10 % of the cost for 25 % RMS force error, ``rft3d`` costs 15-90 % more;
-* flat feet need few elements: a fully buried flat face is integrated exactly by one element at its
-  centroid (stress is linear in depth), so the humanoid at 8 cm (76 elements) is within 1 % of the
-  reference; curved C-legs need the model's 5 mm for peak forces.
+The rules (:func:`mjrft.tradeoff.recommend_presets`; candidates use ``rft``, a 10 ms control period and
+warn no more than the default; cost is the geometric mean over the four scenarios, errors the worst case):
+*fast* is the cheapest with RMS force error <= 20 % and peak <= 10 % (4x coarser fails on the hexapod:
+21 % RMS, 28 mm); *accurate* the cheapest non-reference configuration with RMS and peak force errors
+<= 1 % and <= 1/4 of the default's, and final position <= 1 mm, judged on the scenarios whose reference is
+converged. The hexapod's is not: its two finest resolutions differ by 11 % RMS force and 9.8 mm, because
+the box-chain C-legs count their internal end faces at resolutions >= 2.5 mm and drop them only below
+(leg area 18.32 cm^2 at 2.5-20 mm, 17.74 at 1.25 mm, 17.21 at 0.625 mm), so its errors against the 1.25 mm
+reference (7-11 % RMS force and 1-11 mm for every configuration at 5 mm or finer) measure that as much as
+the timestep.
+With the resolution fixed, halving the timestep does converge: at 5 mm the hexapod's final position is
+15.7 mm (1 ms) and 4.6 mm (0.5 ms) from a 0.25 ms run. What else the study showed:
+
+* 2 ms steps are cheap (hexapod 1.28x, humanoid 1.10x) but give 32 % RMS force error and 25 mm on the
+  hexapod and stability warnings on the humanoid, so no preset uses them;
+* Li's fit of the medium (``rft``) is the reference law and costs no more than the others: ``depth_only``
+  is 0.9-1.6x its cost with 22-107 % RMS force error, ``rft_generic`` (Li's scaling routine) 0.8-1.2x
+  with 1-45 %, ``rft3d`` 1.8-2.3x with 2-93 %;
+* flat feet need few elements (a fully buried flat face is integrated exactly by one element at its
+  centroid: stress is linear in depth): the humanoid at 8 cm (76 elements) is within 0.94 % RMS force;
+* frame skip only changes the per-call overhead (humanoid 1 ms x 1: 3.19x, x 10: 2.09x) and the control
+  signal.
 
 The biped is not one of the study's scenarios; its presets use the same scales (its round feet are
 curved, so ``fast`` gives it coarser feet than the study tested).
