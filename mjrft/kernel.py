@@ -715,94 +715,17 @@ def largest_rate(jac, minv_jac, moments):
             for k in range(j):
                 acc -= low[i, k] * low[j, k]
             low[i, j] = acc / d if d > 0.0 else 0.0
-    kl = k6 @ low
-    sym = low.T @ kl
-    return max(0.0, _largest_symmetric_eigenvalue(sym))
-
-
-@njit(cache=True, error_model="numpy")
-def _largest_symmetric_eigenvalue(a):
-    """Largest eigenvalue of the symmetric matrix ``a`` (cyclic Jacobi; ``a`` is overwritten)."""
-    n = a.shape[0]
-    for _ in range(60):
-        off = 0.0
-        scale = 0.0
-        for p in range(n):
-            scale += a[p, p] * a[p, p]
-            for q in range(p + 1, n):
-                off += a[p, q] * a[p, q]
-        if off <= 1e-28 * scale or off == 0.0:
-            break
-        for p in range(n - 1):
-            for q in range(p + 1, n):
-                apq = a[p, q]
-                if apq == 0.0:
-                    continue
-                theta = (a[q, q] - a[p, p]) / (2.0 * apq)
-                if abs(theta) > 1e150:
-                    t = 0.5 / theta
-                else:
-                    t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1.0))
-                c = 1.0 / math.sqrt(t * t + 1.0)
-                s = t * c
-                for k in range(n):
-                    akp, akq = a[k, p], a[k, q]
-                    a[k, p] = c * akp - s * akq
-                    a[k, q] = s * akp + c * akq
-                for k in range(n):
-                    apk, aqk = a[p, k], a[q, k]
-                    a[p, k] = c * apk - s * aqk
-                    a[q, k] = s * apk + c * aqk
-    top = a[0, 0]
-    for p in range(1, n):
-        top = max(top, a[p, p])
-    return top
-
-
-@njit(cache=True, error_model="numpy")
-def largest_rate(jac, minv_jac, moments):
-    """Largest eigenvalue of ``W6 K6`` (module docstring): ``W6 = jac minv_jac^T`` (``jac`` the 6 x nv
-    jacobian of a body's CoM translation and rotation, ``minv_jac = M^-1 jac^T`` transposed) and ``K6``
-    the stiffness of springs in every direction with the kernel's ``moments`` about the CoM."""
-    nv = jac.shape[1]
-    w = np.empty((6, 6))
+    sym = np.zeros((6, 6))  # L^T K6 L in loops: numba's @ needs scipy's BLAS
     for i in range(6):
         for j in range(i, 6):
             acc = 0.0
-            for k in range(nv):
-                acc += jac[i, k] * minv_jac[j, k] + jac[j, k] * minv_jac[i, k]
-            w[i, j] = 0.5 * acc
-            w[j, i] = 0.5 * acc
-    s0 = moments[0]
-    x, y, z = moments[1], moments[2], moments[3]
-    sxx, sxy, sxz, syy, syz, szz = moments[4], moments[5], moments[6], moments[7], moments[8], moments[9]
-    tr = sxx + syy + szz
-    k6 = np.zeros((6, 6))
-    for i in range(3):
-        k6[i, i] = s0
-    # off-diagonal blocks: -[S1]x (upper right) and [S1]x (lower left)
-    k6[0, 4], k6[0, 5], k6[1, 3], k6[1, 5], k6[2, 3], k6[2, 4] = z, -y, -z, x, y, -x
-    k6[4, 0], k6[5, 0], k6[3, 1], k6[5, 1], k6[3, 2], k6[4, 2] = z, -y, -z, x, y, -x
-    k6[3, 3], k6[4, 4], k6[5, 5] = tr - sxx, tr - syy, tr - szz
-    k6[3, 4] = k6[4, 3] = -sxy
-    k6[3, 5] = k6[5, 3] = -sxz
-    k6[4, 5] = k6[5, 4] = -syz
-    # W6 = L L^T (a tiny ridge: a hinged body's W6 is singular), then the symmetric L^T K6 L
-    ridge = 1e-12 * (w[0, 0] + w[1, 1] + w[2, 2] + w[3, 3] + w[4, 4] + w[5, 5]) + 1e-300
-    low = np.zeros((6, 6))
-    for j in range(6):
-        d = w[j, j] + ridge
-        for k in range(j):
-            d -= low[j, k] * low[j, k]
-        d = math.sqrt(d) if d > 0.0 else 0.0
-        low[j, j] = d
-        for i in range(j + 1, 6):
-            acc = w[i, j]
-            for k in range(j):
-                acc -= low[i, k] * low[j, k]
-            low[i, j] = acc / d if d > 0.0 else 0.0
-    kl = k6 @ low
-    sym = low.T @ kl
+            for k in range(i, 6):
+                row = 0.0
+                for q in range(j, 6):
+                    row += k6[k, q] * low[q, j]
+                acc += low[k, i] * row
+            sym[i, j] = acc
+            sym[j, i] = acc
     return max(0.0, _largest_symmetric_eigenvalue(sym))
 
 

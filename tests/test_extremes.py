@@ -319,6 +319,27 @@ def test_resting_free_body_limit_matches_the_formula():
     assert 2 * (math.sqrt(1 + zeta**2) - zeta) / omega == pytest.approx(0.0158, abs=2e-4)
 
 
+def test_compiled_rate_matches_numpy():
+    """kernel.largest_rate (compiled: Cholesky + Jacobi, no BLAS) is lambda_max(W6 K6) of explicit springs."""
+    from mjrft import kernel
+
+    rng = np.random.default_rng(1)
+    for _ in range(50):
+        nv = int(rng.integers(1, 12))
+        jac = rng.normal(size=(6, nv))
+        a = rng.normal(size=(nv, nv))
+        minv_jac = np.linalg.solve(a @ a.T + 0.1 * np.eye(nv), jac.T).T
+        r, k = rng.normal(size=(20, 3)) * 0.05, rng.uniform(0, 1e4, 20)
+        k6 = np.zeros((6, 6))
+        for ki, ri in zip(k, r):
+            x = np.array([[0, -ri[2], ri[1]], [ri[2], 0, -ri[0]], [-ri[1], ri[0], 0]])
+            k6 += ki * np.block([[np.eye(3), -x], [x, -x @ x]])
+        moments = np.array([k.sum(), *(k[:, None] * r).sum(0),
+                            *[np.sum(k * r[:, i] * r[:, j]) for i, j in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]])
+        expected = np.max(np.linalg.eigvals(jac @ minv_jac.T @ k6).real)
+        assert kernel.largest_rate(jac, minv_jac, moments) == pytest.approx(expected, rel=1e-8)
+
+
 @pytest.mark.parametrize("env_id,gait,kwargs", [
     ("mjrft/HexapodSand-v0", "tripod", {}),
     ("mjrft/HexapodSand-v0", "tripod:f=2.5", {"variant": "small"}),
