@@ -153,6 +153,9 @@ def test_grid_parsing_and_points():
     points = sw.grid_points(grid)
     assert len(points) == 6 and points[1] == {"f": 1.0, "medium": "glass3_cp", "gait.duty": 0.5}
     assert sw.point_key({"f": 2}) == sw.point_key({"f": 2.0})
+    np = pytest.importorskip("numpy")
+    assert sw.check_grid({"f": np.linspace(1, 2, 3)}) == {"f": [1.0, 1.5, 2.0]}  # numpy values become Python's
+    assert type(sw.check_grid({"n": [np.int64(3)]})["n"][0]) is int
 
 
 @pytest.mark.parametrize("kwargs,msg", [

@@ -47,7 +47,8 @@ Choices (the issue is silent on them):
 * Resume: a point whose parameters already have a line in ``results.jsonl`` is not run again, so an
   interrupted sweep, or a grid with added values, runs only the missing points. A point that raised
   (e.g. a gait frequency beyond the hip speed limit) is recorded as ``error`` and counts as finished;
-  ``--retry-errors`` runs those again. A torn last line (a crash mid-write) is skipped and rewritten.
+  ``--retry-errors`` runs those again (the command exits with status 1 while any point is an error).
+  A torn last line (a crash mid-write) is skipped and rewritten.
   Numbers are compared as floats (``f=2`` and ``f=2.0`` are the same point).
 * Local: ``--workers N`` processes (``concurrent.futures.ProcessPoolExecutor``, ``forkserver`` start
   method where available, else ``spawn``); ``--workers 1`` runs in this process. The default is the
@@ -135,7 +136,8 @@ def check_grid(grid) -> dict[str, list]:
     for name, values in grid.items():
         if not isinstance(name, str) or not all(p.isidentifier() for p in name.split(".")):
             raise ValueError(f"grid axis names must be identifiers (optionally gait.NAME / env.NAME), got {name!r}")
-        values = list(values) if isinstance(values, (list, tuple, range)) else [values]
+        values = list(values) if isinstance(values, (list, tuple, range)) or hasattr(values, "tolist") else [values]
+        values = [v.item() if type(v).__module__ == "numpy" and hasattr(v, "item") else v for v in values]
         if not values:
             raise ValueError(f"grid axis {name!r} has no values")
         for v in values:
@@ -444,8 +446,7 @@ def sweep(grid, out_dir, *, env=None, gait=None, rig=None, seconds=2.0, episodes
         if not points or not all(p for p in points):
             raise ValueError("the grid must be {name: [values]} or a non-empty list of non-empty point dicts")
         names = list(dict.fromkeys(k for p in points for k in p))
-        for p in points:  # the same checks as a grid axis, one value at a time
-            check_grid({k: [v] for k, v in p.items()})
+        points = [{k: check_grid({k: [v]})[k][0] for k, v in p.items()} for p in points]  # checked, numpy -> Python
     role = roles(settings, names)
     if workers is None:
         workers = max(1, (os.cpu_count() or 2) - 1)
