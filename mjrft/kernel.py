@@ -193,6 +193,41 @@ def region_weights_many(xs, ys, reg_bounds, reg_map, reg_map_frame, blend, out):
             out[i, regs[q]] += wts[q]
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _linear_stiffness(fx, fy, fz, ml, delta, v_eps):
+    """Linearised stiffness of an element force ``|F| / max(|m|, delta)`` (the damping
+    ``|F| / max(|v|, v_eps)`` in the viscous mode), see the module docstring."""
+    f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
+    if delta > 0.0:
+        return f_mag / max(ml, delta)
+    if v_eps > 0.0:
+        return f_mag / max(ml, v_eps)
+    return 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_to_body(wrench, stiff, b, fx, fy, fz, rx, ry, rz, kk):
+    """Add an element's force (at ``r`` from body ``b``'s CoM) to its wrench, and the moments of its
+    stiffness ``kk`` about the CoM (``sum k``, ``sum k r``, ``sum k r r^T``) to ``stiff``."""
+    wrench[b, 0] += fx
+    wrench[b, 1] += fy
+    wrench[b, 2] += fz
+    wrench[b, 3] += ry * fz - rz * fy
+    wrench[b, 4] += rz * fx - rx * fz
+    wrench[b, 5] += rx * fy - ry * fx
+    if kk > 0.0:
+        stiff[b, 0] += kk
+        stiff[b, 1] += kk * rx
+        stiff[b, 2] += kk * ry
+        stiff[b, 3] += kk * rz
+        stiff[b, 4] += kk * rx * rx
+        stiff[b, 5] += kk * rx * ry
+        stiff[b, 6] += kk * rx * rz
+        stiff[b, 7] += kk * ry * ry
+        stiff[b, 8] += kk * ry * rz
+        stiff[b, 9] += kk * rz * rz
+
+
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def _element_force(law, p, rho_w, gravity, k, depth, nx, ny, nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta,
                    v_eps):
@@ -207,11 +242,7 @@ def _element_force(law, p, rho_w, gravity, k, depth, nx, ny, nz, mx, my, mz, ml,
         fx, fy, fz = sx * k, sy * k, sz * k
         if not _isfinite3(fx, fy, fz):
             return fx, fy, fz, kk, cw, False
-        f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
-        if delta > 0.0:  # linearised stiffness (damping in the viscous mode), module docstring
-            kk = f_mag / max(ml, delta)
-        elif v_eps > 0.0:
-            kk = f_mag / max(ml, v_eps)
+        kk = _linear_stiffness(fx, fy, fz, ml, delta, v_eps)
         fx *= mob
         fy *= mob
         fz *= mob
@@ -480,13 +511,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     fx, fy, fz = sx * k, sy * k, sz * k
                     if not _isfinite3(fx, fy, fz):
                         return BAD_FORCE, b
-                    f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
-                    if delta > 0.0:  # linearised stiffness (damping in the viscous mode), module docstring
-                        kk = f_mag / max(ml, delta)
-                        damp[b] += kk * tau
-                    elif v_eps > 0.0:
-                        kk = f_mag / max(ml, v_eps)
-                        damp[b] += kk
+                    kk = _linear_stiffness(fx, fy, fz, ml, delta, v_eps)
+                    damp[b] += kk * tau if delta > 0.0 else kk
                     fx *= mob
                     fy *= mob
                     fz *= mob
@@ -506,24 +532,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     kk += cw
                     damp[b] += kk
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
-            rx, ry, rz = px - bx, py - by, pz - bz
-            wrench[b, 0] += fx
-            wrench[b, 1] += fy
-            wrench[b, 2] += fz
-            wrench[b, 3] += ry * fz - rz * fy
-            wrench[b, 4] += rz * fx - rx * fz
-            wrench[b, 5] += rx * fy - ry * fx
-            if kk > 0.0:  # moments of the element stiffness about the body's CoM
-                stiff[b, 0] += kk
-                stiff[b, 1] += kk * rx
-                stiff[b, 2] += kk * ry
-                stiff[b, 3] += kk * rz
-                stiff[b, 4] += kk * rx * rx
-                stiff[b, 5] += kk * rx * ry
-                stiff[b, 6] += kk * rx * rz
-                stiff[b, 7] += kk * ry * ry
-                stiff[b, 8] += kk * ry * rz
-                stiff[b, 9] += kk * rz * rz
+            _add_to_body(wrench, stiff, b, fx, fy, fz, px - bx, py - by, pz - bz, kk)
     if nbat > 0:
         rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
         return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
@@ -541,38 +550,15 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         fx, fy, fz = scr_f[9, j] * k, scr_f[10, j] * k, scr_f[11, j] * k
         if not _isfinite3(fx, fy, fz):
             return BAD_FORCE, b
-        f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
-        ml = scr_f[8, j]
-        kk = 0.0
-        if delta > 0.0:
-            kk = f_mag / max(ml, delta)
-            damp[b] += kk * tau
-        elif v_eps > 0.0:
-            kk = f_mag / max(ml, v_eps)
-            damp[b] += kk
+        kk = _linear_stiffness(fx, fy, fz, scr_f[8, j], delta, v_eps)
+        damp[b] += kk * tau if delta > 0.0 else kk
         mob = scr_f[7, j]
         fx *= mob
         fy *= mob
         fz *= mob
         out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
-        rx, ry, rz = out_pos[i, 0] - xipos[b, 0], out_pos[i, 1] - xipos[b, 1], out_pos[i, 2] - xipos[b, 2]
-        wrench[b, 0] += fx
-        wrench[b, 1] += fy
-        wrench[b, 2] += fz
-        wrench[b, 3] += ry * fz - rz * fy
-        wrench[b, 4] += rz * fx - rx * fz
-        wrench[b, 5] += rx * fy - ry * fx
-        if kk > 0.0:
-            stiff[b, 0] += kk
-            stiff[b, 1] += kk * rx
-            stiff[b, 2] += kk * ry
-            stiff[b, 3] += kk * rz
-            stiff[b, 4] += kk * rx * rx
-            stiff[b, 5] += kk * rx * ry
-            stiff[b, 6] += kk * rx * rz
-            stiff[b, 7] += kk * ry * ry
-            stiff[b, 8] += kk * ry * rz
-            stiff[b, 9] += kk * rz * rz
+        _add_to_body(wrench, stiff, b, fx, fy, fz, out_pos[i, 0] - xipos[b, 0], out_pos[i, 1] - xipos[b, 1],
+                     out_pos[i, 2] - xipos[b, 2], kk)
     return OK, -1
 
 
