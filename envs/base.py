@@ -30,9 +30,15 @@ Common keyword arguments (all environments):
 ``reset_noise_scale``      half width of the uniform noise added to ``qpos``/``qvel`` at reset.
 ``episode_seconds``        optional simulated-time limit: ``truncated=True`` once ``data.time`` reaches it
                            (the registered ids also carry ``max_episode_steps`` -> ``TimeLimit``).
-``render_mode``            ``None``, ``"human"``, ``"rgb_array"`` or ``"depth_array"``. Off-screen
-                           rendering needs an OpenGL backend: set ``MUJOCO_GL=egl`` (GPU) or
-                           ``MUJOCO_GL=osmesa`` (software) before importing mujoco.
+``healthy_z_range``        (low, high) torso heights (m, sand surface at 0) counted as healthy.
+``max_tilt``               largest healthy tilt of the torso's z axis from vertical (rad).
+``render_mode``            ``None``, ``"human"``, ``"rgb_array"``, ``"depth_array"`` or ``"rgbd_tuple"``.
+                           Off-screen rendering needs an OpenGL backend chosen before mujoco is
+                           imported: ``MUJOCO_GL=egl`` (headless; a GPU, or Mesa's software EGL, which
+                           this project's tests use) or ``MUJOCO_GL=osmesa`` (software).
+``width``, ``height``      off-screen image size in pixels (default 480 x 480).
+``camera_name``,           the camera to render from (a named MJCF camera, or its id); default: the
+``camera_id``              free camera tracking the torso.
 =========================  ============================================================================
 
 Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power`` (W),
@@ -45,6 +51,7 @@ zeros on rigid ground).
 
 from __future__ import annotations
 
+import inspect
 import math
 
 import mujoco
@@ -69,6 +76,13 @@ def check_frame_skip(frame_skip) -> int:
     return int(frame_skip)
 
 
+def split_env_kwargs(kwargs: dict) -> tuple[dict, dict]:
+    """Split a robot env's ``**kwargs`` into the common environment arguments (those of
+    :class:`GranularMujocoEnv`) and the rest, which go to the robot's MJCF generator."""
+    env = {k: v for k, v in kwargs.items() if k in ENV_KWARGS}
+    return env, {k: v for k, v in kwargs.items() if k not in ENV_KWARGS}
+
+
 class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
     """Base class; subclasses define ``_make_xml``, ``_get_obs``, ``_healthy_z_range``, ``_max_tilt`` and the action mapping."""
 
@@ -80,13 +94,25 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
     torso_name = "torso"
     default_camera_config = {"trackbodyid": 1, "distance": 1.0, "elevation": -20.0}
 
-    def __init__(self, xml: str, *, sand: bool = True, medium=None, law=None, resolution=None,
+    #: per-robot defaults of the common keyword arguments (the robot's class docstring lists them)
+    defaults: dict = {}
+
+    def __init__(self, xml: str, *, sand: bool = True, healthy_z_range=(0.0, 1.0), max_tilt: float = 1.0,
+                 medium=None, law=None, resolution=None,
                  frame_skip: int | None = None, forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.1,
                  ctrl_cost_weight: float = 0.0, healthy_reward: float = 1.0,
                  terminate_when_unhealthy: bool = True, reset_noise_scale: float = 1e-3,
                  episode_seconds: float | None = None, render_mode: str | None = None,
-                 width: int = 480, height: int = 480, camera_name: str | None = None, pickle_kwargs: dict | None = None,
+                 width: int = 480, height: int = 480, camera_name: str | None = None,
+                 camera_id: int | None = None, pickle_kwargs: dict | None = None,
                  preset: str | None = None, timestep: float | None = None):
+        self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
+        if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
+            raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
+        self._max_tilt = check_positive("max_tilt", max_tilt)
+        for name, val in (("width", width), ("height", height)):
+            if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
+                raise ValueError(f"{name} must be an integer >= 1 (pixels), got {val!r}")
         # a preset fills what was left as None (mjrft.presets); explicit keyword arguments win
         chosen = resolve_preset(preset, law=law, resolution=resolution, timestep=timestep, frame_skip=frame_skip)
         law, timestep = chosen["law"], chosen["timestep"]
@@ -127,8 +153,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         self.metadata["render_fps"] = int(np.round(1.0 / (timestep * frame_skip)))
 
         MujocoEnv.__init__(self, model_path(self.base_model), frame_skip, observation_space=None,
-                           render_mode=render_mode, width=width, height=height, camera_name=camera_name,
-                           default_camera_config=self.default_camera_config)
+                           render_mode=render_mode, width=int(width), height=int(height), camera_name=camera_name,
+                           camera_id=camera_id, default_camera_config=self.default_camera_config)
         utils.EzPickle.__init__(self, **(pickle_kwargs or {}))
 
         if self.sand and resolution is None and chosen["resolution_scale"] != 1.0:
@@ -315,3 +341,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
             "sinkage": self.foot_sinkage(),
             "granular_force": self.foot_granular_force(),
         }
+
+
+#: the keyword arguments every environment accepts (:class:`GranularMujocoEnv`), routed by :func:`split_env_kwargs`
+ENV_KWARGS = frozenset(name for name, par in inspect.signature(GranularMujocoEnv.__init__).parameters.items()
+                       if par.kind is par.KEYWORD_ONLY and name not in ("sand", "pickle_kwargs"))

@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from mjrft.errors import check_positive
 from mjrft.models.biped import biped_xml
 
-from .base import GranularMujocoEnv
+from .base import GranularMujocoEnv, split_env_kwargs
 
 
 class BipedSand(GranularMujocoEnv):
@@ -64,29 +63,17 @@ class BipedSand(GranularMujocoEnv):
     foot_names = ("left_foot", "right_foot")
     default_camera_config = {"trackbodyid": 1, "distance": 1.2, "elevation": -10.0}
 
+    defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.5, "healthy_z_range": (0.12, 0.6), "max_tilt": 1.0}
+
     def __init__(self, sand: bool = True, *, foot: str = "round", foot_size: float = 0.085,
-                 pitch_free: bool = True, medium=None, law=None, resolution=None, frame_skip: int | None = None,
-                 forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.05,
-                 ctrl_cost_weight: float = 0.0, healthy_reward: float = 0.5,
-                 terminate_when_unhealthy: bool = True, healthy_z_range=(0.12, 0.6), max_tilt: float = 1.0,
-                 reset_noise_scale: float = 1e-3, episode_seconds: float | None = None,
-                 render_mode: str | None = None,
-                 preset: str | None = None, timestep: float | None = None, **kwargs):
-        pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
-        pickle_kwargs.update(kwargs)
-        self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
-        if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
-            raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
-        self._max_tilt = check_positive("max_tilt", max_tilt)
-        xml = biped_xml(foot=foot, foot_size=foot_size, pitch_free=pitch_free, sand=sand, **kwargs)
-        super().__init__(
-            xml, sand=sand, medium=medium, law=law, resolution=resolution, frame_skip=frame_skip,
-            forward_reward_weight=forward_reward_weight, energy_cost_weight=energy_cost_weight,
-            ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
-            terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
-            episode_seconds=episode_seconds, render_mode=render_mode,
-            pickle_kwargs=pickle_kwargs, preset=preset, timestep=timestep,
-        )
+                 pitch_free: bool = True, **kwargs):
+        """Own arguments: ``foot``, ``foot_size``, ``pitch_free`` (:func:`mjrft.models.biped_xml`); the common
+        ones are in :mod:`mjrft.envs.base` (defaults here: ``defaults``); any other keyword goes to
+        :func:`~mjrft.models.biped_xml`."""
+        pickle_kwargs = dict(sand=sand, foot=foot, foot_size=foot_size, pitch_free=pitch_free, **kwargs)
+        env_kw, model_kw = split_env_kwargs(kwargs)
+        xml = biped_xml(foot=foot, foot_size=foot_size, pitch_free=pitch_free, sand=sand, **model_kw)
+        super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 
     def _get_obs(self) -> np.ndarray:
         return np.concatenate([self.data.qpos[1:], self.data.qvel]).astype(np.float64)

@@ -10,7 +10,7 @@ from mjrft.errors import check_positive
 from mjrft.models.hexapod import LEG_NAMES, TRIPOD_A, TRIPOD_B, hexapod_xml
 from mjrft.models.shoal import SHOAL
 
-from .base import GranularMujocoEnv
+from .base import GranularMujocoEnv, split_env_kwargs
 
 
 class HexapodSand(GranularMujocoEnv):
@@ -73,31 +73,20 @@ class HexapodSand(GranularMujocoEnv):
     TRIPOD_B_IDX = tuple(LEG_NAMES.index(n) for n in TRIPOD_B)
     default_camera_config = {"trackbodyid": 1, "distance": 0.6, "elevation": -20.0}
 
+    defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.1, "healthy_z_range": (-0.05, 0.5), "max_tilt": 1.2}
+
     def __init__(self, sand: bool = True, *, variant: str = "rhex", curvature: float | None = None,
-                 medium=None, law=None, resolution=None, frame_skip: int | None = None,
-                 forward_reward_weight: float = 1.0, energy_cost_weight: float = 0.05,
-                 ctrl_cost_weight: float = 0.0, healthy_reward: float = 0.1,
-                 terminate_when_unhealthy: bool = True, healthy_z_range=(-0.05, 0.5), max_tilt: float = 1.2,
-                 max_hip_speed: float = 6 * np.pi, max_lag: float = 1.0, reset_noise_scale: float = 1e-3,
-                 episode_seconds: float | None = None, render_mode: str | None = None,
-                 preset: str | None = None, timestep: float | None = None, **kwargs):
-        pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
-        pickle_kwargs.update(kwargs)
-        self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
-        if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
-            raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
-        self._max_tilt = check_positive("max_tilt", max_tilt)
+                 max_hip_speed: float = 6 * np.pi, max_lag: float = 1.0, **kwargs):
+        """Own arguments: ``variant``, ``curvature`` (:func:`mjrft.models.hexapod_xml`), ``max_hip_speed``,
+        ``max_lag`` (the action space above); the common ones are in :mod:`mjrft.envs.base` (defaults
+        here: ``defaults``); any other keyword goes to :func:`~mjrft.models.hexapod_xml`."""
+        pickle_kwargs = dict(sand=sand, variant=variant, curvature=curvature, max_hip_speed=max_hip_speed,
+                             max_lag=max_lag, **kwargs)
         self._max_hip_speed = check_positive("max_hip_speed", max_hip_speed)
         self._max_lag = check_positive("max_lag", max_lag)
-        xml = hexapod_xml(curvature, variant=variant, sand=sand, **kwargs)
-        super().__init__(
-            xml, sand=sand, medium=medium, law=law, resolution=resolution, frame_skip=frame_skip,
-            forward_reward_weight=forward_reward_weight, energy_cost_weight=energy_cost_weight,
-            ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
-            terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
-            episode_seconds=episode_seconds, render_mode=render_mode,
-            pickle_kwargs=pickle_kwargs, preset=preset, timestep=timestep,
-        )
+        env_kw, model_kw = split_env_kwargs(kwargs)
+        xml = hexapod_xml(curvature, variant=variant, sand=sand, **model_kw)
+        super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 
     # ------------------------------------------------------------------ actions
     def _setup_action(self) -> None:

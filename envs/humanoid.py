@@ -4,10 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from mjrft.errors import check_positive
 from mjrft.models.humanoid import FOOT_LENGTH, FOOT_WIDTH, humanoid_xml
 
-from .base import GranularMujocoEnv
+from .base import GranularMujocoEnv, split_env_kwargs
 
 TASKS = ("walk", "stand")
 
@@ -64,33 +63,22 @@ class HumanoidSand(GranularMujocoEnv):
     torso_name = "pelvis"
     default_camera_config = {"trackbodyid": 1, "distance": 4.0, "elevation": -15.0}
 
+    defaults = {"energy_cost_weight": 0.05, "healthy_reward": 1.0, "healthy_z_range": (0.5, 1.2), "max_tilt": 0.8}
+
     def __init__(self, sand: bool = True, *, task: str = "walk", foot_length: float = FOOT_LENGTH,
-                 foot_width: float = FOOT_WIDTH, foot_cutout: bool = False, medium=None, law=None,
-                 resolution=None, frame_skip: int | None = None, forward_reward_weight: float = 1.0,
-                 energy_cost_weight: float = 0.05, ctrl_cost_weight: float = 0.0, healthy_reward: float = 1.0,
-                 terminate_when_unhealthy: bool = True, healthy_z_range=(0.5, 1.2), max_tilt: float = 0.8,
-                 reset_noise_scale: float = 1e-3, episode_seconds: float | None = None,
-                 render_mode: str | None = None,
-                 preset: str | None = None, timestep: float | None = None, **kwargs):
-        pickle_kwargs = {k: v for k, v in locals().items() if k not in ("self", "kwargs", "__class__")}
-        pickle_kwargs.update(kwargs)
+                 foot_width: float = FOOT_WIDTH, foot_cutout: bool = False, **kwargs):
+        """Own arguments: ``task`` and ``foot_length``, ``foot_width``, ``foot_cutout``
+        (:func:`mjrft.models.humanoid_xml`); the common ones are in :mod:`mjrft.envs.base` (defaults here:
+        ``defaults``); any other keyword goes to :func:`~mjrft.models.humanoid_xml`."""
+        pickle_kwargs = dict(sand=sand, task=task, foot_length=foot_length, foot_width=foot_width,
+                             foot_cutout=foot_cutout, **kwargs)
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r}; valid choices: {', '.join(TASKS)}")
         self.task = task
-        self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
-        if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
-            raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
-        self._max_tilt = check_positive("max_tilt", max_tilt)
+        env_kw, model_kw = split_env_kwargs(kwargs)
         xml = humanoid_xml(foot_length=foot_length, foot_width=foot_width, foot_cutout=foot_cutout, sand=sand,
-                           **kwargs)
-        super().__init__(
-            xml, sand=sand, medium=medium, law=law, resolution=resolution, frame_skip=frame_skip,
-            forward_reward_weight=forward_reward_weight, energy_cost_weight=energy_cost_weight,
-            ctrl_cost_weight=ctrl_cost_weight, healthy_reward=healthy_reward,
-            terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
-            episode_seconds=episode_seconds, render_mode=render_mode,
-            pickle_kwargs=pickle_kwargs, preset=preset, timestep=timestep,
-        )
+                           **model_kw)
+        super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 
     def _forward_reward(self, x_velocity: float, xy_velocity: np.ndarray) -> float:
         if self.task == "stand":

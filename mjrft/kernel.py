@@ -351,6 +351,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         if breg < 0 and reg_law[r] == 0 and not (reg_params[r, P_WATER_DEPTH] > 0.0 or reg_rho[r] > 0.0):
             breg = r
     pb = reg_params[max(breg, 0)]
+    # the common case (one dry Li-RFT region on a flat surface) has its own element pass, :func:`_flat_dry_geom`
+    flat_dry_rft = nreg == 1 and breg == 0 and not has_hf
     nbat = 0
     regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
     for b in range(wrench.shape[0]):
@@ -384,6 +386,97 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         r = rootid[b]
         cx, cy, cz = subtree_com[r, 0], subtree_com[r, 1], subtree_com[r, 2]
         bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
+        if flat_dry_rft:
+            # The common case (one dry Li-RFT region, flat surface): the same arithmetic as the general
+            # loop below, in two passes instead of one branching loop. Pass 1 transforms every element's
+            # position without a branch (depth, ``pos``; force and memory cleared when it leaves the
+            # grains) and lists the buried ones in ``scr_i[0]``; pass 2 runs the normal, velocity and
+            # memory update over that list and gathers the elements for the batched law. (Written out
+            # here: as a function called per geom, passing the arrays cost as much as the work.)
+            n0 = nbat
+            bad = 0.0
+            # the rotation in locals: the stores below could alias ``R`` as far as the compiler knows
+            r0, r1, r2, r3, r4, r5, r6, r7, r8 = R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8]
+            for i in range(e0, e1):
+                ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
+                pz = oz + r6 * ax + r7 * ay + r8 * az
+                px = ox + r0 * ax + r1 * ay + r2 * az
+                py = oy + r3 * ax + r4 * ay + r5 * az
+                depth = surface - pz
+                bad += px * 0.0 + py * 0.0 + pz * 0.0  # NaN once any coordinate is not finite
+                if depth <= 0.0 and out_depth[i] > 0.0:  # it left the grains: force and memory go (they are zero
+                    out_force[i, 0] = 0.0                # for every other element above the surface)
+                    out_force[i, 1] = 0.0
+                    out_force[i, 2] = 0.0
+                    u[i, 0] = 0.0
+                    u[i, 1] = 0.0
+                    u[i, 2] = 0.0
+                out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
+                out_depth[i] = depth
+                scr_i[0, nbat] = i
+                nbat += 1 if depth > 0.0 else 0
+            if bad != 0.0:
+                return BAD_STATE, b
+            listed = nbat
+            nbat = n0
+            for q in range(n0, listed):
+                i = scr_i[0, q]
+                px, py, pz = out_pos[i, 0], out_pos[i, 1], out_pos[i, 2]
+                ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
+                nx = r0 * ax + r1 * ay + r2 * az
+                ny = r3 * ax + r4 * ay + r5 * az
+                nz = r6 * ax + r7 * ay + r8 * az
+                dx, dy, dz = px - cx, py - cy, pz - cz
+                vx = lx + wy * dz - wz * dy
+                vy = ly + wz * dx - wx * dz
+                vz = lz + wx * dy - wy * dx
+                if not _isfinite3(vx, vy, vz):
+                    return BAD_STATE, b
+                out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
+                out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz  # (out_region: always region 0 here)
+                if e_area[i] <= 0.0:
+                    u[i, 0] = 0.0
+                    u[i, 1] = 0.0
+                    u[i, 2] = 0.0
+                    out_force[i, 0] = 0.0
+                    out_force[i, 1] = 0.0
+                    out_force[i, 2] = 0.0
+                    continue
+                speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+                if delta > 0.0:
+                    if speed > 0.0:
+                        a = math.exp(-speed * dt / delta)
+                        s = delta / speed
+                        u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
+                        u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
+                        u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
+                    mx = u[i, 0] + tau * vx
+                    my = u[i, 1] + tau * vy
+                    mz = u[i, 2] + tau * vz
+                    ml = math.sqrt(mx * mx + my * my + mz * mz)
+                    mob = min(1.0, ml / delta)
+                else:
+                    mx, my, mz, ml = vx, vy, vz, speed
+                    mob = min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0
+                if ml > 0.0:
+                    iml = 1.0 / ml
+                    scr_f[0, nbat] = nx
+                    scr_f[1, nbat] = ny
+                    scr_f[2, nbat] = nz
+                    scr_f[3, nbat] = mx * iml
+                    scr_f[4, nbat] = my * iml
+                    scr_f[5, nbat] = mz * iml
+                    scr_f[6, nbat] = out_depth[i]
+                    scr_f[7, nbat] = mob
+                    scr_f[8, nbat] = ml
+                    scr_i[0, nbat] = i
+                    scr_i[1, nbat] = b
+                    nbat += 1
+                else:
+                    out_force[i, 0] = 0.0
+                    out_force[i, 1] = 0.0
+                    out_force[i, 2] = 0.0
+            continue
         for i in range(e0, e1):
             ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
             pz = oz + R[6] * ax + R[7] * ay + R[8] * az
@@ -542,23 +635,66 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
 
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp):
-    """The batched elements' forces, wrench and stiffness moments (what the element loop does inline)."""
-    for j in range(nbat):
-        i = scr_i[0, j]
+    """The batched elements' forces, wrench and stiffness moments (what the element loop does inline).
+
+    The elements arrive grouped by body (geom by geom), so each body's 17 sums are kept in local
+    variables over its run of elements and added to ``wrench``/``stiff``/``damp`` once per run: a
+    read-modify-write of the same array slot per element would chain every element on the store."""
+    j = 0
+    while j < nbat:
         b = scr_i[1, j]
-        k = e_area[i]
-        fx, fy, fz = scr_f[9, j] * k, scr_f[10, j] * k, scr_f[11, j] * k
-        if not _isfinite3(fx, fy, fz):
-            return BAD_FORCE, b
-        kk = _linear_stiffness(fx, fy, fz, scr_f[8, j], delta, v_eps)
-        damp[b] += kk * tau if delta > 0.0 else kk
-        mob = scr_f[7, j]
-        fx *= mob
-        fy *= mob
-        fz *= mob
-        out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
-        _add_to_body(wrench, stiff, b, fx, fy, fz, out_pos[i, 0] - xipos[b, 0], out_pos[i, 1] - xipos[b, 1],
-                     out_pos[i, 2] - xipos[b, 2], kk)
+        bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
+        f0 = f1 = f2 = t0 = t1 = t2 = 0.0
+        k0 = k1 = k2 = k3 = k4 = k5 = k6 = k7 = k8 = k9 = 0.0
+        c = 0.0
+        while j < nbat and scr_i[1, j] == b:
+            i = scr_i[0, j]
+            k = e_area[i]
+            fx, fy, fz = scr_f[9, j] * k, scr_f[10, j] * k, scr_f[11, j] * k
+            if not _isfinite3(fx, fy, fz):
+                return BAD_FORCE, b
+            kk = _linear_stiffness(fx, fy, fz, scr_f[8, j], delta, v_eps)
+            c += kk
+            mob = scr_f[7, j]
+            fx *= mob
+            fy *= mob
+            fz *= mob
+            out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
+            rx, ry, rz = out_pos[i, 0] - bx, out_pos[i, 1] - by, out_pos[i, 2] - bz
+            f0 += fx
+            f1 += fy
+            f2 += fz
+            t0 += ry * fz - rz * fy
+            t1 += rz * fx - rx * fz
+            t2 += rx * fy - ry * fx
+            k0 += kk
+            k1 += kk * rx
+            k2 += kk * ry
+            k3 += kk * rz
+            k4 += kk * rx * rx
+            k5 += kk * rx * ry
+            k6 += kk * rx * rz
+            k7 += kk * ry * ry
+            k8 += kk * ry * rz
+            k9 += kk * rz * rz
+            j += 1
+        wrench[b, 0] += f0
+        wrench[b, 1] += f1
+        wrench[b, 2] += f2
+        wrench[b, 3] += t0
+        wrench[b, 4] += t1
+        wrench[b, 5] += t2
+        stiff[b, 0] += k0
+        stiff[b, 1] += k1
+        stiff[b, 2] += k2
+        stiff[b, 3] += k3
+        stiff[b, 4] += k4
+        stiff[b, 5] += k5
+        stiff[b, 6] += k6
+        stiff[b, 7] += k7
+        stiff[b, 8] += k8
+        stiff[b, 9] += k9
+        damp[b] += c * tau if delta > 0.0 else c
     return OK, -1
 
 

@@ -171,9 +171,14 @@ def pop_scene_options(kw: dict, *, resolution: float, bed_length: float, bed_wid
     return opts
 
 
+SCENE_OPTIONS = ("bed_depth", "bed_length", "bed_width", "medium", "law", "resolution", "surface", "granular_bodies",
+                 "regions", "water_depth", "transition", "buoyancy")
+
+
 def reject_unknown(kw: dict, func: str) -> None:
     if kw:
-        raise TypeError(f"{func}() got unexpected keyword argument(s): {', '.join(sorted(kw))}")
+        raise TypeError(f"{func}() got unexpected keyword argument(s): {', '.join(sorted(kw))}; "
+                        f"valid scene options: {', '.join(SCENE_OPTIONS)}")
 
 
 def _ground_xml(opts: SceneOptions) -> str:

@@ -281,3 +281,56 @@ def test_regions_pick_the_law_by_position():
     assert np.all((t.region[below] == 1) == (t.pos[below, 0] >= 0))
     with pytest.raises(ValueError, match="sorted by increasing x_min"):
         mjrft.GranularTerrain(m, regions=[(0.1, "poppy_cp", "rft"), (0.0, "poppy_cp", "rft")])
+
+
+@pytest.mark.filterwarnings("ignore::mjrft.TerrainStabilityWarning")  # the viscous mode at 1 ms on a leg
+@pytest.mark.parametrize("yield_displacement", [None, 0.0])  # the elastic-plastic memory and the viscous mode
+def test_flat_dry_pass_equals_general_loop(yield_displacement):
+    """The kernel's two-pass element work for the common scene (one dry Li-RFT region, flat surface)
+    gives what its general per-element loop gives. The general loop is reached with a second region
+    that no element reaches (x >= 50 m, the same medium): same physics, other code path. Compared
+    on every step of a walking hexapod whose legs enter and leave the sand."""
+    from mjrft.models import hexapod_model
+    m = hexapod_model()
+    d = mujoco.MjData(m)
+    fast = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement)
+    general = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement,
+                                    regions=[mjrft.Region(50.0, fast.medium, "rft")])
+    assert general._reg_law.shape[0] == 2 and fast._reg_law.shape[0] == 1
+    rows = fast.body_ids
+    left = entered = 0
+    for k in range(400):
+        d.ctrl[:] = 2 * np.pi * 2.0 * d.time + np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
+        mujoco.mj_step1(m, d)
+        before = fast.depth > 0
+        fast.compute(d)
+        general.compute(d)
+        left += int(np.count_nonzero(before & ~(fast.depth > 0)))
+        entered += int(np.count_nonzero(~before & (fast.depth > 0)))
+        buried = fast.depth > 0
+        np.testing.assert_array_equal(fast.depth, general.depth)
+        np.testing.assert_array_equal(fast.pos, general.pos)
+        np.testing.assert_array_equal(fast.vel[buried], general.vel[buried])
+        np.testing.assert_array_equal(fast.normal[buried], general.normal[buried])
+        np.testing.assert_allclose(fast.force, general.force, rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(fast._u, general._u, rtol=1e-12, atol=1e-18)
+        np.testing.assert_allclose(fast.wrench, general.wrench, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(fast._stiff, general._stiff, rtol=1e-10, atol=1e-12)
+        assert np.all(fast.force[~buried] == 0.0) and np.all(fast._u[~buried] == 0.0)
+        d.xfrc_applied[rows] = fast.wrench[rows]
+        mujoco.mj_step2(m, d)
+        d.xfrc_applied[rows] = 0.0
+    assert entered > 100 and left > 100  # the legs went in and came out many times
+
+
+def test_flat_dry_pass_reports_nonfinite_position():
+    from mjrft.models import hexapod_model
+    m = hexapod_model()
+    d = mujoco.MjData(m)
+    t = mjrft.GranularTerrain(m, resolution=0.01)
+    t.step(d, 50)
+    mujoco.mj_step1(m, d)
+    leg = m.body("leg_rf").id
+    d.xpos[leg, 0] = np.inf  # a leg near the sand (not culled) with a corrupted position
+    with pytest.raises(mjrft.NonFiniteError, match=r"non-finite state .* on body 'leg_rf'"):
+        t.compute(d)

@@ -137,6 +137,61 @@ def test_render_mode_accepted():
     env.close()
 
 
+@pytest.mark.parametrize("kwargs, match", [
+    ({"width": 0}, "width"), ({"height": 12.5}, "height"), ({"healthy_z_range": (0.5, 0.1)}, "healthy_z_range"),
+    ({"max_tilt": -1.0}, "max_tilt"),
+])
+def test_bad_render_and_health_kwargs_raise(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        gymnasium.make("mjrft/BipedSand-v0", **kwargs)
+
+
+def test_common_kwargs_reach_every_env():
+    """Rendering size and the health thresholds are accepted by every robot; the robot's own
+    defaults apply where they are not given."""
+    for env_id in ("mjrft/HexapodSand-v0", "mjrft/BipedRigid-v0", "mjrft/HumanoidSand-v0", "mjrft/HexapodShoal-v0"):
+        env = gymnasium.make(env_id, render_mode="rgb_array", width=64, height=48, max_tilt=0.7)
+        u = env.unwrapped
+        assert (u.width, u.height, u._max_tilt) == (64, 48, 0.7)
+        assert u._healthy_z_range == tuple(u.defaults["healthy_z_range"])
+        env.close()
+
+
+RENDER_SCRIPT = """
+import sys
+import mujoco
+try:
+    mujoco.GLContext(8, 8).make_current()
+except Exception as exc:
+    print("NO-GL", type(exc).__name__, exc)
+    sys.exit(0)
+import gymnasium, numpy as np, mjrft
+env = gymnasium.make("mjrft/HexapodSand-v0", render_mode="rgb_array", width=160, height=120)
+env.reset(seed=0)
+for _ in range(3):
+    env.step(np.full(6, 0.5, np.float32))
+img = env.render()
+print("SHAPE", img.shape, img.dtype, int(img.std() > 5.0), int(img.reshape(-1, 3).max(axis=1).min() < 255))
+env.close()
+"""
+
+
+def test_rgb_array_renders_headless_with_egl():
+    """``render_mode="rgb_array"`` off-screen through EGL (``MUJOCO_GL=egl``; Mesa's EGL works without a
+    GPU). In a subprocess: the GL backend is fixed when mujoco is first imported. Skipped only where
+    no EGL context can be created at all."""
+    import os
+    import subprocess
+    import sys
+    env = dict(os.environ, MUJOCO_GL="egl", PYOPENGL_PLATFORM="egl")
+    out = subprocess.run([sys.executable, "-c", RENDER_SCRIPT], env=env, capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    if "NO-GL" in out.stdout:
+        pytest.skip(f"no EGL context on this machine: {out.stdout.strip()}")
+    assert "SHAPE (120, 160, 3) uint8 1 1" in out.stdout, out.stdout + out.stderr[-2000:]
+
+
 def test_time_limits():
     env = make("mjrft/BipedRigid-v0", max_episode_steps=3)
     env.reset(seed=0)
