@@ -56,6 +56,8 @@ _SUPPORTED_GEOMS = {
     int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID), int(mujoco.mjtGeom.mjGEOM_MESH),
 }
 STABILITY_CHECK_EVERY = 50
+CULL_GROUP = 32  # elements per cull box (the kernel skips a box lying wholly above the surface)
+CULL_PAD = 1e-9  # m, added to each cull box's half sizes: rounding never culls an element at the surface
 _STEP_FUNCTIONS = kernel.mujoco_step_functions()  # None -> the plain Python stepping loop is used
 
 
@@ -220,6 +222,13 @@ def _hfield_surface(model: mujoco.MjModel, name) -> tuple[int, np.ndarray, np.nd
     frame = np.array([d.geom_xpos[g, 0], d.geom_xpos[g, 1], R[0, 0], R[1, 0], rx, ry,
                       (ncol - 1) / (2 * rx), (nrow - 1) / (2 * ry)], dtype=np.float64)
     return g, np.ascontiguousarray(z.reshape(nrow, ncol)), frame
+
+
+def _in_geom_frame(model: mujoco.MjModel, gid: int, pos: np.ndarray) -> np.ndarray:
+    """Body-frame points (n, 3) in the frame of geom ``gid`` (the frame of ``geom_xmat`` / ``geom_aabb``)."""
+    rot = np.zeros(9)
+    mujoco.mju_quat2Mat(rot, model.geom_quat[gid])
+    return (np.asarray(pos, dtype=np.float64) - model.geom_pos[gid]) @ rot.reshape(3, 3)
 
 
 class GranularTerrain:
@@ -407,23 +416,35 @@ class GranularTerrain:
         if not groups:
             raise ValueError("no geoms selected for the granular terrain")
         self.geom_ids = np.array([g for g, _ in groups], dtype=np.int64)
-        self._g_body = np.array([model.geom_bodyid[g] for g in self.geom_ids], dtype=np.int64)
         counts = [len(el) for _, el in groups]
-        self._g_start = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
-        # per-geom cull box (centre, half sizes in the geom frame); elements lie on the geom's surface, inside it
-        self._g_aabb = np.ascontiguousarray(model.geom_aabb[self.geom_ids], dtype=np.float64).reshape(-1, 6)
+        # the kernel's cull groups: runs of at most CULL_GROUP consecutive elements of one geom, each
+        # with the box of its element points in the geom frame (centre, half sizes: what MuJoCo's
+        # geom_aabb is for the whole geom), so the half of a leg above the sand costs no element work
+        g_geom, g_start, g_aabb = [], [0], []
+        for gid, el in groups:
+            local = _in_geom_frame(model, gid, el.pos)
+            for a in range(0, len(el), CULL_GROUP):
+                pts = local[a:a + CULL_GROUP]
+                lo, hi = pts.min(axis=0), pts.max(axis=0)
+                g_geom.append(gid)
+                g_start.append(g_start[-1] + len(pts))
+                g_aabb.append(np.concatenate([(lo + hi) / 2, (hi - lo) / 2 + CULL_PAD]))
+        self._g_geom = np.array(g_geom, dtype=np.int64)
+        self._g_body = np.ascontiguousarray(model.geom_bodyid[self._g_geom], dtype=np.int64)
+        self._g_start = np.array(g_start, dtype=np.int64)
+        self._g_aabb = np.ascontiguousarray(np.array(g_aabb, dtype=np.float64).reshape(-1, 6))
         self.elements = Elements.concatenate([el for _, el in groups])
         n = len(self.elements)
         self._e_lpos = np.ascontiguousarray(self.elements.pos, dtype=np.float64)
         self._e_lnrm = np.ascontiguousarray(self.elements.normal, dtype=np.float64)
         self.area = np.ascontiguousarray(self.elements.area, dtype=np.float64)
         self.elem_geom = np.repeat(self.geom_ids, counts)
-        self.elem_body = np.repeat(self._g_body, counts)
+        self.elem_body = np.ascontiguousarray(model.geom_bodyid[self.elem_geom], dtype=np.int64)
         self.body_ids = np.unique(self._g_body)
         self._rootid = np.ascontiguousarray(model.body_rootid, dtype=np.int64)
 
         # --- per-step state and outputs ---
-        self._g_active = np.zeros(len(self.geom_ids), dtype=np.bool_)
+        self._g_active = np.zeros(len(self._g_geom), dtype=np.bool_)
         self._u = np.zeros((n, 3))
         self._scr_f = np.zeros((12, n))  # the kernel's gather/scatter scratch (batched law)
         self._scr_i = np.zeros((2, n), dtype=np.int64)
@@ -517,7 +538,7 @@ class GranularTerrain:
         return self.wrench
 
     def _kernel_args(self, dt) -> tuple:
-        return (self.geom_ids, self._g_body, self._g_start, self._g_aabb, self._g_active,
+        return (self._g_geom, self._g_body, self._g_start, self._g_aabb, self._g_active,
                 self._e_lpos, self._e_lnrm, self.area, *self._views, self._rootid,
                 self.surface, self._top, self._reg_bounds, self._reg_law, self._reg_params,
                 self._hf_z, self._hf_frame, self._reg_map, self._reg_map_frame, self._reg_rho, self.transition,

@@ -301,11 +301,14 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    wrench, stiff, damp, scr_f, scr_i):
     """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
 
-    A geom is culled (no element work at all) while the lowest corner of its bounding box
-    (``g_aabb``: MuJoCo's ``geom_aabb``, centre and half sizes in the geom frame) is at or above
-    ``top`` (the highest sand or water surface anywhere): exact for boxes, tight for the other
-    shapes, so a torso riding just above the sand costs nothing. An element at or above the highest
-    water surface over its own sand (``depth <= -max water depth``) only has its position updated.
+    Elements come in cull groups (``g_*``: runs of up to ``coupler.CULL_GROUP`` elements of one geom).
+    A group is skipped (no element work at all; on the step it is first skipped its elements' force,
+    memory and depth are zeroed) while the lowest corner of its box (``g_aabb``: centre and half sizes
+    in the geom frame of ``g_geom``, around the group's element points) is at or above ``top`` (the
+    highest sand or water surface anywhere), so a torso riding just above the sand and the upper half
+    of a leg cost nothing. In a group that is not skipped, pass 1 updates every element's position and
+    depth without branching and lists those within reach of grains or water (``depth > -max water
+    depth``); pass 2 does the rest below for the listed ones only.
 
     Per element: ``depth`` = local sand surface height (:func:`surface_height`) - z, positive in the
     sand; the regions at its (x, y) (:func:`region_weights`; with one region no region work at all)
@@ -351,8 +354,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         if breg < 0 and reg_law[r] == 0 and not (reg_params[r, P_WATER_DEPTH] > 0.0 or reg_rho[r] > 0.0):
             breg = r
     pb = reg_params[max(breg, 0)]
-    # the common case (one dry Li-RFT region on a flat surface) has its own element pass, :func:`_flat_dry_geom`
-    flat_dry_rft = nreg == 1 and breg == 0 and not has_hf
+    one_dry_rft = nreg == 1 and breg == 0
     nbat = 0
     regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
     for b in range(wrench.shape[0]):
@@ -386,61 +388,56 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         r = rootid[b]
         cx, cy, cz = subtree_com[r, 0], subtree_com[r, 1], subtree_com[r, 2]
         bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
-        if flat_dry_rft:
-            # The common case (one dry Li-RFT region, flat surface): the same arithmetic as the general
-            # loop below, in two passes instead of one branching loop. Pass 1 transforms every element's
-            # position without a branch (depth, ``pos``; force and memory cleared when it leaves the
-            # grains) and lists the buried ones in ``scr_i[0]``; pass 2 runs the normal, velocity and
-            # memory update over that list and gathers the elements for the batched law. (Written out
-            # here: as a function called per geom, passing the arrays cost as much as the work.)
-            n0 = nbat
-            bad = 0.0
-            # the rotation in locals: the stores below could alias ``R`` as far as the compiler knows
-            r0, r1, r2, r3, r4, r5, r6, r7, r8 = R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8]
-            for i in range(e0, e1):
-                ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
-                pz = oz + r6 * ax + r7 * ay + r8 * az
-                px = ox + r0 * ax + r1 * ay + r2 * az
-                py = oy + r3 * ax + r4 * ay + r5 * az
+        # Pass 1, every element of the group: its position and depth, with no branch the processor could
+        # mispredict; the elements within reach of grains or water (depth > -wmax) are listed in
+        # scr_i[0] (from nbat on, so that the batch gathered in pass 2 can overwrite the list behind it).
+        # Force and memory are cleared here only when an element leaves that reach: above it both are
+        # zero already.
+        r0, r1, r2, r3, r4, r5, r6, r7, r8 = R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8]
+        nlist = nbat
+        bad = 0.0
+        for i in range(e0, e1):
+            ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
+            pz = oz + r6 * ax + r7 * ay + r8 * az
+            px = ox + r0 * ax + r1 * ay + r2 * az
+            py = oy + r3 * ax + r4 * ay + r5 * az
+            if has_hf:
+                depth = surface_height(px, py, surface, hf_z, hf_frame) - pz
+            else:
                 depth = surface - pz
-                bad += px * 0.0 + py * 0.0 + pz * 0.0  # NaN once any coordinate is not finite
-                if depth <= 0.0 and out_depth[i] > 0.0:  # it left the grains: force and memory go (they are zero
-                    out_force[i, 0] = 0.0                # for every other element above the surface)
-                    out_force[i, 1] = 0.0
-                    out_force[i, 2] = 0.0
-                    u[i, 0] = 0.0
-                    u[i, 1] = 0.0
-                    u[i, 2] = 0.0
-                out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
-                out_depth[i] = depth
-                scr_i[0, nbat] = i
-                nbat += 1 if depth > 0.0 else 0
-            if bad != 0.0:
-                return BAD_STATE, b
-            listed = nbat
-            nbat = n0
-            for q in range(n0, listed):
+            bad += px * 0.0 + py * 0.0 + pz * 0.0  # NaN once any coordinate is not finite
+            if depth <= -wmax and out_depth[i] > -wmax:
+                for j in range(3):
+                    u[i, j] = 0.0
+                    out_force[i, j] = 0.0
+            out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
+            out_depth[i] = depth
+            scr_i[0, nlist] = i
+            nlist += 1 if depth > -wmax else 0
+        if bad != 0.0:
+            return BAD_STATE, b
+        # Pass 2, the listed elements: region, memory, law. First the common scene (one dry Li-RFT
+        # region): the general loop's steps for it, without the region and water branches (about 9%
+        # of the kernel's time); tested equal to the general loop.
+        if one_dry_rft:
+            for q in range(nbat, nlist):
                 i = scr_i[0, q]
-                px, py, pz = out_pos[i, 0], out_pos[i, 1], out_pos[i, 2]
                 ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
                 nx = r0 * ax + r1 * ay + r2 * az
                 ny = r3 * ax + r4 * ay + r5 * az
                 nz = r6 * ax + r7 * ay + r8 * az
-                dx, dy, dz = px - cx, py - cy, pz - cz
+                dx, dy, dz = out_pos[i, 0] - cx, out_pos[i, 1] - cy, out_pos[i, 2] - cz
                 vx = lx + wy * dz - wz * dy
                 vy = ly + wz * dx - wx * dz
                 vz = lz + wx * dy - wy * dx
                 if not _isfinite3(vx, vy, vz):
                     return BAD_STATE, b
                 out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
-                out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz  # (out_region: always region 0 here)
+                out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
                 if e_area[i] <= 0.0:
-                    u[i, 0] = 0.0
-                    u[i, 1] = 0.0
-                    u[i, 2] = 0.0
-                    out_force[i, 0] = 0.0
-                    out_force[i, 1] = 0.0
-                    out_force[i, 2] = 0.0
+                    for j in range(3):
+                        u[i, j] = 0.0
+                        out_force[i, j] = 0.0
                     continue
                 speed = math.sqrt(vx * vx + vy * vy + vz * vz)
                 if delta > 0.0:
@@ -473,19 +470,13 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     scr_i[1, nbat] = b
                     nbat += 1
                 else:
-                    out_force[i, 0] = 0.0
-                    out_force[i, 1] = 0.0
-                    out_force[i, 2] = 0.0
+                    for j in range(3):
+                        out_force[i, j] = 0.0
             continue
-        for i in range(e0, e1):
-            ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
-            pz = oz + R[6] * ax + R[7] * ay + R[8] * az
-            px = ox + R[0] * ax + R[1] * ay + R[2] * az
-            py = oy + R[3] * ax + R[4] * ay + R[5] * az
-            if has_hf:
-                depth = surface_height(px, py, surface, hf_z, hf_frame) - pz
-            else:
-                depth = surface - pz
+        for q in range(nbat, nlist):
+            i = scr_i[0, q]
+            px, py, pz = out_pos[i, 0], out_pos[i, 1], out_pos[i, 2]
+            depth = out_depth[i]
             single = True  # the element lies in one region (no blending)
             reg = 0
             if nreg > 1 and depth > -wmax:
@@ -523,29 +514,25 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 law = reg_law[reg]
                 hw = p[P_WATER_DEPTH]
                 dry = not (hw > 0.0 or reg_rho[reg] > 0.0)
-            if depth <= -wmax or (single and depth <= -hw):
-                # above the grains and any water: only the position is kept up to date
-                out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
-                out_depth[i] = depth
+            if single and depth <= -hw:  # above its region's grains and water: no force, no memory
                 for j in range(3):
                     u[i, j] = 0.0
                     out_force[i, j] = 0.0
                 continue
             ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
-            nx = R[0] * ax + R[1] * ay + R[2] * az
-            ny = R[3] * ax + R[4] * ay + R[5] * az
-            nz = R[6] * ax + R[7] * ay + R[8] * az
+            nx = r0 * ax + r1 * ay + r2 * az
+            ny = r3 * ax + r4 * ay + r5 * az
+            nz = r6 * ax + r7 * ay + r8 * az
             dx, dy, dz = px - cx, py - cy, pz - cz
             vx = lx + wy * dz - wz * dy
             vy = ly + wz * dx - wx * dz
             vz = lz + wx * dy - wy * dx
-            if not (_isfinite3(px, py, pz) and _isfinite3(vx, vy, vz)):
+            if not _isfinite3(vx, vy, vz):
                 return BAD_STATE, b
-            out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
             out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
             out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
-            out_depth[i] = depth
-            out_region[i] = reg
+            if nreg > 1:  # (with one region it stays 0)
+                out_region[i] = reg
             speed = math.sqrt(vx * vx + vy * vy + vz * vz)
             if depth <= 0.0 or e_area[i] <= 0.0:  # out of the grains: no memory
                 u[i, 0] = 0.0

@@ -286,10 +286,10 @@ def test_regions_pick_the_law_by_position():
 @pytest.mark.filterwarnings("ignore::mjrft.TerrainStabilityWarning")  # the viscous mode at 1 ms on a leg
 @pytest.mark.parametrize("yield_displacement", [None, 0.0])  # the elastic-plastic memory and the viscous mode
 def test_flat_dry_pass_equals_general_loop(yield_displacement):
-    """The kernel's two-pass element work for the common scene (one dry Li-RFT region, flat surface)
-    gives what its general per-element loop gives. The general loop is reached with a second region
-    that no element reaches (x >= 50 m, the same medium): same physics, other code path. Compared
-    on every step of a walking hexapod whose legs enter and leave the sand."""
+    """The kernel's pass 2 written out for the common scene (one dry Li-RFT region) gives what its
+    general pass 2 gives. The general one is reached with a second region that no element reaches
+    (x >= 50 m, the same medium): same physics, other code path. Compared on every step of a walking
+    hexapod whose legs enter and leave the sand (cull groups switching on and off included)."""
     from mjrft.models import hexapod_model
     m = hexapod_model()
     d = mujoco.MjData(m)
