@@ -194,6 +194,27 @@ def region_weights_many(xs, ys, reg_bounds, reg_map, reg_map_frame, blend, out):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _rest_memory(u, i, vx, vy, vz, speed, dt, delta, tau, v_eps):
+    """Advance element ``i``'s rest memory ``u[i]`` by ``dt`` at velocity ``v`` and return the regularised
+    motion (mx, my, mz, |m|, mobilisation) that the law sees (module docstring): with ``delta > 0``
+    ``m = u + tau v``, mobilisation ``min(1, |m| / delta)``; in the viscous mode ``m = v``,
+    ``min(1, |v| / v_eps)``."""
+    if delta > 0.0:
+        if speed > 0.0:
+            a = math.exp(-speed * dt / delta)
+            s = delta / speed
+            u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
+            u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
+            u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
+        mx = u[i, 0] + tau * vx
+        my = u[i, 1] + tau * vy
+        mz = u[i, 2] + tau * vz
+        ml = math.sqrt(mx * mx + my * my + mz * mz)
+        return mx, my, mz, ml, min(1.0, ml / delta)
+    return vx, vy, vz, speed, (min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _linear_stiffness(fx, fy, fz, ml, delta, v_eps):
     """Linearised stiffness of an element force ``|F| / max(|m|, delta)`` (the damping
     ``|F| / max(|v|, v_eps)`` in the viscous mode), see the module docstring."""
@@ -370,7 +391,21 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         G = geom_xmat[gid]
         lowest = (geom_xpos[gid, 2] + G[6] * g_aabb[g, 0] + G[7] * g_aabb[g, 1] + G[8] * g_aabb[g, 2]
                   - abs(G[6]) * g_aabb[g, 3] - abs(G[7]) * g_aabb[g, 4] - abs(G[8]) * g_aabb[g, 5])
-        if lowest >= top:
+        # A group lying wholly inside the dry Li-RFT strip (farther than blend / 2 from its edges) is
+        # treated as the one-region scene: no water over it, so it is culled at the sand's top, only
+        # buried elements are within reach, and it takes the short pass 2.
+        dry_group = one_dry_rft
+        if not dry_group and breg >= 0 and nb > 0 and not has_map and lowest < top:
+            gxc = geom_xpos[gid, 0] + G[0] * g_aabb[g, 0] + G[1] * g_aabb[g, 1] + G[2] * g_aabb[g, 2]
+            gxh = abs(G[0]) * g_aabb[g, 3] + abs(G[1]) * g_aabb[g, 4] + abs(G[2]) * g_aabb[g, 5]
+            xlo = gxc - gxh - 0.5 * blend
+            xhi = gxc + gxh + 0.5 * blend
+            greg = 0
+            while greg < nb and xlo >= reg_bounds[greg]:
+                greg += 1
+            dry_group = greg == breg and (greg == nb or xhi < reg_bounds[greg])
+        reach = 0.0 if dry_group else wmax
+        if lowest >= top - wmax + reach:
             if g_active[g]:
                 for i in range(e0, e1):
                     for j in range(3):
@@ -389,10 +424,10 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         cx, cy, cz = subtree_com[r, 0], subtree_com[r, 1], subtree_com[r, 2]
         bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
         # Pass 1, every element of the group: its position and depth, with no branch the processor could
-        # mispredict; the elements within reach of grains or water (depth > -wmax) are listed in
+        # mispredict; the elements within reach of grains or water (depth > -reach) are listed in
         # scr_i[0] (from nbat on, so that the batch gathered in pass 2 can overwrite the list behind it).
-        # Force and memory are cleared here only when an element leaves that reach: above it both are
-        # zero already.
+        # Force and memory are cleared here only for an element out of reach that may have had them
+        # (within reach of the deepest water on its last step); the others' are zero already.
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8]
         nlist = nbat
         bad = 0.0
@@ -406,20 +441,20 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             else:
                 depth = surface - pz
             bad += px * 0.0 + py * 0.0 + pz * 0.0  # NaN once any coordinate is not finite
-            if depth <= -wmax and out_depth[i] > -wmax:
+            if depth <= -reach and out_depth[i] > -wmax:
                 for j in range(3):
                     u[i, j] = 0.0
                     out_force[i, j] = 0.0
             out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
             out_depth[i] = depth
             scr_i[0, nlist] = i
-            nlist += 1 if depth > -wmax else 0
+            nlist += 1 if depth > -reach else 0
         if bad != 0.0:
             return BAD_STATE, b
-        # Pass 2, the listed elements: region, memory, law. First the common scene (one dry Li-RFT
-        # region): the general loop's steps for it, without the region and water branches (about 9%
-        # of the kernel's time); tested equal to the general loop.
-        if one_dry_rft:
+        # Pass 2, the listed elements: region, memory, law. First a dry group (one dry Li-RFT region
+        # everywhere, or the group inside such a strip): the general loop's steps for it, without the
+        # region and water branches (about 9% of the kernel's time); tested equal to the general loop.
+        if dry_group:
             for q in range(nbat, nlist):
                 i = scr_i[0, q]
                 ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
@@ -434,27 +469,15 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     return BAD_STATE, b
                 out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
                 out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
+                if nreg > 1:
+                    out_region[i] = breg
                 if e_area[i] <= 0.0:
                     for j in range(3):
                         u[i, j] = 0.0
                         out_force[i, j] = 0.0
                     continue
                 speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-                if delta > 0.0:
-                    if speed > 0.0:
-                        a = math.exp(-speed * dt / delta)
-                        s = delta / speed
-                        u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
-                        u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
-                        u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
-                    mx = u[i, 0] + tau * vx
-                    my = u[i, 1] + tau * vy
-                    mz = u[i, 2] + tau * vz
-                    ml = math.sqrt(mx * mx + my * my + mz * mz)
-                    mob = min(1.0, ml / delta)
-                else:
-                    mx, my, mz, ml = vx, vy, vz, speed
-                    mob = min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0
+                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt, delta, tau, v_eps)
                 if ml > 0.0:
                     iml = 1.0 / ml
                     scr_f[0, nbat] = nx
@@ -544,21 +567,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     out_force[i, 2] = 0.0
                     continue
                 mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0  # in the water above the sand
-            elif delta > 0.0:
-                if speed > 0.0:
-                    a = math.exp(-speed * dt / delta)
-                    s = delta / speed
-                    u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
-                    u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
-                    u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
-                mx = u[i, 0] + tau * vx
-                my = u[i, 1] + tau * vy
-                mz = u[i, 2] + tau * vz
-                ml = math.sqrt(mx * mx + my * my + mz * mz)
-                mob = min(1.0, ml / delta)
             else:
-                mx, my, mz, ml = vx, vy, vz, speed
-                mob = min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0
+                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt, delta, tau, v_eps)
             fx = 0.0
             fy = 0.0
             fz = 0.0

@@ -378,53 +378,50 @@ def _title(s: dict) -> str:
     return f"{s.get('medium', '?')}, law {s.get('law', '?')}, elements {s.get('resolution', 0) * 1000:g} mm"
 
 
+def _plot_three(profs: dict, path, kind, x_of, series_of, names, xlabel: str, title: str) -> str:
+    """Three stacked panels (``names``) of ``series_of(p)`` against ``x_of(p)``, one line per profile."""
+    if not all(isinstance(p, kind) for p in profs.values()):
+        raise TypeError(f"expected {kind.__name__} objects")
+    fig, ax = _figure(3)
+    for p in profs.values():
+        for a, y in zip(ax, series_of(p)):
+            a.plot(x_of(p), y, label=p.label)
+    for a, name in zip(ax, names):
+        a.set_ylabel(name)
+        a.axhline(0.0, color="0.7", lw=0.8)
+        a.grid(alpha=0.3)
+    ax[-1].set_xlabel(xlabel)
+    ax[0].legend(fontsize=8)
+    ax[0].set_title(f"{title}; {_title(next(iter(profs.values())).settings)}", fontsize=9)
+    fig.savefig(path, dpi=110)
+    return str(path)
+
+
 def plot_plate(profiles, path) -> str:
     """PNG of lift, drag and torque against plate-centre depth (against travel for horizontal drags);
     one profile or a dict of them overlaid. Returns the path."""
     profs = _as_dict(profiles)
-    if not all(isinstance(p, PlateProfile) for p in profs.values()):
-        raise TypeError("plot_plate expects PlateProfile objects")
-    fig, ax = _figure(3)
-    horizontal = all(p.settings.get("path") == "horizontal" for p in profs.values())
-    for p in profs.values():
-        xv = p.travel * 100 if horizontal else p.depth * 100
-        for a, y in zip(ax, (p.lift, p.drag, p.torque * 1000)):
-            a.plot(xv, y, label=p.label)
-    for a, name in zip(ax, ("lift F_z (N)", "drag (N)", "torque about +y (N mm)")):
-        a.set_ylabel(name)
-        a.axhline(0.0, color="0.7", lw=0.8)
-        a.grid(alpha=0.3)
-    ax[-1].set_xlabel("travel (cm)" if horizontal else "plate centre depth (cm)")
-    ax[0].legend(fontsize=8)
+    horizontal = all(isinstance(p, PlateProfile) and p.settings.get("path") == "horizontal" for p in profs.values())
     first = next(iter(profs.values())).settings
-    ax[0].set_title(f"plate {first.get('length', 0) * 100:g} x {first.get('width', 0) * 100:g} cm, "
-                    f"{first.get('speed', 0) * 100:g} cm/s; {_title(first)}", fontsize=9)
-    fig.savefig(path, dpi=110)
-    return str(path)
+    return _plot_three(profs, path, PlateProfile, lambda p: (p.travel if horizontal else p.depth) * 100,
+                       lambda p: (p.lift, p.drag, p.torque * 1000),
+                       ("lift F_z (N)", "drag (N)", "torque about +y (N mm)"),
+                       "travel (cm)" if horizontal else "plate centre depth (cm)",
+                       f"plate {first.get('length', 0) * 100:g} x {first.get('width', 0) * 100:g} cm, "
+                       f"{first.get('speed', 0) * 100:g} cm/s")
 
 
 def plot_leg(profiles, path) -> str:
     """PNG of forward force, support force and drive torque against leg angle (degrees); one profile
     or a dict of them overlaid. Returns the path."""
     profs = _as_dict(profiles)
-    if not all(isinstance(p, LegProfile) for p in profs.values()):
-        raise TypeError("plot_leg expects LegProfile objects")
-    fig, ax = _figure(3)
-    for p in profs.values():
-        deg = np.degrees(p.angle)
-        for a, y in zip(ax, (p.forward, p.support, p.torque * 1000)):
-            a.plot(deg, y, label=p.label)
-    for a, name in zip(ax, ("forward F_x (N)", "support F_z (N)", "drive torque (N mm)")):
-        a.set_ylabel(name)
-        a.axhline(0.0, color="0.7", lw=0.8)
-        a.grid(alpha=0.3)
-    ax[-1].set_xlabel("leg angle from straight down (deg; + = tip swung backward)")
-    ax[0].legend(fontsize=8)
     first = next(iter(profs.values())).settings
-    ax[0].set_title(f"axle {first.get('axle_height', 0) * 100:g} cm above the surface, "
-                    f"omega {first.get('omega', 0):g} rad/s; {_title(first)}", fontsize=9)
-    fig.savefig(path, dpi=110)
-    return str(path)
+    return _plot_three(profs, path, LegProfile, lambda p: np.degrees(p.angle),
+                       lambda p: (p.forward, p.support, p.torque * 1000),
+                       ("forward F_x (N)", "support F_z (N)", "drive torque (N mm)"),
+                       "leg angle from straight down (deg; + = tip swung backward)",
+                       f"axle {first.get('axle_height', 0) * 100:g} cm above the surface, "
+                       f"omega {first.get('omega', 0):g} rad/s")
 
 
 # ------------------------------------------------------------------------------------------------

@@ -286,17 +286,19 @@ def test_regions_pick_the_law_by_position():
 @pytest.mark.filterwarnings("ignore::mjrft.TerrainStabilityWarning")  # the viscous mode at 1 ms on a leg
 @pytest.mark.parametrize("yield_displacement", [None, 0.0])  # the elastic-plastic memory and the viscous mode
 def test_flat_dry_pass_equals_general_loop(yield_displacement):
-    """The kernel's pass 2 written out for the common scene (one dry Li-RFT region) gives what its
-    general pass 2 gives. The general one is reached with a second region that no element reaches
-    (x >= 50 m, the same medium): same physics, other code path. Compared on every step of a walking
-    hexapod whose legs enter and leave the sand (cull groups switching on and off included)."""
+    """The kernel's pass 2 written out for dry groups (one dry Li-RFT region) gives what its general
+    pass 2 gives. The general one is reached through a region map (never specialised) of one cell
+    holding the same medium and law: same physics, other code path. Compared on every step of a
+    walking hexapod whose legs enter and leave the sand (cull groups switching on and off included)."""
+    from mjrft.coupler import RegionMap
     from mjrft.models import hexapod_model
     m = hexapod_model()
     d = mujoco.MjData(m)
     fast = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement)
     general = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement,
-                                    regions=[mjrft.Region(50.0, fast.medium, "rft")])
-    assert general._reg_law.shape[0] == 2 and fast._reg_law.shape[0] == 1
+                                    regions=[mjrft.Region(None, fast.medium, "rft")],
+                                    region_map=RegionMap(np.ones((1, 1), dtype=np.int64), -10.0, -10.0, 20.0))
+    assert general._reg_law.shape[0] == 2 and fast._reg_law.shape[0] == 1 and general._reg_map.size == 1
     rows = fast.body_ids
     left = entered = 0
     for k in range(400):
@@ -334,3 +336,30 @@ def test_flat_dry_pass_reports_nonfinite_position():
     d.xpos[leg, 0] = np.inf  # a leg near the sand (not culled) with a corrupted position
     with pytest.raises(mjrft.NonFiniteError, match=r"non-finite state .* on body 'leg_rf'"):
         t.compute(d)
+
+
+def test_group_inside_the_dry_strip_of_a_shoal_costs_and_gives_what_the_dry_scene_does():
+    """Strips of saturated sand and water from x = 0.5 m change nothing for a robot walking in the
+    dry strip before them: the same forces, memory and wrench as the one-region dry scene, on every
+    step (its groups take the dry pass; those near the strip edge, within the blend, the general one)."""
+    from mjrft.models import hexapod_model
+    m = hexapod_model()
+    d = mujoco.MjData(m)
+    dry = mjrft.GranularTerrain(m, resolution=0.008)
+    shoal = mjrft.GranularTerrain(m, resolution=0.008, buoyancy=True, regions=[
+        mjrft.Region(0.5, "sea_sand_saturated", "wet"), mjrft.Region(1.0, "sea_sand_saturated", "wet", 0.02)])
+    assert shoal._top == pytest.approx(0.02)
+    rows = dry.body_ids
+    for k in range(300):
+        d.ctrl[:] = 2 * np.pi * 2.0 * d.time + np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
+        mujoco.mj_step1(m, d)
+        dry.compute(d)
+        shoal.compute(d)
+        np.testing.assert_array_equal(dry.force, shoal.force)
+        np.testing.assert_array_equal(dry._u, shoal._u)
+        np.testing.assert_array_equal(dry.wrench, shoal.wrench)
+        assert np.all(shoal.region[shoal.depth > 0] == 0)
+        d.xfrc_applied[rows] = dry.wrench[rows]
+        mujoco.mj_step2(m, d)
+        d.xfrc_applied[rows] = 0.0
+    assert 0.0 < d.qpos[0] < 0.4  # it walked, inside the dry strip
