@@ -194,14 +194,15 @@ def region_weights_many(xs, ys, reg_bounds, reg_map, reg_map_frame, blend, out):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _rest_memory(u, i, vx, vy, vz, speed, dt, delta, tau, v_eps):
-    """Advance element ``i``'s rest memory ``u[i]`` by ``dt`` at velocity ``v`` and return the regularised
+def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps):
+    """Advance element ``i``'s rest memory ``u[i]`` by ``dt`` (``dt_d`` = dt / delta, ``inv_d`` = 1 / delta,
+    hoisted out of the element loop) at velocity ``v`` and return the regularised
     motion (mx, my, mz, |m|, mobilisation) that the law sees (module docstring): with ``delta > 0``
     ``m = u + tau v``, mobilisation ``min(1, |m| / delta)``; in the viscous mode ``m = v``,
     ``min(1, |v| / v_eps)``."""
     if delta > 0.0:
         if speed > 0.0:
-            a = math.exp(-speed * dt / delta)
+            a = math.exp(-speed * dt_d)
             s = delta / speed
             u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
             u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
@@ -210,7 +211,7 @@ def _rest_memory(u, i, vx, vy, vz, speed, dt, delta, tau, v_eps):
         my = u[i, 1] + tau * vy
         mz = u[i, 2] + tau * vz
         ml = math.sqrt(mx * mx + my * my + mz * mz)
-        return mx, my, mz, ml, min(1.0, ml / delta)
+        return mx, my, mz, ml, min(1.0, ml * inv_d)
     return vx, vy, vz, speed, (min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0)
 
 
@@ -376,6 +377,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             breg = r
     pb = reg_params[max(breg, 0)]
     one_dry_rft = nreg == 1 and breg == 0
+    dt_d = dt / delta if delta > 0.0 else 0.0
+    inv_d = 1.0 / delta if delta > 0.0 else 0.0
     nbat = 0
     regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
     for b in range(wrench.shape[0]):
@@ -477,7 +480,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                         out_force[i, j] = 0.0
                     continue
                 speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt, delta, tau, v_eps)
+                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
                 if ml > 0.0:
                     iml = 1.0 / ml
                     scr_f[0, nbat] = nx
@@ -568,7 +571,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     continue
                 mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0  # in the water above the sand
             else:
-                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt, delta, tau, v_eps)
+                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
             fx = 0.0
             fy = 0.0
             fz = 0.0
