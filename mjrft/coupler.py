@@ -269,7 +269,8 @@ class GranularTerrain:
     leading projected area (law ``water`` of :mod:`mjrft.laws.wet`, evaluated on the element's real
     velocity: it fades to zero over the 1 mm ``water_skin`` below the water surface and over the same
     skin into the sand, where the sand law takes over from zero); above the water nothing. Culling
-    uses the highest surface, sand or water, so a dry scene keeps its cost. A region whose law is
+    uses the highest surface, sand or water, except for cull groups wholly inside a dry Li-RFT strip
+    (beyond the blend), culled at the sand's top: a dry scene and a scene's dry strip keep their cost. A region whose law is
     ``water`` is open water with no granular bottom response (the scene's rigid bed bottom holds).
 
     Buoyancy (``buoyancy=True``). Every element below the local water surface feels the hydrostatic
