@@ -194,6 +194,24 @@ def region_weights_many(xs, ys, reg_bounds, reg_map, reg_map_frame, blend, out):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin):
+    """Element ``i``'s world normal (body rotation ``rot``, row-major) and velocity (from the body's
+    ``cvel``: angular ``spin``, linear ``lin`` at the subtree centre of mass ``com``), written to
+    ``out_nrm`` / ``out_vel`` and returned as (nx, ny, nz, vx, vy, vz)."""
+    ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
+    nx = rot[0] * ax + rot[1] * ay + rot[2] * az
+    ny = rot[3] * ax + rot[4] * ay + rot[5] * az
+    nz = rot[6] * ax + rot[7] * ay + rot[8] * az
+    dx, dy, dz = out_pos[i, 0] - com[0], out_pos[i, 1] - com[1], out_pos[i, 2] - com[2]
+    vx = lin[0] + spin[1] * dz - spin[2] * dy
+    vy = lin[1] + spin[2] * dx - spin[0] * dz
+    vz = lin[2] + spin[0] * dy - spin[1] * dx
+    out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
+    out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
+    return nx, ny, nz, vx, vy, vz
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps):
     """Advance element ``i``'s rest memory ``u[i]`` by ``dt`` (``dt_d`` = dt / delta, ``inv_d`` = 1 / delta,
     hoisted out of the element loop) at velocity ``v`` and return the regularised
@@ -432,6 +450,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         # Force and memory are cleared here only for an element out of reach that may have had them
         # (within reach of the deepest water on its last step); the others' are zero already.
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8]
+        rot = (r0, r1, r2, r3, r4, r5, r6, r7, r8)
+        com, spin, lin = (cx, cy, cz), (wx, wy, wz), (lx, ly, lz)
         nlist = nbat
         bad = 0.0
         for i in range(e0, e1):
@@ -460,18 +480,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         if dry_group:
             for q in range(nbat, nlist):
                 i = scr_i[0, q]
-                ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
-                nx = r0 * ax + r1 * ay + r2 * az
-                ny = r3 * ax + r4 * ay + r5 * az
-                nz = r6 * ax + r7 * ay + r8 * az
-                dx, dy, dz = out_pos[i, 0] - cx, out_pos[i, 1] - cy, out_pos[i, 2] - cz
-                vx = lx + wy * dz - wz * dy
-                vy = ly + wz * dx - wx * dz
-                vz = lz + wx * dy - wy * dx
+                nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
                 if not _isfinite3(vx, vy, vz):
                     return BAD_STATE, b
-                out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
-                out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
                 if nreg > 1:
                     out_region[i] = breg
                 if e_area[i] <= 0.0:
@@ -545,18 +556,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     u[i, j] = 0.0
                     out_force[i, j] = 0.0
                 continue
-            ax, ay, az = e_lnrm[i, 0], e_lnrm[i, 1], e_lnrm[i, 2]
-            nx = r0 * ax + r1 * ay + r2 * az
-            ny = r3 * ax + r4 * ay + r5 * az
-            nz = r6 * ax + r7 * ay + r8 * az
-            dx, dy, dz = px - cx, py - cy, pz - cz
-            vx = lx + wy * dz - wz * dy
-            vy = ly + wz * dx - wx * dz
-            vz = lz + wx * dy - wy * dx
+            nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
             if not _isfinite3(vx, vy, vz):
                 return BAD_STATE, b
-            out_vel[i, 0], out_vel[i, 1], out_vel[i, 2] = vx, vy, vz
-            out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2] = nx, ny, nz
             if nreg > 1:  # (with one region it stays 0)
                 out_region[i] = reg
             speed = math.sqrt(vx * vx + vy * vy + vz * vz)
