@@ -212,6 +212,31 @@ def _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth):
+    """Put element ``i`` (body ``b``) into the batch for the vectorised law at slot ``nbat`` (normal, unit
+    motion, depth, mobilisation, |m|); returns the new batch size. Without motion (``|m| = 0``) the
+    element has no force and is not gathered."""
+    if ml > 0.0:
+        iml = 1.0 / ml
+        scr_f[0, nbat] = nx
+        scr_f[1, nbat] = ny
+        scr_f[2, nbat] = nz
+        scr_f[3, nbat] = mx * iml
+        scr_f[4, nbat] = my * iml
+        scr_f[5, nbat] = mz * iml
+        scr_f[6, nbat] = depth
+        scr_f[7, nbat] = mob
+        scr_f[8, nbat] = ml
+        scr_i[0, nbat] = i
+        scr_i[1, nbat] = b
+        return nbat + 1
+    out_force[i, 0] = 0.0
+    out_force[i, 1] = 0.0
+    out_force[i, 2] = 0.0
+    return nbat
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps):
     """Advance element ``i``'s rest memory ``u[i]`` by ``dt`` (``dt_d`` = dt / delta, ``inv_d`` = 1 / delta,
     hoisted out of the element loop) at velocity ``v`` and return the regularised
@@ -492,23 +517,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     continue
                 speed = math.sqrt(vx * vx + vy * vy + vz * vz)
                 mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
-                if ml > 0.0:
-                    iml = 1.0 / ml
-                    scr_f[0, nbat] = nx
-                    scr_f[1, nbat] = ny
-                    scr_f[2, nbat] = nz
-                    scr_f[3, nbat] = mx * iml
-                    scr_f[4, nbat] = my * iml
-                    scr_f[5, nbat] = mz * iml
-                    scr_f[6, nbat] = out_depth[i]
-                    scr_f[7, nbat] = mob
-                    scr_f[8, nbat] = ml
-                    scr_i[0, nbat] = i
-                    scr_i[1, nbat] = b
-                    nbat += 1
-                else:
-                    for j in range(3):
-                        out_force[i, j] = 0.0
+                nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, out_depth[i])
             continue
         for q in range(nbat, nlist):
             i = scr_i[0, q]
@@ -579,24 +588,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             fz = 0.0
             kk = 0.0
             if single and reg == breg:
-                if ml > 0.0:  # gathered; force, wrench and stiffness after the loop (_scatter_batch)
-                    iml = 1.0 / ml
-                    scr_f[0, nbat] = nx
-                    scr_f[1, nbat] = ny
-                    scr_f[2, nbat] = nz
-                    scr_f[3, nbat] = mx * iml
-                    scr_f[4, nbat] = my * iml
-                    scr_f[5, nbat] = mz * iml
-                    scr_f[6, nbat] = depth
-                    scr_f[7, nbat] = mob
-                    scr_f[8, nbat] = ml
-                    scr_i[0, nbat] = i
-                    scr_i[1, nbat] = b
-                    nbat += 1
-                else:
-                    out_force[i, 0] = 0.0
-                    out_force[i, 1] = 0.0
-                    out_force[i, 2] = 0.0
+                # gathered; force, wrench and stiffness after the loop (_scatter_batch)
+                nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth)
                 continue
             if single and dry:  # one dry region, written out: costs what the kernel cost before regions and water
                 if ml > 0.0:
