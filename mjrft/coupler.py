@@ -35,7 +35,7 @@ import numpy as np
 
 from . import kernel
 from .errors import NonFiniteError, TerrainStabilityWarning, UnknownNameError, check_finite, check_positive, unknown
-from .geometry import Elements, discretize_geom, exposed
+from .geometry import Elements, discretize_geom, exposed_elements
 from .laws import LAW_IDS, law_id
 from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
 from .media import MEDIA, Medium, get_medium
@@ -411,9 +411,8 @@ class GranularTerrain:
         # --- geoms ---
         geom_ids = self._select_geoms(pick("bodies", bodies), pick("geoms", geoms))
         parts = [discretize_geom(model, gid, self.resolution) for gid in geom_ids]
-        # only the exposed surface of each body's union of geoms meets grains (see geometry.exposed)
-        masks = exposed(model, geom_ids, parts)
-        groups = [(gid, Elements(el.pos[k], el.normal[k], el.area[k])) for gid, el, k in zip(geom_ids, parts, masks)]
+        # only the exposed surface of each body's union of geoms meets grains (see geometry.exposed_elements)
+        groups = list(zip(geom_ids, exposed_elements(model, geom_ids, parts, self.resolution)))
         if not groups:
             raise ValueError("no geoms selected for the granular terrain")
         self.geom_ids = np.array([g for g, _ in groups], dtype=np.int64)

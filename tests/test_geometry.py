@@ -10,7 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mjrft.geometry import GEOM_TYPES, Elements, discretize_geom, exposed, geom_elements, inside_geom, surface_area
+from mjrft.geometry import (GEOM_TYPES, Elements, discretize_geom, exposed, exposed_elements, geom_elements,
+                            inside_geom, surface_area)
 
 RES = 0.005  # default resolution (m)
 
@@ -450,3 +451,51 @@ def test_elements_inside_other_geoms_of_the_body_are_dropped():
     assert inside_geom(m, 3, [[0, 0.1, 0.025], [0, 0.1, 0.031]]).tolist() == [True, False]
 
 
+
+
+CROSS = """<mujoco><worldbody><body name="plus">
+  <geom name="a" type="box" size="0.02 0.01 0.005"/>
+  <geom name="b" type="box" pos="0.0013 0 0" size="0.01 0.02 0.005"/>
+</body></worldbody></mujoco>"""
+
+
+@pytest.mark.parametrize("res", [0.03, 0.007, 0.003])
+def test_exposed_elements_trim_partly_covered_cells_exactly(res):
+    """Two crossing boxes (a plus sign 4 cm across, 1 cm thick, one arm off centre by 1.3 mm so no cell
+    edge meets the overlap's): the exposed area is the union's at any
+    element size, not only once the cells are finer than the overlap; coplanar top and bottom faces
+    count once; what is kept lies on the union's surface, outside the other box."""
+    m = mujoco.MjModel.from_xml_string(CROSS)
+    parts = [discretize_geom(m, g, res) for g in (0, 1)]
+    out = exposed_elements(m, [0, 1], parts, res)
+    plus = 0.04 * 0.02 * 2 - 0.02 * 0.02
+    union = 2 * plus + 0.16 * 0.01  # top and bottom, and the 16 cm outline x 1 cm
+    np.testing.assert_allclose(sum(e.area.sum() for e in out), union, rtol=1e-12)
+    for k, e in enumerate(out):
+        assert np.all(e.area > 0) and not inside_geom(m, 1 - k, e.pos).any()
+    # the centroid rule of `exposed` gets it only when cells resolve the overlap
+    keep = exposed(m, [0, 1], parts)
+    centroid_rule = sum(p.area[k].sum() for p, k in zip(parts, keep))
+    assert abs(centroid_rule - union) > 0.01 * union
+
+
+def test_box_chain_leg_has_its_union_area_at_every_resolution():
+    """The hexapod's C-leg as 8 boxes, lengthened so the convex-side corners meet: the grains see the
+    mitred chain's surface (convex side sum L_i w, concave side shorter by 2 x the lengthenings, the two
+    side faces 2 t x the centre line, the two end caps) from 20 mm down to 1.25 mm elements."""
+    from mjrft.geometry.curved_leg import curved_leg_boxes
+    from mjrft.models import hexapod_model
+    m = hexapod_model()
+    body = m.body("leg_lf").id
+    ids = [g for g in range(m.ngeom) if m.geom_bodyid[g] == body]
+    boxes = curved_leg_boxes(0.041, 1 / 0.0205, 0.01, 0.003, 8)
+    t, w = 0.003, 0.01
+    length = np.array([2 * b["size"][2] for b in boxes])
+    ext = 0.5 * t * math.tan(abs(1 / 0.0205) * (math.pi * 0.0205 / 8) / 2)
+    lengthened = np.full(8, 2 * ext)
+    lengthened[[0, -1]] = ext
+    expected = w * length.sum() + w * (length - 2 * lengthened).sum() + 2 * t * (length - lengthened).sum() + 2 * w * t
+    for res in (0.02, 0.005, 0.0025, 0.00125):
+        parts = [discretize_geom(m, g, res) for g in ids]
+        area = sum(e.area.sum() for e in exposed_elements(m, ids, parts, res))
+        np.testing.assert_allclose(area, expected, rtol=1e-9)

@@ -1,4 +1,5 @@
 """Surface elements of MuJoCo geoms, and curved-leg builders."""
 
 from .curved_leg import add_curved_leg, arc_length, curved_leg_boxes, curved_leg_xml
-from .discretize import Elements, GEOM_TYPES, discretize_geom, exposed, geom_elements, inside_geom, surface_area
+from .discretize import (GEOM_TYPES, Elements, discretize_geom, exposed, exposed_elements, geom_elements,
+                         inside_geom, surface_area)

@@ -407,17 +407,160 @@ def exposed(model: mujoco.MjModel, geom_ids, parts) -> list[np.ndarray]:
     normal (coplanar overlapping faces count once). Two geoms touching face to face keep both faces.
     """
     geom_ids = [int(g) for g in geom_ids]
-    masks = []
-    for k, (g, el) in enumerate(zip(geom_ids, parts)):
-        keep = np.ones(len(el), dtype=bool)
-        for j, h in enumerate(geom_ids):
-            if j == k or model.geom_bodyid[h] != model.geom_bodyid[g] or not len(el):
+    return [~_covered(model, geom_ids, k, el.pos, el.normal) for k, el in enumerate(parts)]
+
+
+EXPOSED_SAMPLES = 8  # per cell edge, for the part of a box-face cell covered by a geom other than a box
+EXPOSED_MIN_FRACTION = 1e-6  # a cell keeping less of its area than this is dropped
+
+
+def _covered(model: mujoco.MjModel, geom_ids, k: int, points, normals) -> np.ndarray:
+    """Which points (with their normals) of geom ``geom_ids[k]`` are covered by another geom of the same
+    body: strictly inside it, or (boxes) on a face of an earlier geom with the same outward normal."""
+    g = geom_ids[k]
+    out = np.zeros(len(points), dtype=bool)
+    for j, h in enumerate(geom_ids):
+        if j == k or model.geom_bodyid[h] != model.geom_bodyid[g] or not len(points):
+            continue
+        out |= inside_geom(model, h, points)
+        if j < k and model.geom_type[h] == mujoco.mjtGeom.mjGEOM_BOX:
+            out |= _on_box_face(model, h, points, normals)
+    return out
+
+
+def _geom_frame(model: mujoco.MjModel, gid: int) -> tuple[np.ndarray, np.ndarray]:
+    """(rotation (3, 3) geom -> body, position) of geom ``gid`` in its body frame."""
+    rot = np.empty(9)
+    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[gid], dtype=np.float64))
+    return rot.reshape(3, 3), np.asarray(model.geom_pos[gid], dtype=np.float64)
+
+
+def _clip(poly: list, normal: np.ndarray, offset: float) -> list:
+    """Sutherland-Hodgman: the part of the convex polygon ``poly`` (list of 3D points) where
+    ``normal . p <= offset``."""
+    out = []
+    n = len(poly)
+    for i in range(n):
+        p, q = poly[i], poly[(i + 1) % n]
+        dp, dq = normal @ p - offset, normal @ q - offset
+        if dp <= 0.0:
+            out.append(p)
+        if (dp < 0.0 < dq) or (dq < 0.0 < dp):
+            out.append(p + (q - p) * (dp / (dp - dq)))
+    return out
+
+
+def _polygon_area_centroid(poly: list, normal: np.ndarray) -> tuple[float, np.ndarray]:
+    """Area and centroid of the planar convex polygon ``poly`` with unit ``normal``."""
+    if len(poly) < 3:
+        return 0.0, np.zeros(3)
+    p0 = poly[0]
+    area = 0.0
+    cen = np.zeros(3)
+    for i in range(1, len(poly) - 1):
+        a = 0.5 * float(normal @ np.cross(poly[i] - p0, poly[i + 1] - p0))
+        area += a
+        cen += a * (p0 + poly[i] + poly[i + 1]) / 3.0
+    if area == 0.0:
+        return 0.0, np.zeros(3)
+    return abs(area), cen / area  # (either winding)
+
+
+def _box_cover(cell: list, normal: np.ndarray, model: mujoco.MjModel, h: int, earlier: bool,
+               tol: float = 1e-9) -> tuple[float, np.ndarray]:
+    """Area and centroid of the part of the planar ``cell`` (outward ``normal``) that box ``h`` covers:
+    the part strictly inside it; where the cell lies in the plane of one of ``h``'s faces, the part on
+    that face if ``h`` is ``earlier`` and the face's outward normal is the cell's (coplanar faces count
+    once; two boxes touching face to face keep both faces)."""
+    R, c = _geom_frame(model, h)
+    s = model.geom_size[h]
+    poly = list(cell)
+    for i in range(3):
+        a = R[:, i]
+        for sign in (1.0, -1.0):
+            ax = sign * a
+            off = float(ax @ c + s[i])
+            if abs(float(ax @ normal)) > 1.0 - 1e-9 and all(abs(float(ax @ p) - off) <= tol for p in cell):
+                if not (earlier and float(ax @ normal) > 0.0):
+                    return 0.0, np.zeros(3)  # on this face: covered only as a coplanar face of an earlier box
                 continue
-            keep &= ~inside_geom(model, h, el.pos)
-            if j < k and model.geom_type[h] == mujoco.mjtGeom.mjGEOM_BOX:
-                keep &= ~_on_box_face(model, h, el.pos, el.normal)
-        masks.append(keep)
-    return masks
+            poly = _clip(poly, ax, off)
+            if len(poly) < 3:
+                return 0.0, np.zeros(3)
+    return _polygon_area_centroid(poly, normal)
+
+
+def exposed_elements(model: mujoco.MjModel, geom_ids, parts, resolution: float) -> list[Elements]:
+    """The elements of each geom in ``parts`` (from :func:`discretize_geom` at ``resolution``) that lie on
+    the exposed surface of the union of ``geom_ids`` sharing its body, with partly covered box-face
+    cells trimmed.
+
+    :func:`exposed` judges an element by its centroid, so where a box's face runs into a neighbouring
+    geom (the concave side of a C-leg's joints, coplanar side faces of a box chain) a whole cell is
+    kept or dropped, and the union's area converges only as the cells shrink below the overlap (a
+    RHex C-leg of 8 boxes: 18.32 cm^2 at 2.5-20 mm, 17.74 at 1.25 mm, 17.21 at 0.625 mm). Here each
+    box-face cell (a rectangle of :func:`geom_elements`' grid) loses the part another box of the body
+    covers, computed exactly by clipping the rectangle against that box (coplanar faces: the rule of
+    :func:`exposed`), and the part another geom type covers, estimated on ``EXPOSED_SAMPLES`` squared
+    points; a partly covered cell keeps the rest of its area at the centroid of the rest, a wholly
+    covered one is dropped. (The covered parts from different geoms are assumed not to overlap inside
+    one cell: true for chains of boxes longer than their joints' overlap.) Elements of other geom
+    types are judged by their centroid as in :func:`exposed`.
+    """
+    res = float(resolution)
+    geom_ids = [int(g) for g in geom_ids]
+    n = EXPOSED_SAMPLES
+    offsets = (np.arange(n) + 0.5) / n - 0.5
+    ou, ov = (o.ravel() for o in np.meshgrid(offsets, offsets, indexing="ij"))
+    out = []
+    for k, (g, el) in enumerate(zip(geom_ids, parts)):
+        others = [(j, h) for j, h in enumerate(geom_ids) if j != k and model.geom_bodyid[h] == model.geom_bodyid[g]]
+        if not len(el) or not others:
+            out.append(el)
+            continue
+        if model.geom_type[g] != mujoco.mjtGeom.mjGEOM_BOX:
+            keep = ~_covered(model, geom_ids, k, el.pos, el.normal)
+            out.append(Elements(el.pos[keep], el.normal[keep], el.area[keep]))
+            continue
+        R, _ = _geom_frame(model, g)
+        size = model.geom_size[g]
+        axis = np.argmax(np.abs(el.normal @ R), axis=1)  # the face's normal axis in the geom frame
+        u_ax, v_ax = (axis + 1) % 3, (axis + 2) % 3
+        du = 2 * size[u_ax] / _ncells(2 * size[u_ax], res)  # the cell sizes of _box
+        dv = 2 * size[v_ax] / _ncells(2 * size[v_ax], res)
+        eu = R.T[u_ax] * (0.5 * du)[:, None]  # half cell edges, body frame
+        ev = R.T[v_ax] * (0.5 * dv)[:, None]
+        radius = np.sqrt(np.sum(eu * eu, axis=1) + np.sum(ev * ev, axis=1))
+        area = el.area.copy()
+        pos = el.pos.copy()
+        for j, h in others:
+            Rh, ch = _geom_frame(model, h)
+            reach = float(np.linalg.norm(model.geom_aabb[h, 3:])) + float(np.linalg.norm(Rh @ model.geom_aabb[h, :3]))
+            near = np.flatnonzero(np.linalg.norm(el.pos - ch, axis=1) <= reach + radius)
+            if model.geom_type[h] == mujoco.mjtGeom.mjGEOM_BOX:
+                for i in near:
+                    c = el.pos[i]
+                    cell = [c - eu[i] - ev[i], c + eu[i] - ev[i], c + eu[i] + ev[i], c - eu[i] + ev[i]]
+                    a, cen = _box_cover(cell, el.normal[i], model, h, j < k)
+                    if a > 0.0:
+                        rest = area[i] - a
+                        pos[i] = (pos[i] * area[i] - cen * a) / rest if rest > EXPOSED_MIN_FRACTION * el.area[i] else pos[i]
+                        area[i] = max(rest, 0.0)
+            elif len(near):
+                pts = (el.pos[near, None, :] + 2 * ou[None, :, None] * eu[near, None, :]
+                       + 2 * ov[None, :, None] * ev[near, None, :])
+                cov = inside_geom(model, h, pts.reshape(-1, 3)).reshape(len(near), n * n)
+                frac = cov.mean(axis=1)
+                cen = (pts * cov[:, :, None]).sum(axis=1) / np.maximum(cov.sum(axis=1), 1)[:, None]
+                a = el.area[near] * frac
+                rest = area[near] - a
+                ok = rest > EXPOSED_MIN_FRACTION * el.area[near]
+                pos[near] = np.where(ok[:, None], (pos[near] * area[near, None] - cen * a[:, None])
+                                     / np.where(ok, rest, 1.0)[:, None], pos[near])
+                area[near] = np.maximum(rest, 0.0)
+        keep = area > EXPOSED_MIN_FRACTION * el.area  # (rounding leaves slivers of ~1e-8 of fully covered cells)
+        out.append(Elements(pos[keep], el.normal[keep], area[keep]))
+    return out
 
 
 def _carlson_rf(x: float, y: float, z: float) -> float:
