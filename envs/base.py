@@ -17,7 +17,7 @@ Common keyword arguments (all environments):
 ``timestep``               physics step (s, > 0); default the model's 1 ms (or the preset's).
 ``preset``                 ``"fast"``, ``"default"`` or ``"accurate"`` (:mod:`mjrft.presets`, chosen by the
                            speed/accuracy study ``mjrft bench``): fills ``law``, ``resolution`` (as a
-                           multiple of the model's own: x2, x1, x0.5), ``timestep`` and ``frame_skip``
+                           multiple of the model's own: x4, x1, x0.5), ``timestep`` and ``frame_skip``
                            (1 ms x 10, 1 ms x 10, 0.5 ms x 20: always a 10 ms control period) where
                            they are left as None; explicit keyword arguments win.
 ``forward_reward_weight``  weight of the forward speed ``dx/dt`` (m/s) of the torso.

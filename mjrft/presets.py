@@ -22,35 +22,33 @@ own fit), RMS and peak of the net granular force, final position of the torso / 
 ========  =====  ======  ===========  ==================================================================
 preset    scale  law     dt x skip    measured: hexapod tripod 2 s | humanoid on one foot 2.5 s
 ========  =====  ======  ===========  ==================================================================
-fast      2      rft     1 ms x 10    1.82x, RMS 8.3 %, peak 0.7 %, 7.0 mm | 1.24x, 0.88 %, 0.23 %, 0.6 mm
-default   1      rft     1 ms x 10    3.23x, RMS 7.9 %, peak 1.1 %, 2.6 mm | 2.09x, 0.84 %, 0.19 %, 0.1 mm
-accurate  0.5    rft     0.5 ms x 20  13.9x, RMS 11.4 %, peak 2.4 %, 10.7 mm | 10.6x, 0.02 %, 0.00 %, 0.02 mm
+fast      4      rft     1 ms x 10    1.38x, RMS 12.1 %, peak 4.8 %, 17.1 mm | 0.85x, 0.94 %, 0.40 %, 2.5 mm
+default   1      rft     1 ms x 10    2.22x, RMS 8.2 %, peak 1.1 %, 10.2 mm | 1.59x, 0.84 %, 0.19 %, 0.08 mm
+accurate  0.5    rft     0.5 ms x 20  9.70x, RMS 0.80 %, peak 0.09 %, 0.25 mm | 9.81x, 0.02 %, 0.00 %, 0.02 mm
 ========  =====  ======  ===========  ==================================================================
 
-(Rigs, same order: plate 3.51x / 4.94x / 28.2x, C-leg 19.5x / 47.4x / 240x against a bare rig of a few
-microseconds per step, force errors <= 0.25 %; ``accurate`` is their reference.)
+(Rigs, same order: plate 2.59x / 5.69x / 22.8x, C-leg 15.4x / 38.7x / 210x against a bare rig of a few
+microseconds per step, force errors <= 0.45 %; ``accurate`` is their reference.)
 
 The rules (:func:`mjrft.tradeoff.recommend_presets`; candidates use ``rft``, a 10 ms control period and
 warn no more than the default; cost is the geometric mean over the four scenarios, errors the worst case):
-*fast* is the cheapest with RMS force error <= 20 % and peak <= 10 % (4x coarser fails on the hexapod:
-21 % RMS, 28 mm); *accurate* the cheapest non-reference configuration with RMS and peak force errors
-<= 1 % and <= 1/4 of the default's, and final position <= 1 mm, judged on the scenarios whose reference is
-converged. The hexapod's is not: its two finest resolutions differ by 11 % RMS force and 9.8 mm, because
-the box-chain C-legs count their internal end faces at resolutions >= 2.5 mm and drop them only below
-(leg area 18.32 cm^2 at 2.5-20 mm, 17.74 at 1.25 mm, 17.21 at 0.625 mm), so its errors against the 1.25 mm
-reference (7-11 % RMS force and 1-11 mm for every configuration at 5 mm or finer) measure that as much as
-the timestep.
-With the resolution fixed, halving the timestep does converge: at 5 mm the hexapod's final position is
-15.7 mm (1 ms) and 4.6 mm (0.5 ms) from a 0.25 ms run. What else the study showed:
+*fast* is the cheapest with RMS force error <= 20 % and peak <= 10 % (4x coarser: worst 12.1 % RMS, on
+the hexapod); *accurate* the cheapest non-reference configuration with RMS and peak force errors <= 1 % and
+<= 1/4 of the default's, and final position <= 1 mm, judged on the scenarios whose reference is converged
+(all four now: the hexapod's two finest resolutions differ by 0.83 % RMS force and 0.47 mm, since its
+box-chain legs are clipped to their exact exposed surface, :func:`mjrft.geometry.exposed_elements`; in
+the run before that they differed by 11 % and 9.8 mm and the hexapod was left out of the rule). The
+timestep, not the elements, limits the robots: at 5 mm the hexapod is 8.2 % RMS force and 10.2 mm from
+the reference at 1 ms and 2.9 % and 1.2 mm at 0.5 ms. What else the study showed:
 
-* 2 ms steps are cheap (hexapod 1.28x, humanoid 1.10x) but give 32 % RMS force error and 25 mm on the
+* 2 ms steps are cheap (hexapod 1.04x, humanoid 0.95x) but give 34 % RMS force error and 36 mm on the
   hexapod and stability warnings on the humanoid, so no preset uses them;
 * Li's fit of the medium (``rft``) is the reference law and costs no more than the others: ``depth_only``
-  is 0.9-1.6x its cost with 22-107 % RMS force error, ``rft_generic`` (Li's scaling routine) 0.8-1.2x
-  with 1-45 %, ``rft3d`` 1.8-2.3x with 2-93 %;
+  is 1.1-1.9x its cost with 22-107 % RMS force error, ``rft_generic`` (Li's scaling routine) 0.9-1.1x
+  with 1-46 %, ``rft3d`` 2.0-2.5x with 2-93 %;
 * flat feet need few elements (a fully buried flat face is integrated exactly by one element at its
   centroid: stress is linear in depth): the humanoid at 8 cm (76 elements) is within 0.94 % RMS force;
-* frame skip only changes the per-call overhead (humanoid 1 ms x 1: 3.19x, x 10: 2.09x) and the control
+* frame skip only changes the per-call overhead (humanoid 1 ms x 1: 2.42x, x 10: 1.59x) and the control
   signal.
 
 The biped is not one of the study's scenarios; its presets use the same scales (its round feet are
@@ -65,7 +63,7 @@ from .coupler import CUSTOM_PREFIX, DEFAULTS
 from .errors import unknown
 
 PRESETS: dict[str, dict] = {
-    "fast": {"resolution_scale": 2.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
+    "fast": {"resolution_scale": 4.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
     "default": {"resolution_scale": 1.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
     "accurate": {"resolution_scale": 0.5, "law": "rft", "timestep": 0.0005, "frame_skip": 20},
 }

@@ -251,7 +251,7 @@ def gymnasium():
 def test_env_presets(gymnasium):
     env = gymnasium.make("mjrft/HexapodSand-v0", preset="fast", max_episode_steps=5)
     u = env.unwrapped
-    assert u.terrain.resolution == pytest.approx(2 * presets.model_resolution(u.model)) == pytest.approx(0.01)
+    assert u.terrain.resolution == pytest.approx(4 * presets.model_resolution(u.model)) == pytest.approx(0.02)
     assert u.model.opt.timestep == 0.001 and u.frame_skip == 10 and u.dt == pytest.approx(0.01)
     env.reset(seed=0)
     obs, reward, *_ = env.step(np.zeros(6, np.float32))
