@@ -35,7 +35,7 @@ import numpy as np
 
 from . import kernel
 from .errors import NonFiniteError, TerrainStabilityWarning, UnknownNameError, check_finite, check_positive, unknown
-from .geometry import Elements, discretize_geom, exposed_elements
+from .geometry import Elements, discretize_geom, exposed_elements, to_geom_frame
 from .laws import LAW_IDS, law_id
 from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
 from .media import MEDIA, Medium, get_medium
@@ -222,13 +222,6 @@ def _hfield_surface(model: mujoco.MjModel, name) -> tuple[int, np.ndarray, np.nd
     frame = np.array([d.geom_xpos[g, 0], d.geom_xpos[g, 1], R[0, 0], R[1, 0], rx, ry,
                       (ncol - 1) / (2 * rx), (nrow - 1) / (2 * ry)], dtype=np.float64)
     return g, np.ascontiguousarray(z.reshape(nrow, ncol)), frame
-
-
-def _in_geom_frame(model: mujoco.MjModel, gid: int, pos: np.ndarray) -> np.ndarray:
-    """Body-frame points (n, 3) in the frame of geom ``gid`` (the frame of ``geom_xmat`` / ``geom_aabb``)."""
-    rot = np.zeros(9)
-    mujoco.mju_quat2Mat(rot, model.geom_quat[gid])
-    return (np.asarray(pos, dtype=np.float64) - model.geom_pos[gid]) @ rot.reshape(3, 3)
 
 
 class GranularTerrain:
@@ -422,7 +415,7 @@ class GranularTerrain:
         # geom_aabb is for the whole geom), so the half of a leg above the sand costs no element work
         g_geom, g_start, g_aabb = [], [0], []
         for gid, el in groups:
-            local = _in_geom_frame(model, gid, el.pos)
+            local = to_geom_frame(model, gid, el.pos)
             for a in range(0, len(el), CULL_GROUP):
                 pts = local[a:a + CULL_GROUP]
                 lo, hi = pts.min(axis=0), pts.max(axis=0)

@@ -328,6 +328,19 @@ def _mesh_arrays(model: mujoco.MjModel, mesh_id: int) -> tuple[np.ndarray, np.nd
     return model.mesh_vert[va : va + vn], model.mesh_face[fa : fa + fn]
 
 
+def _geom_frame(model: mujoco.MjModel, gid: int) -> tuple[np.ndarray, np.ndarray]:
+    """(rotation (3, 3) geom -> body, position) of geom ``gid`` in its body frame."""
+    rot = np.empty(9)
+    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[gid], dtype=np.float64))
+    return rot.reshape(3, 3), np.asarray(model.geom_pos[gid], dtype=np.float64)
+
+
+def to_geom_frame(model: mujoco.MjModel, geom_id: int, points) -> np.ndarray:
+    """Body-frame ``points`` (N, 3) in the frame of geom ``geom_id`` (that of ``geom_size``, ``geom_aabb``)."""
+    R, c = _geom_frame(model, int(geom_id))
+    return (np.asarray(points, dtype=np.float64).reshape(-1, 3) - c) @ R
+
+
 def discretize_geom(model: mujoco.MjModel, geom_id: int, resolution: float) -> Elements:
     """Surface elements of ``model``'s geom ``geom_id`` in its BODY frame (applies geom_pos and geom_quat)."""
     geom_id = int(geom_id)
@@ -343,9 +356,7 @@ def discretize_geom(model: mujoco.MjModel, geom_id: int, resolution: float) -> E
     if name == "mesh":
         verts, faces = _mesh_arrays(model, int(model.geom_dataid[geom_id]))
     local = geom_elements(geom_type, model.geom_size[geom_id], resolution, verts, faces)
-    rot = np.empty(9)
-    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[geom_id], dtype=np.float64))
-    return local.transform(rot.reshape(3, 3), model.geom_pos[geom_id])
+    return local.transform(*_geom_frame(model, geom_id))
 
 
 def inside_geom(model: mujoco.MjModel, geom_id: int, points, tol: float = 1e-9) -> np.ndarray:
@@ -355,11 +366,8 @@ def inside_geom(model: mujoco.MjModel, geom_id: int, points, tol: float = 1e-9) 
     geoms touch face to face) is not inside. Boxes, spheres, capsules, cylinders and ellipsoids are
     exact; a mesh is treated as containing nothing (its interior is not known without a solid model).
     """
-    pts = np.asarray(points, dtype=np.float64).reshape(-1, 3)
     geom_id = int(geom_id)
-    rot = np.empty(9)
-    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[geom_id], dtype=np.float64))
-    local = (pts - model.geom_pos[geom_id]) @ rot.reshape(3, 3)  # body -> geom frame
+    local = to_geom_frame(model, geom_id, points)
     s = model.geom_size[geom_id]
     x, y, z = local[:, 0], local[:, 1], local[:, 2]
     t = int(model.geom_type[geom_id])
@@ -382,10 +390,8 @@ def inside_geom(model: mujoco.MjModel, geom_id: int, points, tol: float = 1e-9) 
 
 def _on_box_face(model: mujoco.MjModel, geom_id: int, points, normals, tol: float = 1e-9) -> np.ndarray:
     """Which points (body frame) lie on a face of box ``geom_id`` whose outward normal equals theirs."""
-    rot = np.empty(9)
-    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[geom_id], dtype=np.float64))
-    R = rot.reshape(3, 3)
-    local = (np.asarray(points) - model.geom_pos[geom_id]) @ R
+    R, _ = _geom_frame(model, geom_id)
+    local = to_geom_frame(model, geom_id, points)
     nloc = np.asarray(normals) @ R
     s = model.geom_size[geom_id]
     within = np.all(np.abs(local) <= s + tol, axis=1)
@@ -428,13 +434,6 @@ def _covered(model: mujoco.MjModel, geom_ids, k: int, points, normals) -> np.nda
     return out
 
 
-def _geom_frame(model: mujoco.MjModel, gid: int) -> tuple[np.ndarray, np.ndarray]:
-    """(rotation (3, 3) geom -> body, position) of geom ``gid`` in its body frame."""
-    rot = np.empty(9)
-    mujoco.mju_quat2Mat(rot, np.asarray(model.geom_quat[gid], dtype=np.float64))
-    return rot.reshape(3, 3), np.asarray(model.geom_pos[gid], dtype=np.float64)
-
-
 def _clip(poly: list, normal: np.ndarray, offset: float) -> list:
     """Sutherland-Hodgman: the part of the convex polygon ``poly`` (list of 3D points) where
     ``normal . p <= offset``."""
@@ -466,14 +465,13 @@ def _polygon_area_centroid(poly: list, normal: np.ndarray) -> tuple[float, np.nd
     return abs(area), cen / area  # (either winding)
 
 
-def _box_cover(cell: list, normal: np.ndarray, model: mujoco.MjModel, h: int, earlier: bool,
+def _box_cover(cell: list, normal: np.ndarray, R: np.ndarray, c: np.ndarray, s: np.ndarray, earlier: bool,
                tol: float = 1e-9) -> tuple[float, np.ndarray]:
-    """Area and centroid of the part of the planar ``cell`` (outward ``normal``) that box ``h`` covers:
-    the part strictly inside it; where the cell lies in the plane of one of ``h``'s faces, the part on
-    that face if ``h`` is ``earlier`` and the face's outward normal is the cell's (coplanar faces count
-    once; two boxes touching face to face keep both faces)."""
-    R, c = _geom_frame(model, h)
-    s = model.geom_size[h]
+    """Area and centroid of the part of the planar ``cell`` (outward ``normal``) that a box (rotation
+    ``R``, centre ``c`` in the body frame, half sizes ``s``) covers: the part strictly inside it; where
+    the cell lies in the plane of one of the box's faces, the part on that face if the box is
+    ``earlier`` and the face's outward normal is the cell's (coplanar faces count once; two boxes
+    touching face to face keep both faces)."""
     poly = list(cell)
     for i in range(3):
         a = R[:, i]
@@ -541,7 +539,7 @@ def exposed_elements(model: mujoco.MjModel, geom_ids, parts, resolution: float) 
                 for i in near:
                     c = el.pos[i]
                     cell = [c - eu[i] - ev[i], c + eu[i] - ev[i], c + eu[i] + ev[i], c - eu[i] + ev[i]]
-                    a, cen = _box_cover(cell, el.normal[i], model, h, j < k)
+                    a, cen = _box_cover(cell, el.normal[i], Rh, ch, model.geom_size[h], j < k)
                     if a > 0.0:
                         rest = area[i] - a
                         pos[i] = (pos[i] * area[i] - cen * a) / rest if rest > EXPOSED_MIN_FRACTION * el.area[i] else pos[i]
