@@ -128,6 +128,23 @@ def _map_axis(x, origin, cell, n, blend):
     return i0, i0 + 1, s
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _strip(x, reg_bounds):
+    """The strip region containing ``x``: the number of strip starts ``reg_bounds`` (sorted) at or below it."""
+    k = 0
+    while k < reg_bounds.shape[0] and x >= reg_bounds[k]:
+        k += 1
+    return k
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _clear(u, out_force, i):
+    """Element ``i`` has no force and no memory."""
+    for j in range(3):
+        u[i, j] = 0.0
+        out_force[i, j] = 0.0
+
+
 @njit(cache=True, error_model="numpy")
 def region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend):
     """Regions at ``(px, py)`` and their weights (four slots, unused ones weigh 0; the weights sum to 1).
@@ -164,9 +181,7 @@ def region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend):
             w3 = 0.0
         return (r0, r1, r2, r3), (w0, w1, w2, w3)
     nb = reg_bounds.shape[0]
-    k = 0
-    while k < nb and px >= reg_bounds[k]:
-        k += 1
+    k = _strip(px, reg_bounds)
     if blend > 0.0:
         if k > 0 and px - reg_bounds[k - 1] < 0.5 * blend:
             s = 0.5 + (px - reg_bounds[k - 1]) / blend
@@ -446,17 +461,13 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             gxh = abs(G[0]) * g_aabb[g, 3] + abs(G[1]) * g_aabb[g, 4] + abs(G[2]) * g_aabb[g, 5]
             xlo = gxc - gxh - 0.5 * blend
             xhi = gxc + gxh + 0.5 * blend
-            greg = 0
-            while greg < nb and xlo >= reg_bounds[greg]:
-                greg += 1
+            greg = _strip(xlo, reg_bounds)
             dry_group = greg == breg and (greg == nb or xhi < reg_bounds[greg])
         reach = 0.0 if dry_group else wmax
         if lowest >= top - wmax + reach:
             if g_active[g]:
                 for i in range(e0, e1):
-                    for j in range(3):
-                        u[i, j] = 0.0
-                        out_force[i, j] = 0.0
+                    _clear(u, out_force, i)
                     out_depth[i] = 0.0
                 g_active[g] = False
             continue
@@ -490,9 +501,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 depth = surface - pz
             bad += px * 0.0 + py * 0.0 + pz * 0.0  # NaN once any coordinate is not finite
             if depth <= -reach and out_depth[i] > -wmax:
-                for j in range(3):
-                    u[i, j] = 0.0
-                    out_force[i, j] = 0.0
+                _clear(u, out_force, i)
             out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
             out_depth[i] = depth
             scr_i[0, nlist] = i
@@ -511,9 +520,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 if nreg > 1:
                     out_region[i] = breg
                 if e_area[i] <= 0.0:
-                    for j in range(3):
-                        u[i, j] = 0.0
-                        out_force[i, j] = 0.0
+                    _clear(u, out_force, i)
                     continue
                 speed = math.sqrt(vx * vx + vy * vy + vz * vz)
                 mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
@@ -525,7 +532,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             depth = out_depth[i]
             single = True  # the element lies in one region (no blending)
             reg = 0
-            if nreg > 1 and depth > -wmax:
+            if nreg > 1:
                 if has_map:  # the cell inline; the blend only within blend / 2 of an edge to another cell
                     mx_n, my_n = reg_map.shape[1], reg_map.shape[0]
                     fx = (px - reg_map_frame[0]) / reg_map_frame[2]
@@ -541,18 +548,17 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                         single = wts[0] >= 1.0
                     else:
                         reg = reg_map[cj, ci]
-                else:  # strips: the lookup inline, the blend only near a boundary
-                    while reg < nb and px >= reg_bounds[reg]:
-                        reg += 1
+                else:  # strips: the blend only near a boundary
+                    reg = _strip(px, reg_bounds)
                     if blend > 0.0 and ((reg > 0 and px - reg_bounds[reg - 1] < 0.5 * blend)
                                         or (reg < nb and reg_bounds[reg] - px < 0.5 * blend)):
                         regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
                         single = False
                 if not single:  # report the region with the largest weight
                     top_q = 0
-                    for q in range(1, 4):
-                        if wts[q] > wts[top_q]:
-                            top_q = q
+                    for slot in range(1, 4):
+                        if wts[slot] > wts[top_q]:
+                            top_q = slot
                     reg = regs[top_q]
             if single and reg != cur_reg:
                 cur_reg = reg
@@ -561,9 +567,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 hw = p[P_WATER_DEPTH]
                 dry = not (hw > 0.0 or reg_rho[reg] > 0.0)
             if single and depth <= -hw:  # above its region's grains and water: no force, no memory
-                for j in range(3):
-                    u[i, j] = 0.0
-                    out_force[i, j] = 0.0
+                _clear(u, out_force, i)
                 continue
             nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
             if not _isfinite3(vx, vy, vz):
@@ -571,16 +575,14 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             if nreg > 1:  # (with one region it stays 0)
                 out_region[i] = reg
             speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-            if depth <= 0.0 or e_area[i] <= 0.0:  # out of the grains: no memory
+            if e_area[i] <= 0.0:
+                _clear(u, out_force, i)
+                continue
+            if depth <= 0.0:  # out of the grains (in the water above the sand): no memory
                 u[i, 0] = 0.0
                 u[i, 1] = 0.0
                 u[i, 2] = 0.0
-                if e_area[i] <= 0.0:
-                    out_force[i, 0] = 0.0
-                    out_force[i, 1] = 0.0
-                    out_force[i, 2] = 0.0
-                    continue
-                mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0  # in the water above the sand
+                mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0
             else:
                 mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
             fx = 0.0
