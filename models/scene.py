@@ -49,8 +49,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mjrft.errors import check_positive as _check_number
-from mjrft.geometry.curved_leg import positive_finite as check_positive
+from mjrft.errors import check_finite, check_positive
 
 TIMESTEP = 0.001
 DEFAULT_BED_DEPTH = 0.3
@@ -120,9 +119,9 @@ class SceneOptions:
             raise ValueError(f"surface must be finite, got {self.surface!r}")
         for name, val in (("medium", self.medium), ("law", self.law)):
             _check_identifier(name, val)
-        _check_number("water_depth", self.water_depth, allow_zero=True)
+        check_positive("water_depth", self.water_depth, allow_zero=True)
         if self.transition is not None:
-            _check_number("transition", self.transition, allow_zero=True)
+            check_positive("transition", self.transition, allow_zero=True)
         regions = []
         for k, reg in enumerate(self.regions, start=1):
             reg = tuple(reg)
@@ -130,17 +129,12 @@ class SceneOptions:
                 raise ValueError(f"region {k}: expected (x_min, medium, law[, water_depth]), got {reg!r}")
             x_min, medium, law = reg[:3]
             water = reg[3] if len(reg) == 4 else 0.0
-            try:
-                x_min = float(x_min)
-            except (TypeError, ValueError):
-                raise ValueError(f"region {k} x_min must be a number, got {x_min!r}") from None
-            if not math.isfinite(x_min):
-                raise ValueError(f"region {k} x_min must be finite, got {x_min!r}")
+            x_min = check_finite(f"region {k} x_min", x_min)
             if regions and x_min <= regions[-1][0]:
                 raise ValueError(f"regions must be sorted by increasing x_min, got {x_min!r} after {regions[-1][0]!r}")
             _check_identifier(f"region {k} medium", medium)
             _check_identifier(f"region {k} law", law)
-            regions.append((x_min, medium, law, _check_number(f"region {k} water_depth", water, allow_zero=True)))
+            regions.append((x_min, medium, law, check_positive(f"region {k} water_depth", water, allow_zero=True)))
         self.regions = regions
 
 

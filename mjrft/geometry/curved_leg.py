@@ -37,6 +37,8 @@ from numbers import Real
 
 import numpy as np
 
+from ..errors import check_finite, check_positive
+
 __all__ = [
     "arc_length",
     "arc_points",
@@ -53,28 +55,13 @@ __all__ = [
 ]
 
 
-def positive_finite(name: str, value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}") from None
-    if not math.isfinite(v) or v <= 0.0:
-        raise ValueError(f"{name} must be a positive finite number, got {value!r}")
-    return v
-
-
 def max_curvature(chord: float) -> float:
     """Largest allowed ``|curvature|`` (1/m) for ``chord``: ``2/chord`` (a semicircle)."""
-    return 2.0 / positive_finite("chord", chord)
+    return 2.0 / check_positive("chord", chord)
 
 
 def _check_curvature(chord: float, curvature) -> float:
-    try:
-        k = float(curvature)
-    except (TypeError, ValueError):
-        raise ValueError(f"curvature must be a finite number, got {curvature!r}") from None
-    if not math.isfinite(k):
-        raise ValueError(f"curvature must be a finite number, got {curvature!r}")
+    k = check_finite("curvature", curvature)
     kmax = 2.0 / chord
     # Tolerate round-off at the semicircle limit (e.g. 1/R' with R' = chord/2).
     if abs(k) > kmax * (1.0 + 1e-9):
@@ -97,7 +84,7 @@ def arc_length(chord: float, curvature: float) -> float:
 
     ``chord`` for a straight leg, ``pi/2 * chord`` for a semicircle.
     """
-    c = positive_finite("chord", chord)
+    c = check_positive("chord", chord)
     k = _check_curvature(c, curvature)
     if k == 0.0:
         return c
@@ -111,7 +98,7 @@ def _direction(alpha: float) -> np.ndarray:
 
 def arc_points(chord: float, curvature: float, n: int = 64) -> np.ndarray:
     """``(n+1, 3)`` points on the leg centre line from hip (0,0,0) to tip (0,0,-chord)."""
-    c = positive_finite("chord", chord)
+    c = check_positive("chord", chord)
     k = _check_curvature(c, curvature)
     n = int(n)
     if n < 1:
@@ -141,9 +128,9 @@ def curved_leg_boxes(
     "size": (3,) half sizes}`` ordered from hip to tip. See the module
     docstring for the conventions.
     """
-    c = positive_finite("chord", chord)
-    w = positive_finite("width", width)
-    t = positive_finite("thickness", thickness)
+    c = check_positive("chord", chord)
+    w = check_positive("width", width)
+    t = check_positive("thickness", thickness)
     n = _n_segments(n_segments)
     k = _check_curvature(c, curvature)
 
@@ -298,13 +285,8 @@ def semi_ellipse_length(a: float, b: float) -> float:
 
 
 def _semi_ellipse(a, b, n):
-    a = positive_finite("a", a)
-    try:
-        b = float(b)
-    except (TypeError, ValueError):
-        raise ValueError(f"b must be a finite number (signed bulge, m), got {b!r}") from None
-    if not math.isfinite(b):
-        raise ValueError(f"b must be a finite number (signed bulge, m), got {b!r}")
+    a = check_positive("a", a)
+    b = check_finite("b", b)  # the signed bulge (m)
     n = _n_segments(n)
     t = np.linspace(0.0, math.pi, max(40000, 200 * n) + 1)
     x = b * np.sin(t)
@@ -322,8 +304,8 @@ def semi_ellipse_boxes(a: float, b: float, width: float, thickness: float, n_seg
 
     Same output and conventions as :func:`curved_leg_boxes`; see the comment above this function.
     """
-    w = positive_finite("width", width)
-    t = positive_finite("thickness", thickness)
+    w = check_positive("width", width)
+    t = check_positive("thickness", thickness)
     n = _n_segments(n_segments)
     pts = semi_ellipse_points(a, b, n)
     d = np.diff(pts, axis=0)
@@ -366,7 +348,7 @@ def semi_ellipse_family(a: float | None = None) -> dict[str, tuple[float, float]
     0.67 (bent), 0.5 (very bent); the values live in :data:`mjrft.laws.hybrid.LEG_FAMILY`."""
     from mjrft.laws.hybrid import LEG_A, LEG_FAMILY
 
-    a = LEG_A if a is None else positive_finite("a", a)
+    a = LEG_A if a is None else check_positive("a", a)
     return {name: (a, a / ratio) for name, ratio in LEG_FAMILY.items()}
 
 
@@ -388,8 +370,8 @@ def leg_mesh(points, width: float, thickness: float) -> tuple[np.ndarray, np.nda
     The width and thickness are split into pieces no longer than the mean piece of the centre line,
     so the triangles stay close to isotropic; each end cap is a fan around its centre.
     """
-    w = positive_finite("width", width)
-    t = positive_finite("thickness", thickness)
+    w = check_positive("width", width)
+    t = check_positive("thickness", thickness)
     p = np.asarray(points, dtype=float)
     if p.ndim != 2 or p.shape[1] != 3 or p.shape[0] < 2 or not np.all(np.isfinite(p)):
         raise ValueError(f"points must be a finite (n+1, 3) array with n >= 1, got shape {p.shape}")
