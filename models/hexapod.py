@@ -45,12 +45,12 @@ sand surface or the rigid floor), i.e. the belly is about one leg chord up.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
+from mjrft.errors import check_finite
 from mjrft.geometry.curved_leg import curved_leg_boxes, curved_leg_xml
 
 from .scene import (
@@ -238,13 +238,9 @@ def hexapod_xml(curvature: float | None = None, variant: str = "rhex", sand: boo
     if variant not in VARIANTS:
         raise ValueError(f"unknown hexapod variant {variant!r}; valid: {', '.join(VARIANTS)}")
     v = VARIANTS[variant]
-    k = v.default_curvature if curvature is None else curvature
-    try:
-        k = float(k)
-    except (TypeError, ValueError):
-        raise ValueError(f"curvature must be a finite number, got {curvature!r}") from None
+    k = check_finite("curvature", v.default_curvature if curvature is None else curvature)
     kmax = 2.0 / v.leg_chord
-    if not math.isfinite(k) or abs(k) > kmax * (1 + 1e-9):
+    if abs(k) > kmax * (1 + 1e-9):
         raise ValueError(
             f"curvature {curvature!r} 1/m out of range for the {variant!r} hexapod: "
             f"valid range [-1/R', 1/R'] = [{-kmax:.6g}, {kmax:.6g}] 1/m (R' = {v.leg_chord / 2:g} m)"

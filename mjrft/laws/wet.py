@@ -101,7 +101,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..errors import check_positive
+from ..errors import check_finite, check_positive
 from ..media import N_CM3, P_FIRST_FREE, generic
 from . import registry
 from .rft import rft_stress
@@ -207,12 +207,8 @@ def wet_constants(medium) -> dict:
         c[key] = check_positive(f"medium {name!r} {key}", c[key], allow_zero=True)
     for key in ("wet_dv", "wet_v_max", "water_skin"):
         c[key] = check_positive(f"medium {name!r} {key}", c[key])
-    eps = c["wet_eps_v"]
-    try:
-        eps = float(eps)
-    except (TypeError, ValueError):
-        raise ValueError(f"medium {name!r} wet_eps_v must be a number, got {eps!r}") from None
-    if not (math.isfinite(eps) and eps > -1.0):
+    eps = check_finite(f"medium {name!r} wet_eps_v", c["wet_eps_v"])
+    if not eps > -1.0:
         raise ValueError(f"medium {name!r} wet_eps_v must be finite and > -1, got {c['wet_eps_v']!r}")
     c["wet_eps_v"] = eps
     if c["wet_v_min"] > c["wet_v_max"]:
