@@ -236,11 +236,8 @@ class BatchedTerrain:
         active = np.flatnonzero(counts)
         if active.size == 0:
             return
-        for e in active:  # as GranularTerrain.step: bind, and forget the memory after a reset
-            t, d = self.terrains[e], self.datas[e]
-            t._bind(d)
-            if d.time < t._last_time:
-                t.reset()
+        for e in active:  # as GranularTerrain.step
+            self.terrains[e]._begin(self.datas[e])
         functions = coupler._STEP_FUNCTIONS
         if functions is None:  # no libmujoco to call directly: each terrain's own (Python) stepping loop
             self._step_each(active, counts)
@@ -252,7 +249,6 @@ class BatchedTerrain:
         errors = []
         for e in active:
             t, d = self.terrains[e], self.datas[e]
-            t._last_time = d.time
             try:
                 t._finish(d, int(out[e, 0]), int(out[e, 1]), self._dt[e], int(out[e, 2]))
             except NonFiniteError as exc:

@@ -519,14 +519,11 @@ class GranularTerrain:
         each body's centre of mass, world frame). Raises :class:`NonFiniteError` naming the body and time
         on a non-finite state or force. Does not touch ``data``.
         """
-        self._bind(data)
-        if data.time < self._last_time:
-            self.reset()
+        self._begin(data)
         if dt is None:
             dt = self.model.opt.timestep
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
         kernel.track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max)
-        self._last_time = data.time
         self._finish(data, status, body, dt, 1)
         return self.wrench
 
@@ -545,8 +542,16 @@ class GranularTerrain:
         return (data.xfrc_applied, self.body_ids, self._saved, *self._kernel_args(dt), self._stiff_max,
                 self._damp_max)
 
+    def _begin(self, data) -> None:
+        """Before evaluating on ``data``: bind to it, and forget the memory if its time went back (a reset)."""
+        self._bind(data)
+        if data.time < self._last_time:
+            self.reset()
+
     def _finish(self, data, status, body, dt, nstep) -> None:
-        """Raise on a non-finite result; run the stability check every STABILITY_CHECK_EVERY steps."""
+        """After ``nstep`` evaluations on ``data``: note its time; raise on a non-finite result; run the
+        stability check every STABILITY_CHECK_EVERY steps."""
+        self._last_time = data.time
         if status != kernel.OK:
             name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
             what = "granular force" if status == kernel.BAD_FORCE else "state (position or velocity)"
@@ -564,16 +569,13 @@ class GranularTerrain:
         if nstep < 0:
             raise ValueError(f"nstep must be >= 0, got {nstep}")
         m = self.model
-        self._bind(data)
-        if data.time < self._last_time:
-            self.reset()
+        self._begin(data)
         xfrc = data.xfrc_applied
         rows = self.body_ids
         if _STEP_FUNCTIONS is not None and nstep > 0:
             dt = m.opt.timestep
             status, body, done = kernel.run_steps(nstep, *_STEP_FUNCTIONS, m._address, data._address,
                                                   *self._step_args(data, dt))
-            self._last_time = data.time
             self._finish(data, status, body, dt, done)
             return
         for _ in range(nstep):
