@@ -15,6 +15,7 @@ eval       ``mjrft.train.evaluate``       deterministic evaluation of a policy o
 rollout    ``mjrft.train.rollout``        any policy or gait, any env, headless, to a rerun file
 bench      ``mjrft.tradeoff``             the speed/accuracy trade study
 sweep      ``mjrft.train.sweep``          parameter grids, local processes or Ray, resumable
+validate   ``mjrft.validation.report``    rerun the papers' experiments; Markdown report + plots
 =========  =============================  =====================================================
 """
 
@@ -33,6 +34,7 @@ COMMANDS = {
     "rollout": ("mjrft.train.rollout", "roll out a policy or gait headless and log it to a rerun file"),
     "bench": ("mjrft.tradeoff", "measure the speed/accuracy trade of resolution, law and timestep"),
     "sweep": ("mjrft.train.sweep", "run a parameter grid (local processes or Ray), resumable"),
+    "validate": ("mjrft.validation.report", "rerun the source papers' experiments and write a validation report"),
 }
 
 

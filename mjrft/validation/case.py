@@ -1,0 +1,211 @@
+"""What a validation case is: published data with its source, the checks that compare it with mjrft, and plots.
+
+A case is a function ``run(quick: bool) -> CaseResult`` registered with :func:`case`. It reruns one
+published experiment under the paper's setup (``quick`` selects coarse settings that finish in
+seconds, for the tests) and returns:
+
+* ``checks``: one :class:`Check` per published number or outcome: what is compared, the published
+  value with its source, the simulated value, the agreement metric and the tolerance, and whether it
+  passed. ``qualitative=True`` marks the published *outcome* (an ordering, a sign, a ratio band)
+  that the case's fast test asserts;
+* ``panels``: the figure, simulation and paper on the same axes (a :class:`Line` with a ``source`` is
+  paper data and is drawn as markers, labelled with its source);
+* ``cause``: for a case that does not agree, the cause found by measurement.
+
+Published numbers live as data in ``mjrft/validation/data/<paper>.json`` (:func:`published`), each
+with its value, unit and source (paper, figure or table), never only inside a case or a test.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+from dataclasses import dataclass, field
+from importlib import resources
+from typing import Callable, Sequence
+
+from ..errors import unknown
+
+__all__ = ["CASES", "Case", "CaseResult", "Check", "Datum", "Line", "Panel", "case", "check_band", "check_close",
+           "check_outcome", "papers", "published"]
+
+
+# ------------------------------------------------------------------------------------------------
+# published data
+# ------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Datum:
+    """One published number (or list of numbers, or a stated outcome) with its unit and source."""
+
+    paper: str
+    key: str
+    value: object  # float, list of floats, dict of lists, or a sentence for a qualitative outcome
+    unit: str
+    source: str  # paper, figure or table (and page/equation where useful)
+    note: str = ""
+
+    def cite(self) -> str:
+        return f"{self.source}" + (f" ({self.note})" if self.note else "")
+
+
+@functools.lru_cache(maxsize=None)
+def _data(paper: str) -> dict:
+    try:
+        text = resources.files("mjrft.validation").joinpath("data", f"{paper}.json").read_text()
+    except FileNotFoundError:
+        raise unknown("paper", paper, papers()) from None
+    raw = json.loads(text)
+    return {"_paper": raw.get("_paper", paper), **{k: v for k, v in raw.items() if not k.startswith("_")}}
+
+
+def papers() -> list[str]:
+    """The papers that have a published-data file."""
+    folder = resources.files("mjrft.validation").joinpath("data")
+    return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".json"))
+
+
+def published(paper: str, key: str) -> Datum:
+    """The published datum ``key`` of ``paper`` (file ``data/<paper>.json``: ``{key: {value, unit, source, note}}``)."""
+    entries = _data(paper)
+    if key not in entries or key == "_paper":
+        raise unknown(f"published datum of {paper!r}", key, [k for k in entries if k != "_paper"])
+    e = entries[key]
+    return Datum(paper=paper, key=key, value=e["value"], unit=e.get("unit", ""), source=e["source"],
+                 note=e.get("note", ""))
+
+
+# ------------------------------------------------------------------------------------------------
+# results
+# ------------------------------------------------------------------------------------------------
+@dataclass
+class Check:
+    """One comparison of mjrft with a published number or outcome."""
+
+    name: str  # what is compared
+    published: str  # the published value or outcome, as printed in the report
+    simulated: str  # mjrft's value, as printed
+    metric: str  # the agreement metric and its value, e.g. "relative error 4.1 %"
+    tolerance: str  # the verdict's tolerance, e.g. "<= 25 %"
+    passed: bool
+    source: str  # paper, figure or table
+    qualitative: bool = False  # the published outcome that the case's fast test asserts
+    value: float = math.nan  # the simulated number behind ``simulated`` (CSV)
+    reference: float = math.nan  # the published number behind ``published`` (CSV)
+
+    @property
+    def verdict(self) -> str:
+        return "pass" if self.passed else "FAIL"
+
+
+@dataclass
+class Line:
+    """One curve of a panel; a line with a ``source`` is published data (drawn as markers)."""
+
+    x: Sequence[float]
+    y: Sequence[float]
+    label: str
+    source: str | None = None
+
+    @property
+    def is_paper(self) -> bool:
+        return self.source is not None
+
+
+@dataclass
+class Panel:
+    title: str
+    xlabel: str
+    ylabel: str
+    lines: list[Line] = field(default_factory=list)
+
+
+@dataclass
+class CaseResult:
+    name: str
+    title: str
+    paper: str  # short citation of the paper
+    source: str  # figure / table / section reproduced
+    setup: str  # the published setup as simulated (dimensions, kinematics, medium, law)
+    checks: list[Check]
+    panels: list[Panel] = field(default_factory=list)
+    cause: str = ""  # for a case that does not agree: the cause, from a measurement
+    notes: str = ""  # choices where the paper is silent
+    seconds: float = math.nan  # wall time of the run (set by the runner)
+
+    @property
+    def passed(self) -> bool:
+        return all(c.passed for c in self.checks)
+
+    @property
+    def verdict(self) -> str:
+        n = sum(c.passed for c in self.checks)
+        return "pass" if n == len(self.checks) else f"FAIL ({len(self.checks) - n} of {len(self.checks)} checks)"
+
+
+# ------------------------------------------------------------------------------------------------
+# registry
+# ------------------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Case:
+    name: str
+    title: str
+    paper: str
+    run: Callable[[bool], CaseResult]
+
+
+CASES: dict[str, Case] = {}
+
+
+def case(name: str, title: str, paper: str):
+    """Register ``run(quick: bool) -> CaseResult`` as the validation case ``name``."""
+
+    def register(run):
+        if name in CASES:
+            raise ValueError(f"validation case {name!r} is registered twice")
+        CASES[name] = Case(name, title, paper, run)
+        return run
+
+    return register
+
+
+# ------------------------------------------------------------------------------------------------
+# checks
+# ------------------------------------------------------------------------------------------------
+def _fmt(x: float, unit: str = "") -> str:
+    return f"{x:.4g}" + (f" {unit}" if unit else "")
+
+
+def check_close(name: str, reference: Datum | float, simulated: float, rel_tol: float, *, source: str | None = None,
+                unit: str | None = None, qualitative: bool = False) -> Check:
+    """``|simulated - published| <= rel_tol |published|`` (relative error)."""
+    ref, src, unit = _ref(reference, source, unit)
+    err = abs(simulated - ref) / abs(ref) if ref != 0 else math.inf
+    return Check(name=name, published=_fmt(ref, unit), simulated=_fmt(simulated, unit),
+                 metric=f"relative error {100 * err:.1f} %", tolerance=f"<= {100 * rel_tol:g} %",
+                 passed=bool(err <= rel_tol), source=src, qualitative=qualitative, value=float(simulated),
+                 reference=ref)
+
+
+def check_band(name: str, simulated: float, low: float, high: float, *, published: str, source: str,
+               unit: str = "", qualitative: bool = True, reference: float = math.nan) -> Check:
+    """``low <= simulated <= high``: a published ratio, sign or range, stated in ``published``."""
+    ok = bool(low <= simulated <= high)
+    return Check(name=name, published=published, simulated=_fmt(simulated, unit), metric="in band",
+                 tolerance=f"[{_fmt(low)}, {_fmt(high)}]", passed=ok, source=source, qualitative=qualitative,
+                 value=float(simulated), reference=reference)
+
+
+def check_outcome(name: str, passed: bool, *, published: str, simulated: str, source: str,
+                  qualitative: bool = True, metric: str = "outcome", tolerance: str = "as published") -> Check:
+    """A published qualitative outcome (an ordering, a sign) and what mjrft gives."""
+    return Check(name=name, published=published, simulated=simulated, metric=metric, tolerance=tolerance,
+                 passed=bool(passed), source=source, qualitative=qualitative)
+
+
+def _ref(reference, source, unit):
+    if isinstance(reference, Datum):
+        return float(reference.value), source or reference.cite(), reference.unit if unit is None else unit
+    if source is None:
+        raise ValueError("a published number given as a float needs its source")
+    return float(reference), source, unit or ""
