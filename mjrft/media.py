@@ -9,6 +9,17 @@ The generic profile ``generic`` is the dimensionless M0 fit times 1 N/cm^3 (so i
 ``zeta`` is 1e6 N/m^3 and alpha_z(0, pi/2) = 1 N/cm^3); ``generic.scaled(zeta)`` is the generic
 profile of a medium with scaling factor ``zeta`` (N/m^3).
 
+Measured plate stress: ``alpha_z_measured`` is alpha_z(0, pi/2) as measured with a horizontal plate
+pushed straight down (the slope of stress against depth), which is larger than the Fourier fit's
+value at the same angles (the fit smooths the sharp maximum). For the five Li media it is supplement
+table S3 (N/cm^3: poppy seeds LP 0.35, CP 0.56; 0.3 mm glass LP 0.24, CP 0.40; 3 mm glass CP 0.29,
+against fitted 0.26, 0.47, 0.19, 0.38, 0.22); :func:`calibrate` stores the slope it fitted. The
+depth-only law (supplement eqs. S3-S7) is built from it; a medium without one (``generic`` and its
+scaled copies, 3D-RFT media, saturated sand) falls back to the fit's alpha_z(0, pi/2). The paper
+prints no numbers for the other two depth-only constants, alpha_z(0, -pi/2) (plate pulled up) and
+alpha_x(pi/2, 0) (vertical plate dragged): they are read off its Fig. 2 C-D (figure and data table
+S5 not in the text), so every medium takes those two from its fit (:meth:`Medium.params`).
+
 3D-RFT (Agarwal et al. 2023) describes a medium by its bulk density, internal friction coefficient
 ``mu_int`` and surface (leg) friction ``mu_surface``; its stress scale is
 ``xi_n = g rho_bulk (894 mu^3 - 386 mu^2 + 89 mu)``. For the Li media the paper gives no internal
@@ -94,6 +105,8 @@ class Medium:
         mu_int: internal friction coefficient used by 3D-RFT (see module docstring), or None.
         description: where the numbers come from.
         extra: constants of laws beyond Li / 3D-RFT (e.g. wet-sand speed calibration), by name.
+        alpha_z_measured: measured alpha_z(0, pi/2) of a horizontal plate pushed down (N/m^3; Li
+            table S3, or the slope :func:`calibrate` fitted), or None; read by the depth-only law.
     """
 
     name: str
@@ -107,6 +120,7 @@ class Medium:
     mu_int: float | None = None
     description: str = ""
     extra: tuple = field(default_factory=tuple)
+    alpha_z_measured: float | None = None
 
     def __post_init__(self):
         coeffs = tuple(float(c) for c in self.coeffs)
@@ -117,7 +131,7 @@ class Medium:
         object.__setattr__(self, "coeffs", coeffs)
         check_positive(f"medium {self.name!r} zeta", self.zeta)
         check_positive(f"medium {self.name!r} mu_surface", self.mu_surface, allow_zero=True)
-        for attr in ("grain_diameter", "grain_density", "volume_fraction", "mu_int"):
+        for attr in ("grain_diameter", "grain_density", "volume_fraction", "mu_int", "alpha_z_measured"):
             v = getattr(self, attr)
             if v is not None:
                 check_positive(f"medium {self.name!r} {attr}", v)
@@ -136,6 +150,16 @@ class Medium:
     def alpha_z_down(self) -> float:
         """alpha_z(0, pi/2): stress per depth under a horizontal plate pushed straight down (N/m^3)."""
         return float(fourier_alpha(self.coeffs, 0.0, math.pi / 2)[0])
+
+    @property
+    def depth_only_alphas(self) -> tuple[float, float, float]:
+        """The depth-only law's constants (N/m^3, Li supplement eqs. S3-S4, S7), all magnitudes:
+        alpha_z(0, pi/2) (measured when known, else the fit), |alpha_z(0, -pi/2)| and
+        |alpha_x(pi/2, 0)| (the fit; the paper prints no measured numbers for these two)."""
+        az_down = self.alpha_z_down if self.alpha_z_measured is None else float(self.alpha_z_measured)
+        az_up = float(fourier_alpha(self.coeffs, 0.0, -math.pi / 2)[0])
+        ax_drag = float(fourier_alpha(self.coeffs, math.pi / 2, 0.0)[1])
+        return az_down, abs(az_up), abs(ax_drag)
 
     @property
     def rho_bulk(self) -> float | None:
@@ -160,7 +184,8 @@ class Medium:
         """The generic profile scaled to ``zeta`` (N/m^3): coefficients = M0 x zeta.
 
         Only meaningful on the generic profile; other media keep their own fit shape and are
-        rescaled so that their scaling factor becomes ``zeta``.
+        rescaled so that their scaling factor becomes ``zeta``. The result has no measured
+        ``alpha_z_measured`` (it is a fit, not a measured medium).
         """
         zeta = check_positive("zeta", zeta)
         k = zeta / self.zeta
@@ -170,6 +195,7 @@ class Medium:
             coeffs=tuple(c * k for c in self.coeffs),
             zeta=zeta,
             mu_int=None,
+            alpha_z_measured=None,
             description=f"{self.description} scaled to zeta = {zeta:g} N/m^3".strip(),
         )
 
@@ -186,12 +212,7 @@ class Medium:
         p[P_XI] = self.xi_n
         p[P_MU_S] = self.mu_surface
         p[P_ZETA] = self.zeta
-        az_down, _ = fourier_alpha(self.coeffs, 0.0, math.pi / 2)
-        az_up, _ = fourier_alpha(self.coeffs, 0.0, -math.pi / 2)
-        _, ax_drag = fourier_alpha(self.coeffs, math.pi / 2, 0.0)
-        p[P_AZ_DOWN] = az_down
-        p[P_AZ_UP] = abs(az_up)
-        p[P_AX_DRAG] = abs(ax_drag)
+        p[P_AZ_DOWN], p[P_AZ_UP], p[P_AX_DRAG] = self.depth_only_alphas
         from .laws import registry  # local import: laws depend on media, not the reverse
 
         for hook in registry.PARAM_HOOKS:
@@ -199,30 +220,33 @@ class Medium:
         return p
 
 
-def _li(name, coeffs_ncm3, zeta_ncm3, d, rho_g, phi, repose, mu_s, description):
+def _li(name, coeffs_ncm3, zeta_ncm3, d, rho_g, phi, repose, mu_s, az_measured_ncm3, description):
     coeffs = tuple(c * N_CM3 for c in coeffs_ncm3)
     az = float(fourier_alpha(coeffs, 0.0, math.pi / 2)[0])
     rho_bulk = rho_g * phi
     mu_int = _mu_for_xi(az / RFT3D_DOWN, rho_bulk)
-    return Medium(name, coeffs, zeta_ncm3 * N_CM3, d, rho_g, phi, repose, mu_s, mu_int, description)
+    return Medium(name, coeffs, zeta_ncm3 * N_CM3, d, rho_g, phi, repose, mu_s, mu_int,
+                  f"{description}; measured alpha_z(0, pi/2) {az_measured_ncm3:g} N/cm^3 (table S3)",
+                  alpha_z_measured=az_measured_ncm3 * N_CM3)
 
 
 _SRC = "Li, Zhang & Goldman, Science 2013, tables S1-S2"
+# The argument before each description is the measured alpha_z(0, pi/2) in N/cm^3 (table S3, first row).
 # Leg friction with poppy seeds is 0.36 (ABS) to 0.40 (aluminium); we use 0.40 for poppy seeds.
 # The paper gives none for glass; 0.3 is our documented assumption (smooth glass on aluminium).
 MEDIA: dict[str, Medium] = {
     m.name: m
     for m in (
         _li("poppy_lp", (0.051, 0.047, 0.053, 0.083, 0.020, -0.026, 0.057, 0.0, 0.025), 0.248,
-            0.7e-3, 1100.0, 0.58, 36.0, 0.40, f"poppy seeds, loosely packed ({_SRC})"),
+            0.7e-3, 1100.0, 0.58, 36.0, 0.40, 0.35, f"poppy seeds, loosely packed ({_SRC})"),
         _li("poppy_cp", (0.094, 0.092, 0.092, 0.151, 0.035, -0.039, 0.086, 0.018, 0.046), 0.488,
-            0.7e-3, 1100.0, 0.62, 47.0, 0.40, f"poppy seeds, closely packed ({_SRC})"),
+            0.7e-3, 1100.0, 0.62, 47.0, 0.40, 0.56, f"poppy seeds, closely packed ({_SRC})"),
         _li("glass03_lp", (0.040, 0.030, 0.045, 0.077, 0.0, -0.031, 0.066, 0.0, 0.017), 0.194,
-            0.27e-3, 2500.0, 0.58, 25.0, 0.30, f"0.3 mm glass beads, loosely packed ({_SRC})"),
+            0.27e-3, 2500.0, 0.58, 25.0, 0.30, 0.24, f"0.3 mm glass beads, loosely packed ({_SRC})"),
         _li("glass03_cp", (0.081, 0.063, 0.078, 0.133, 0.024, -0.050, 0.087, 0.0, 0.033), 0.371,
-            0.27e-3, 2500.0, 0.62, 35.0, 0.30, f"0.3 mm glass beads, closely packed ({_SRC})"),
+            0.27e-3, 2500.0, 0.62, 35.0, 0.30, 0.40, f"0.3 mm glass beads, closely packed ({_SRC})"),
         _li("glass3_cp", (0.045, 0.031, 0.046, 0.084, 0.012, -0.031, 0.060, 0.0, 0.015), 0.214,
-            3.2e-3, 2600.0, 0.63, 21.0, 0.30, f"3 mm glass beads, closely packed ({_SRC})"),
+            3.2e-3, 2600.0, 0.63, 21.0, 0.30, 0.29, f"3 mm glass beads, closely packed ({_SRC})"),
         Medium("generic", tuple(c * N_CM3 for c in (0.206, 0.169, 0.212, 0.358, 0.055, -0.124, 0.253, 0.007, 0.088)),
                1.0 * N_CM3, description=f"generic profile M0 x 1 N/cm^3 ({_SRC})"),
     )
@@ -280,7 +304,8 @@ def calibrate(depth, stress, *, name: str = "calibrated", max_depth: float | Non
     ``depth`` (m, positive below the surface) and ``stress`` (Pa, vertical force / plate area) of a
     horizontal plate pushed straight down. A zero-intercept line is fitted over depths up to
     ``max_depth`` (the shallow linear range; default all samples); its slope is the measured
-    alpha_z(0, pi/2) and ``zeta = slope / chi`` (chi = 1.26). Returns ``generic.scaled(zeta)``.
+    alpha_z(0, pi/2) and ``zeta = slope / chi`` (chi = 1.26). Returns ``generic.scaled(zeta)`` with
+    ``alpha_z_measured`` = the slope (what the depth-only law uses for a plate pushed down).
     """
     d = np.asarray(depth, dtype=float).ravel()
     s = np.asarray(stress, dtype=float).ravel()
@@ -300,7 +325,7 @@ def calibrate(depth, stress, *, name: str = "calibrated", max_depth: float | Non
     slope = float(np.dot(d, s) / np.dot(d, d))
     if slope <= 0:
         raise ValueError(f"fitted stress-per-depth slope must be > 0, got {slope!r} N/m^3")
-    return dataclasses.replace(generic.scaled(slope / chi, name=name), mu_surface=mu_surface,
+    return dataclasses.replace(generic.scaled(slope / chi, name=name), mu_surface=mu_surface, alpha_z_measured=slope,
                                description=f"calibrated from {d.size} plate samples: slope {slope:.4g} N/m^3, chi {chi}")
 
 

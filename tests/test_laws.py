@@ -161,6 +161,32 @@ def test_depth_only_baseline_values():
     assert f[0] == pytest.approx(-0.37) and f[2] == 0.0
 
 
+def test_depth_only_uses_the_measured_plate_stress():
+    """Li eqs. S3-S7 build the depth-only model from the measured alpha_z(0, pi/2) (table S3), not the fit.
+
+    Expected values from the tables: poppy seeds LP measured alpha_z(0, pi/2) = 0.35 N/cm^3 (table S3;
+    the fit gives 0.26); pulled up |A00 + A10 - B11 - B01 - B_11| = |0.051 + 0.047 - 0.053 - 0.083 - 0.020|
+    = 0.058 and dragged alpha_x(pi/2, 0) = -C11 + C01 - C_11 = 0.026 + 0.057 - 0 = 0.083 (table S2:
+    the paper prints no measured numbers for these two)."""
+    lp = "poppy_lp"
+    down = laws.depth_only(1.0, (0, 0, -1), (0, 0, -1), 1.0, lp)[0] / 1e6
+    assert down[2] == pytest.approx(0.35) and down[0] == 0.0
+    assert laws.rft(1.0, (0, 0, -1), (0, 0, -1), 1.0, lp)[0][2] / 1e6 == pytest.approx(0.254)  # RFT keeps the fit
+    assert laws.depth_only(1.0, (0, 0, 1), (0, 0, 1), 1.0, lp)[0][2] / 1e6 == pytest.approx(-0.058)
+    f = laws.depth_only(1.0, (1, 0, 0), (1, 0, 0), 1.0, lp)[0] / 1e6
+    assert f[0] == pytest.approx(-0.083) and f[2] == 0.0
+    # eq. S7: a plate at attack angle beta pushed down feels alpha_z(0, pi/2) |cos beta|, for either sign of beta
+    for beta in (-math.pi / 3, math.pi / 6):
+        n = (math.sin(beta), 0.0, -math.cos(beta))
+        fz = laws.depth_only(1.0, n, (0, 0, -1), 1.0, lp)[0][2] / 1e6
+        assert fz == pytest.approx(0.35 * abs(math.cos(beta)))
+    # the other measured media of table S3, and a medium with no measured value (its fit)
+    for name, az in {"poppy_cp": 0.56, "glass03_lp": 0.24, "glass03_cp": 0.40, "glass3_cp": 0.29}.items():
+        assert laws.depth_only(1.0, (0, 0, -1), (0, 0, -1), 1.0, name)[0][2] / 1e6 == pytest.approx(az), name
+    scaled = mjrft.generic.scaled(0.248e6)
+    assert laws.depth_only(1.0, (0, 0, -1), (0, 0, -1), 1.0, scaled)[0][2] / 1e6 == pytest.approx(0.248)
+
+
 def test_leading_surface_rule():
     # trailing face (normal away from the motion) feels nothing; a face exactly along the motion feels half
     assert np.all(laws.rft(0.01, (0, 0, 1), (0, 0, -1), 1.0)[0] == 0)

@@ -32,6 +32,21 @@ def test_generic_scaled():
         mjrft.generic.scaled(-1.0)
 
 
+def test_measured_plate_stress_table_s3():
+    """Li table S3: measured alpha_z(0, pi/2) (N/cm^3) and its ratio chi to the fit's value (1.05-1.37)."""
+    measured = {"poppy_lp": 0.35, "poppy_cp": 0.56, "glass03_lp": 0.24, "glass03_cp": 0.40, "glass3_cp": 0.29}
+    for name, az in measured.items():
+        m = MEDIA[name]
+        assert m.alpha_z_measured == pytest.approx(az * 1e6)
+        assert m.depth_only_alphas[0] == pytest.approx(az * 1e6)
+        assert 1.04 < m.alpha_z_measured / m.alpha_z_down < 1.38  # table S3's chi row, 1.05 ... 1.37
+    for m in (mjrft.generic, MEDIA["poppy_cp"].scaled(1e5), MEDIA["sea_sand_saturated"],
+              mjrft.medium_3d("sand", rho_bulk=1500.0, mu_int=0.4, mu_surface=0.3)):
+        assert m.alpha_z_measured is None and m.depth_only_alphas[0] == pytest.approx(m.alpha_z_down)
+    with pytest.raises(ValueError, match="alpha_z_measured must be finite and > 0"):
+        mjrft.Medium("bad", MEDIA["poppy_cp"].coeffs, 1.0, alpha_z_measured=-1.0)
+
+
 def test_li_media_3d_consistency():
     """3D-RFT on a Li medium reproduces the medium's own pushed-down stress (documented choice)."""
     for name in ("poppy_lp", "poppy_cp", "glass03_lp", "glass03_cp", "glass3_cp"):
@@ -62,6 +77,7 @@ def test_calibration_recovers_zeta_from_noisy_plate_data(tmp_path):
     m = mjrft.calibrate(depth, stress, name="my_sand")
     assert m.zeta == pytest.approx(true_slope / 1.26, rel=0.02)
     assert m.alpha_z_down == pytest.approx(true_slope / 1.26, rel=0.02)
+    assert m.alpha_z_measured == pytest.approx(true_slope, rel=0.02)  # the fitted slope, for the depth-only law
     # the same through a CSV file
     path = tmp_path / "plate.csv"
     path.write_text("depth,stress\n" + "\n".join(f"{d},{s}" for d, s in zip(depth, stress)))
