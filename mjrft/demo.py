@@ -36,7 +36,9 @@ def main(args) -> int:
     from mjrft.errors import TerrainStabilityWarning
     from mjrft.train.rollout import format_summary, open_hint, rollout
 
-    out = os.path.abspath(args.out)
+    from mjrft.outputs import output_file
+
+    out = os.path.abspath(output_file(args.out))
     print(f"mjrft demo: RHex-class hexapod, gait {args.gait}, on {args.medium}, {args.seconds:g} s simulated "
           "(the first run compiles the terrain kernels, up to a minute)", flush=True)
     with warnings.catch_warnings(record=True) as caught:

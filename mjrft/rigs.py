@@ -72,6 +72,7 @@ import mujoco
 import numpy as np
 
 from .coupler import GranularTerrain
+from .outputs import output_dir
 from .errors import TerrainStabilityWarning, check_finite, check_positive, unknown
 from .laws import law_id
 from .media import MEDIA, Medium, get_medium
@@ -485,7 +486,7 @@ def _leg_kwargs(args) -> dict:
 
 
 def main(args) -> int:
-    os.makedirs(args.out, exist_ok=True)
+    output_dir(args.out)
     if args.rig == "plate":
         profs = {}
         for b in args.beta:

@@ -99,6 +99,7 @@ import numpy as np
 from .coupler import DEFAULTS, GranularTerrain, _custom
 from .errors import NonFiniteError, TerrainStabilityWarning, check_positive, unknown
 from .media import generic, get_medium
+from .outputs import output_dir
 from .presets import model_resolution
 
 SAMPLE_DT = 0.002  # s; errors are computed on samples at these instants (a multiple of every timestep)
@@ -903,6 +904,7 @@ def add_arguments(parser) -> None:
 def main(args) -> int:
     names = parse_scenarios(args.scenarios)
     repeats = int(check_positive("repeats", args.repeats))
+    output_dir(args.out)
     t0 = time.perf_counter()
     rows = run_study(names, quick=args.quick, repeats=repeats)
     paths = write_outputs(rows, args.out)

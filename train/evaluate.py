@@ -381,7 +381,12 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
+    from mjrft.outputs import output_file
+
     env_kwargs = parse_kwargs(args.env_kwargs, "env kwarg")
+    for option in ("csv", "json", "rrd"):
+        if getattr(args, option):
+            output_file(getattr(args, option), f"--{option}")
     rows, summary = evaluate(args.policy, args.env_id, args.episodes, args.seed, env_kwargs,
                              deterministic=not args.stochastic, rrd=args.rrd, device=args.device,
                              log_every=args.log_every)

@@ -203,8 +203,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args) -> int:
+    from mjrft.outputs import output_file
+
     from .train import parse_kwargs
 
+    output_file(args.rrd, "--rrd")
     summary = rollout(args.env, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
                       seed=args.seed, env_kwargs=parse_kwargs(args.env_kwargs), spawn_viewer=args.spawn_viewer)
     print(format_summary(summary))

@@ -569,10 +569,13 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
+    from mjrft.outputs import output_dir
+
     from .train import parse_kwargs
 
     grid = parse_grid(args.grid)
     fixed = parse_kwargs(args.kwargs, "fixed kwarg")
+    output_dir(args.out)
     kind = {"rig_kwargs": fixed} if args.rig else {"env_kwargs": fixed}
     rows = sweep(grid, args.out, env=args.env, gait=args.gait, rig=args.rig, seconds=args.seconds,
                  episodes=args.episodes, seed=args.seed, workers=args.workers, address=args.address,

@@ -61,6 +61,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from mjrft.errors import unknown
+from mjrft.outputs import output_dir
 
 ALGOS = ("ppo", "sac")
 POLICY = "MlpPolicy"
@@ -645,7 +646,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def main(args) -> int:
     env_kwargs = parse_kwargs(args.env_kwargs, "env kwarg") or None
     hyperparams = parse_kwargs(args.hp, "--hp") or None
-    out = Path(args.out)
+    out = Path(output_dir(args.out))
     if args.resume and list_checkpoints(out):
         step, path = list_checkpoints(out)[-1]
         print(f"resuming {out} from {path.relative_to(out)} at {step} steps (target {args.timesteps})")

@@ -17,6 +17,7 @@ import sys
 import time
 
 from ..errors import unknown
+from ..outputs import output_dir
 from .case import CaseResult
 
 DEFAULT_OUT = "validation-report"
@@ -172,22 +173,9 @@ def _csv_rows(results):
                     yield (r.name, kind, p.title, line.label, float(x), float(y), "", line.source or "", "")
 
 
-def prepare_out(out: str) -> str:
-    """Create ``out`` and check it can be written, before any case runs."""
-    try:
-        os.makedirs(out, exist_ok=True)
-        probe = os.path.join(out, ".mjrft-write-test")
-        with open(probe, "w"):
-            pass
-        os.remove(probe)
-    except OSError as exc:
-        raise ValueError(f"--out {out!r} cannot be written: {exc.strerror or exc}") from None
-    return out
-
-
 def write_report(results, out: str, quick: bool = False) -> dict:
     """Write report.md, one PNG per case and results.csv into ``out``; returns their paths."""
-    prepare_out(out)
+    output_dir(out)
     paths = {"pngs": []}
     for r in results:
         if r.panels:
@@ -220,7 +208,7 @@ def main(args) -> int:
             print(f"{c.name:28s} {c.paper:12s} {c.title}")
         return 0
     names = check_names(args.case)
-    prepare_out(args.out)
+    output_dir(args.out)
     results = run_cases(names, quick=args.quick)
     paths = write_report(results, args.out, quick=args.quick)
     for r in results:

@@ -1,0 +1,64 @@
+"""Output paths are checked before any work starts, by one helper (mjrft.outputs), in every command."""
+
+from __future__ import annotations
+
+import os
+import time
+
+import pytest
+
+from mjrft import cli
+from mjrft.outputs import output_dir, output_file
+
+
+@pytest.fixture
+def blocker(tmp_path):
+    """A file; any path below it cannot be created."""
+    f = tmp_path / "a_file"
+    f.write_text("")
+    return f
+
+
+def test_output_dir_creates_and_probes(tmp_path, blocker):
+    d = tmp_path / "new" / "deeper"
+    assert output_dir(d) == str(d) and d.is_dir() and not os.listdir(d)
+    with pytest.raises(ValueError, match=r"--out '.*a_file' cannot be written: it is a file"):
+        output_dir(blocker)
+    with pytest.raises(ValueError, match=r"--run .*sub' cannot be written"):
+        output_dir(blocker / "sub", "--run")
+
+
+def test_output_file_checks_folder_and_leaves_nothing(tmp_path, blocker):
+    f = tmp_path / "out" / "table.csv"
+    assert output_file(f, "--csv") == str(f)
+    assert f.parent.is_dir() and not f.exists() and not os.listdir(f.parent)
+    with pytest.raises(ValueError, match=r"--csv '.*' cannot be written: it is a folder"):
+        output_file(tmp_path, "--csv")
+    with pytest.raises(ValueError, match=r"--json '.*x.json' cannot be written"):
+        output_file(blocker / "x.json", "--json")
+
+
+COMMANDS = [
+    (["demo", "--out", "{bad}/demo.rrd"], "--out"),
+    (["eval", "--policy", "tripod", "--csv", "{bad}/t.csv"], "--csv"),
+    (["eval", "--policy", "tripod", "--json", "{bad}/t.json"], "--json"),
+    (["eval", "--policy", "tripod", "--rrd", "{bad}/t.rrd"], "--rrd"),
+    (["rollout", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod", "--rrd", "{bad}/r.rrd"], "--rrd"),
+    (["train", "--out", "{bad}/run"], "--out"),
+    (["rig", "plate", "--out", "{bad}/rig"], "--out"),
+    (["bench", "--quick", "--out", "{bad}/bench"], "--out"),
+    (["sweep", "--grid", "medium=poppy_lp", "--out", "{bad}/sweep"], "--out"),
+    (["validate", "--out", "{bad}/val"], "--out"),
+]
+
+
+@pytest.mark.parametrize("argv,option", COMMANDS, ids=[" ".join(c[0][:2]) for c in COMMANDS])
+def test_every_command_refuses_an_unwritable_output_before_working(argv, option, blocker, capsys):
+    argv = [a.format(bad=blocker) for a in argv]
+    t0 = time.perf_counter()
+    with pytest.raises(SystemExit) as e:
+        cli.main(argv)
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert f"{option} '{blocker}" in err and "cannot be written" in err, err
+    assert time.perf_counter() - t0 < 20  # refused up front, not after the work
