@@ -308,3 +308,37 @@ def test_eval_cli_writes_csv_json_and_rrd(tmp_path, capsys):
     except ImportError:  # the dataframe reader needs datafusion (rerun extra)
         return
     assert frames.num_rows == 16  # the reset state and 15 steps of the first episode
+
+
+@pytest.mark.parametrize("hp,message", [
+    ({"policy_kwargs": "{bad json"}, "policy_kwargs takes a JSON object"),
+    ({"learning_rate": "abc"}, "learning_rate takes a number, got 'abc'"),
+    ({"n_steps": 1.5}, "n_steps takes an integer, got 1.5"),
+    ({"n_steps": True}, "n_steps takes an integer, got True"),
+    ({"gamma": float("inf")}, "gamma takes a number"),
+    ({"normalize_advantage": 1}, "normalize_advantage takes true or false"),
+])
+def test_hyperparameter_values_are_checked_before_any_env(hp, message):
+    from mjrft.train.train import resolve_hyperparams
+
+    with pytest.raises(ValueError, match=message):
+        resolve_hyperparams("ppo", hp, 1000)
+
+
+def test_hyperparameter_values_of_the_right_kind_pass():
+    from mjrft.train.train import resolve_hyperparams
+
+    given, _ = resolve_hyperparams("ppo", {"n_steps": 64.0, "learning_rate": 1, "target_kl": None,
+                                           "policy_kwargs": {"net_arch": [8]}}, 100)
+    assert given == {"n_steps": 64, "learning_rate": 1.0, "target_kl": None, "policy_kwargs": {"net_arch": [8]}}
+    given, _ = resolve_hyperparams("sac", {"ent_coef": "auto_0.1", "train_freq": [1, "step"]}, 100)
+    assert given["ent_coef"] == "auto_0.1" and given["train_freq"] == [1, "step"]
+
+
+def test_train_command_reports_a_bad_hyperparameter_in_one_line(tmp_path, capsys):
+    from mjrft import cli
+
+    with pytest.raises(SystemExit) as e:
+        cli.main(["train", "--env", "mjrft/HexapodSand-v0", "--out", str(tmp_path / "run"), "--hp", "n_steps=1.5"])
+    assert e.value.code == 2
+    assert "PPO hyper-parameter n_steps takes an integer, got 1.5" in capsys.readouterr().err

@@ -242,6 +242,52 @@ def default_hyperparams(algo: str) -> dict:
             if n not in NOT_HYPERPARAMS and p.default is not inspect.Parameter.empty}
 
 
+# hyper-parameters whose SB3 default is None, and what they take instead
+_OPTIONAL_HYPERPARAMS = {"policy_kwargs": dict, "target_kl": float, "clip_range_vf": float, "stats_window_size": int,
+                         "replay_buffer_kwargs": dict, "action_noise": None, "replay_buffer_class": None,
+                         "rollout_buffer_class": None, "rollout_buffer_kwargs": dict, "target_entropy": float}
+_KINDS = {dict: "a JSON object, e.g. '{\"net_arch\": [64, 64]}'", float: "a number", int: "an integer",
+          bool: "true or false"}
+
+
+def check_hyperparam(algo: str, name: str, value, default):
+    """``value`` for hyper-parameter ``name`` of ``algo``, checked against the kind of SB3's default.
+
+    Integers (``n_steps``), numbers (``learning_rate``; an integer value is accepted), booleans and the
+    JSON objects of ``*_kwargs`` are checked here, so a bad value is one error line naming the
+    parameter and what it takes, before any environment is built. Parameters whose default is a string
+    (e.g. SAC's ``ent_coef="auto"``) or a tuple take a number or that kind.
+    """
+    want = _OPTIONAL_HYPERPARAMS.get(name, "any") if default is None else type(default)
+    if name == "train_freq" and isinstance(value, (list, tuple)):  # SB3 also takes (n, "step" | "episode")
+        return value
+    if want is None or want == "any" or (value is None and default is None):
+        return value
+    if want is bool:
+        ok = isinstance(value, bool)
+    elif want is int:
+        if isinstance(value, float) and value.is_integer():
+            value = int(value)
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    elif want is float:
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        value = float(value) if ok else value
+    elif want is dict:
+        ok = isinstance(value, dict)
+    elif want is str:
+        ok = isinstance(value, str) or (isinstance(value, (int, float)) and not isinstance(value, bool))
+    elif want in (tuple, list):
+        ok = isinstance(value, (int, list, tuple)) and not isinstance(value, bool)
+    else:
+        return value
+    if not ok:
+        kind = _KINDS.get(want, f"a {want.__name__}")
+        if default is None:
+            kind += " or null"
+        raise ValueError(f"{algo.upper()} hyper-parameter {name} takes {kind}, got {value!r}")
+    return value
+
+
 def resolve_hyperparams(algo: str, hyperparams: dict | None, timesteps: int) -> tuple[dict, dict]:
     """(arguments to pass to the constructor, the full effective set for config.json)."""
     defaults = default_hyperparams(algo)
@@ -249,6 +295,7 @@ def resolve_hyperparams(algo: str, hyperparams: dict | None, timesteps: int) -> 
     for name in given:
         if name not in defaults:
             raise unknown(f"{algo.upper()} hyper-parameter", name, defaults)
+        given[name] = check_hyperparam(algo, name, given[name], defaults[name])
     if algo == "sac" and "buffer_size" not in given:
         given["buffer_size"] = int(min(SAC_MAX_BUFFER, timesteps))
     return given, _jsonable({**defaults, **given})
