@@ -6,11 +6,12 @@ Malformed input raises ``ValueError`` naming the file (or array), the row and th
 
 * :func:`fit_wet_speed_coefficient` - columns ``depth`` (m), ``speed`` (m/s), ``force`` (N): a plate
   dragged at several speeds and depths. The model is the one of :mod:`mjrft.laws.wet`,
-  ``force = alpha_base x depth x (1 + eps_v) ** ((speed - v_base) / dv)``, fitted as a straight line
-  in log space (ordinary least squares of ln(force / depth) on (speed - v_base) / dv). Samples
-  shallower than ``min_depth`` (default 10 mm: the paper finds the top 10 mm fluctuating while the
-  surface yields) are left out. The result's :meth:`WetSpeedFit.extra` goes into
-  ``Medium.with_extra``; the clamp range [v_min, v_max] is the measured speed range.
+  ``force = alpha_base x depth x (1 + eps_v (speed - v_base) / dv)``, fitted the paper's way as a
+  straight line (ordinary least squares of force / depth on (speed - v_base) / dv: intercept
+  alpha_base, eps_v = slope / intercept). Samples shallower than ``min_depth`` (default 10 mm: the
+  paper finds the top 10 mm fluctuating while the surface yields) are left out. The result's
+  :meth:`WetSpeedFit.extra` goes into ``Medium.with_extra``; [v_min, v_max] is the measured speed
+  range (the calibrated range, reported by the validity checks; it does not change the force).
 * :func:`fit_hybrid_constants` - columns ``psi`` (radians; or ``psi_deg`` in degrees), ``depth``
   (m), ``F_perp``, ``F_par`` (N per metre of bar): bar-drag tests. At each depth (samples grouped by
   depth rounded to 1 um), linear least squares of the bar-drag fit of :mod:`mjrft.laws.hybrid`:
@@ -31,7 +32,7 @@ import numpy as np
 
 from .errors import check_positive
 from .laws.hybrid import COS_BREAK, SIN_BREAK
-from .laws.wet import DV, V_BASE
+from .laws.wet import DV, V_BASE, speed_factor
 
 __all__ = ["HybridFit", "WetSpeedFit", "fit_hybrid_constants", "fit_wet_speed_coefficient", "read_columns"]
 
@@ -150,7 +151,7 @@ class WetSpeedFit:
     alpha_base: float  # force per depth at v_base, N/m
     v_min: float  # measured speed range, m/s
     v_max: float
-    r2: float  # of the log-space fit
+    r2: float  # of the straight-line fit
     n: int  # samples used
 
     def extra(self) -> dict:
@@ -159,8 +160,8 @@ class WetSpeedFit:
                 "wet_v_min": self.v_min, "wet_v_max": self.v_max}
 
     def factor(self, speed):
-        v = np.clip(np.asarray(speed, dtype=float), self.v_min, self.v_max)
-        return (1.0 + self.eps_v) ** ((v - self.v_base) / self.dv)
+        """The wet law's speed factor with these constants (:func:`mjrft.laws.wet.speed_factor`)."""
+        return speed_factor(speed, self.eps_v, self.v_base, self.dv)
 
 
 def fit_wet_speed_coefficient(data, speed=None, force=None, *, v_base=V_BASE, dv=DV, min_depth=0.01) -> WetSpeedFit:
@@ -190,13 +191,16 @@ def fit_wet_speed_coefficient(data, speed=None, force=None, *, v_base=V_BASE, dv
         raise ValueError(f"{where.whole()}: need at least 2 different speeds to fit a speed coefficient, "
                          f"got only {float(spd[0])!r} m/s")
     x = (spd - v_base) / dv
-    y = np.log(frc / dep)
+    y = frc / dep
     a = np.stack([np.ones_like(x), x], axis=1)
     (c0, c1), *_ = np.linalg.lstsq(a, y, rcond=None)
     resid = y - a @ np.array([c0, c1])
     ss = float(np.sum((y - y.mean()) ** 2))
     r2 = 1.0 - float(np.sum(resid ** 2)) / ss if ss > 0 else 1.0
-    return WetSpeedFit(eps_v=float(math.expm1(c1)), v_base=v_base, dv=dv, alpha_base=float(math.exp(c0)),
+    if not c0 > 0:
+        raise ValueError(f"{where.whole()}: the fitted force per depth at v_base = {v_base!r} m/s is {float(c0):.4g} "
+                         "N/m, not > 0; the data do not fit force = alpha_base x depth x (1 + eps_v (v - v_base) / dv)")
+    return WetSpeedFit(eps_v=float(c1 / c0), v_base=v_base, dv=dv, alpha_base=float(c0),
                        v_min=float(spd.min()), v_max=float(spd.max()), r2=r2, n=int(dep.size))
 
 

@@ -15,7 +15,7 @@ def wet_data(eps=0.16, alpha=1500.0, noise=0.03, seed=1):
     rng = np.random.default_rng(seed)
     depth, speed = np.meshgrid([0.005, 0.015, 0.02, 0.03, 0.04], [0.01, 0.02, 0.03, 0.04, 0.05], indexing="ij")
     depth, speed = depth.ravel().repeat(3), speed.ravel().repeat(3)
-    force = alpha * depth * (1 + eps) ** ((speed - 0.03) / 0.01) * np.exp(rng.normal(0, noise, depth.size))
+    force = alpha * depth * (1 + eps * (speed - 0.03) / 0.01) * np.exp(rng.normal(0, noise, depth.size))
     return depth, speed, force
 
 
@@ -39,15 +39,16 @@ def test_wet_fit_recovers_coefficient(tmp_path):
     m = mjrft.get_medium("sea_sand_saturated").with_extra(**fit.extra())
     f10 = wet(0.03, [1.0, 0, 0], [0.01, 0, 0], 1e-4, m)[0, 0]
     f50 = wet(0.03, [1.0, 0, 0], [0.05, 0, 0], 1e-4, m)[0, 0]
-    assert f50 / f10 == pytest.approx((1 + fit.eps_v) ** 4, rel=1e-9)
+    assert f50 / f10 == pytest.approx((1 + 2 * fit.eps_v) / (1 - 2 * fit.eps_v), rel=1e-9)
     assert fit.factor(0.05) / fit.factor(0.01) == pytest.approx(f50 / f10)
 
 
 def test_wet_fit_other_coefficient_and_base():
     depth, speed, force = wet_data(eps=0.30, noise=0.0)
     fit = fit_wet_speed_coefficient(depth, speed, force, v_base=0.02, min_depth=0.0)
-    assert fit.eps_v == pytest.approx(0.30, rel=1e-9)
-    assert fit.alpha_base == pytest.approx(1500.0 / 1.3, rel=1e-9) and fit.r2 == pytest.approx(1.0)
+    # the same line re-anchored at 20 mm/s: alpha_base x 0.7, eps_v 0.30 / 0.7 per 10 mm/s
+    assert fit.eps_v == pytest.approx(0.30 / 0.7, rel=1e-9)
+    assert fit.alpha_base == pytest.approx(1500.0 * 0.7, rel=1e-9) and fit.r2 == pytest.approx(1.0)
 
 
 def hybrid_data(noise=0.02, seed=2):

@@ -7,8 +7,8 @@ import pytest
 
 import mjrft
 from mjrft.laws import LAW_IDS, LAWS, apply_law, rft, water, wet
-from mjrft.laws.wet import (DRAG_COEFFICIENT, DRY_CROSSOVER_SPEED, EPS_V, WATER_SKIN, dry_reference, speed_factor,
-                            water_drag_stress, water_stress, wet_stress)
+from mjrft.laws.wet import (DRAG_COEFFICIENT, DRY_CROSSOVER_SPEED, EPS_V, V_CAP, WATER_SKIN, dry_reference,
+                            speed_factor, water_drag_stress, water_stress, wet_stress)
 
 SAND = "sea_sand_saturated"
 STEP = 0.1 * 1e-3  # one 1 ms step of motion at 0.1 m/s
@@ -49,15 +49,15 @@ def test_registered():
     assert m.get("wet_eps_v") == EPS_V
 
 
-def test_plate_speed_ratio_reference_fact():
-    """F(50 mm/s) / F(10 mm/s) = 1.786 at 30 mm depth on a 20 x 20 x 2 mm plate (within 2 %)."""
+def test_plate_speed_line():
+    """The paper's linear velocity coefficient: F(v) = F(30 mm/s) (1 + 0.16 (v - 30 mm/s) / 10 mm/s)."""
+    base = drag_x("wet", 0.03)
+    for v in (1e-6, 0.01, 0.02, 0.04, 0.05, 0.1, 0.3456, 0.4608, 1.0):
+        assert drag_x("wet", v) / base == pytest.approx(1 + EPS_V * (v - 0.03) / 0.01, rel=1e-9), v
     ratio = drag_x("wet", 0.05) / drag_x("wet", 0.01)
-    print(f"wet plate F(50)/F(10) = {ratio:.4f} (paper 1.786)")
-    assert ratio == pytest.approx(1.786, rel=0.02)
-    assert ratio == pytest.approx(1.16 ** 4, rel=1e-9)
-    # eps_v = 0.16 per 10 mm/s around the 30 mm/s base case
-    assert drag_x("wet", 0.04) / drag_x("wet", 0.03) == pytest.approx(1.16, rel=1e-9)
-    assert drag_x("wet", 0.03) / drag_x("wet", 0.02) == pytest.approx(1.16, rel=1e-9)
+    # the paper measured 1.786 (section 2.4); its line gives 1.32 / 0.68 (sgrft_plate_speed reports it)
+    print(f"wet plate F(50)/F(10) = {ratio:.4f} (paper's measurement 1.786)")
+    assert ratio == pytest.approx(1.32 / 0.68, rel=1e-9)
 
 
 def test_force_roughly_linear_in_speed():
@@ -74,12 +74,12 @@ def test_force_roughly_linear_in_speed():
 
 def test_wet_vs_dry_reference():
     dry_med = dry_reference()
-    assert dry_med.zeta == pytest.approx(0.47e6 * 1.16 ** -0.5)
+    assert dry_med.zeta == pytest.approx(0.47e6 * 0.92)
     dry = drag_x("rft", 0.03, dry_med)
     assert drag_x("rft", 0.01, dry_med) == pytest.approx(dry)  # rate-independent
     for v in (0.001, 0.005, 0.01, 0.015, 0.02):
         assert drag_x("wet", v) < dry, v
-    for v in (0.03, 0.04, 0.05, 0.5):
+    for v in (0.03, 0.04, 0.05, 0.5, 10.0):
         assert drag_x("wet", v) > dry, v
     cross = DRY_CROSSOVER_SPEED
     assert drag_x("wet", cross) == pytest.approx(dry, rel=1e-9)
@@ -99,19 +99,37 @@ def test_wet_is_rft_times_factor():
         np.testing.assert_allclose(fw, fr * k, rtol=1e-12, atol=1e-15)
 
 
-def test_speed_factor_clamp_and_extremes():
+def test_speed_factor_extremes():
+    """Zero speed: the line's 0.52; above v_cap = 1 m/s (and inf): held at 16.52; NaN counts as 0."""
     p = mjrft.get_medium(SAND).params()
     base = wet_stress(0.03, -1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.03, p)
-    for speed, k in ((0.0, 1.16 ** -2), (1e-9, 1.16 ** -2), (0.005, 1.16 ** -2), (0.05, 1.16 ** 2),
-                     (10.0, 1.16 ** 2), (1e9, 1.16 ** 2), (math.nan, 1.16 ** -2)):
+    at_cap = 1 + 0.16 * (V_CAP - 0.03) / 0.01
+    for speed, k in ((0.0, 0.52), (1e-300, 0.52), (1e-9, 0.52 + 16e-9), (0.005, 0.6), (0.05, 1.32), (0.5, 8.52),
+                     (V_CAP, at_cap), (10.0, at_cap), (1e300, at_cap), (math.inf, at_cap), (math.nan, 0.52),
+                     (-1.0, 0.52)):
         s = wet_stress(0.03, -1.0, 0.0, 0.0, -1.0, 0.0, 0.0, speed, p)
         assert all(math.isfinite(c) for c in s), speed
-        np.testing.assert_allclose(s, np.array(base) * k, rtol=1e-12)
+        np.testing.assert_allclose(s, np.array(base) * k, rtol=1e-12, err_msg=str(speed))
+        np.testing.assert_allclose(speed_factor(speed), k, rtol=1e-12)
+    # continuous at the cap
+    below = wet_stress(0.03, -1.0, 0.0, 0.0, -1.0, 0.0, 0.0, V_CAP * (1 - 1e-12), p)
+    np.testing.assert_allclose(below, np.array(base) * at_cap, rtol=1e-9)
     for depth in (1e-300, 1e-9, 1.0, 1e3, 1e6):
-        s = wet_stress(depth, 0.6, 0.0, -0.8, 0.0, 0.0, -1.0, 10.0, p)
-        assert all(math.isfinite(c) for c in s)
+        for speed in (0.0, 10.0, math.inf):
+            s = wet_stress(depth, 0.6, 0.0, -0.8, 0.0, 0.0, -1.0, speed, p)
+            assert all(math.isfinite(c) for c in s)
     assert wet_stress(0.0, 0.0, 0.0, -1.0, 0.0, 0.0, -1.0, 0.1, p) == (0.0, 0.0, 0.0)
     assert wet_stress(-0.01, 0.0, 0.0, -1.0, 0.0, 0.0, -1.0, 0.1, p) == (0.0, 0.0, 0.0)
+
+
+def test_speed_factor_other_constants():
+    """A medium's own constants: cap and slope are used; a falling line that stays > 0 is allowed."""
+    m = mjrft.get_medium(SAND).with_extra(wet_eps_v=-0.002, wet_v_cap=0.5)
+    p = m.params()
+    for speed, k in ((0.0, 1.006), (0.03, 1.0), (0.5, 1 - 0.002 * 47), (100.0, 1 - 0.002 * 47)):
+        s = wet_stress(0.03, -1.0, 0.0, 0.0, -1.0, 0.0, 0.0, speed, p)
+        b = rft(0.03, [-1.0, 0, 0], [-max(speed, 1e-9), 0, 0], 1.0, m)[0]
+        np.testing.assert_allclose(s, b * k, rtol=1e-9)
 
 
 def _profile(fun, z0, span=3e-3):
@@ -184,6 +202,8 @@ def test_water_drag_helper_signature():
 
 
 @pytest.mark.parametrize("key,value", [("wet_v_min", 0.06), ("wet_eps_v", -2.0), ("wet_eps_v", "x"),
+                                       ("wet_eps_v", 0.4), ("wet_eps_v", -0.011), ("wet_eps_v", math.inf),
+                                       ("wet_v_cap", 0.0), ("wet_v_cap", math.inf), ("wet_v_base", -0.01),
                                        ("water_depth", -1.0), ("drag_coefficient", math.nan), ("wet_dv", 0.0),
                                        ("water_skin", 0.0)])
 def test_bad_constants_named(key, value):
