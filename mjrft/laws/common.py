@@ -16,6 +16,8 @@ from numba import njit
 
 LEAD_EPS = 0.05
 PLANE_EPS = 0.05  # see motion_plane
+PLANE_FADE = math.sin(math.radians(10.0))  # see motion_plane
+INV_PLANE_FADE2 = 1.0 / (PLANE_FADE * PLANE_FADE)
 TINY = 1e-12
 
 
@@ -30,20 +32,30 @@ def lead_weight(n_dot_v):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def plane_weight(mx, my):
+    """Weight of the normal in :func:`motion_plane`: ``PLANE_EPS (1 - q)^2``, ``q = min(1, |m_h|^2 / PLANE_FADE^2)``."""
+    q = min(1.0, (mx * mx + my * my) * INV_PLANE_FADE2)
+    return PLANE_EPS * (1.0 - q) * (1.0 - q)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def motion_plane(nx, ny, mx, my):
     """Unit horizontal axis r of the element's vertical plane of motion.
 
-    ``normalize(m_h + PLANE_EPS n_h)`` for the unit motion m and unit normal n (h: horizontal part):
-    the horizontal direction of the motion, turning smoothly to that of the normal when the motion is
-    within a few degrees of vertical (|m_h| ~ PLANE_EPS), and +x if both vanish. Choice: a hard
-    switch at exactly vertical motion (r = m_h / |m_h| however small m_h is) makes the force on a
-    vertical face that moves (almost) vertically depend on rounding noise in m_h, from full (plane
-    through n) to nothing (plane across n); a body resting on sand then creeps. The blend keeps the
-    force continuous in m; it changes nothing once the motion is more than ~10 degrees off vertical
-    (every reference-table case is exactly horizontal or exactly vertical motion).
+    ``normalize(m_h + w n_h)`` for the unit motion m and unit normal n (h: horizontal part), with the
+    normal's weight ``w = PLANE_EPS (1 - q)^2``, ``q = min(1, |m_h|^2 / PLANE_FADE^2)``
+    (:func:`plane_weight`): the horizontal direction of the motion, turning smoothly to that of the
+    normal when the motion is within a few degrees of vertical (|m_h| ~ PLANE_EPS = 0.05), and +x if
+    both vanish. Choice: a hard switch at exactly vertical motion (r = m_h / |m_h| however small m_h
+    is) makes the force on a vertical face that moves (almost) vertically depend on rounding noise in
+    m_h, from full (plane through n) to nothing (plane across n); a body resting on sand then creeps.
+    The blend keeps the force continuous in m (w and its slope are continuous); its weight fades to
+    exactly zero at |m_h| = PLANE_FADE = sin 10 deg, so motion more than 10 degrees off vertical
+    (every horizontal drag, every reference-table case) uses the plane of the motion itself.
     """
-    hx = mx + PLANE_EPS * nx
-    hy = my + PLANE_EPS * ny
+    w = plane_weight(mx, my)
+    hx = mx + w * nx
+    hy = my + w * ny
     h = math.sqrt(hx * hx + hy * hy)
     if h > TINY:
         return hx / h, hy / h

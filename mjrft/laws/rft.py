@@ -26,7 +26,7 @@ import math
 
 from numba import njit
 
-from .common import LEAD_EPS, PLANE_EPS, TINY, lead_weight, motion_plane
+from .common import INV_PLANE_FADE2, LEAD_EPS, PLANE_EPS, TINY, lead_weight, motion_plane
 
 
 @njit(cache=True, error_model="numpy")
@@ -73,8 +73,10 @@ def rft_stress_batch(count, depth, n, m, p, out):
         my = m[1, i]
         mz = m[2, i]
         lw = min(1.0, max(0.0, 0.5 + (nx * mx + ny * my + nz * mz) * (0.5 / LEAD_EPS)))
-        hx = mx + PLANE_EPS * nx
-        hy = my + PLANE_EPS * ny
+        q = min(1.0, (mx * mx + my * my) * INV_PLANE_FADE2)
+        pw = PLANE_EPS * (1.0 - q) * (1.0 - q)  # plane_weight
+        hx = mx + pw * nx
+        hy = my + pw * ny
         h2 = hx * hx + hy * hy
         use = h2 > TINY * TINY
         inv = 1.0 / math.sqrt(h2 if use else 1.0)

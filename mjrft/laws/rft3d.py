@@ -28,6 +28,14 @@ Choices where the reference is ambiguous (documented and tested):
   along the sliding (friction never pushes a surface the way it slides); the reflection is ramped in
   over 0.05 of tangential motion so the force stays continuous. The published table values (generic
   response, no cap) are unaffected.
+* No tension: the part of alpha_gen along the outward normal is clamped to zero (grains without
+  cohesion cannot pull on a face), and with it the tangential part, which the friction cap bounds by
+  mu_surface x the normal part. The fit gives such tensile values on faces that the motion slides
+  along, e.g. the top face of a plate dragged horizontally (alpha_gen = 0.110 up, along its outward
+  normal, the same value as on the bottom face), where it lifted Li's plate dragged at 5 cm depth by
+  1.3 of its 3.2 N. Clamping keeps the force continuous (it is zero where the normal part changes
+  sign) and leaves every leading face whose normal part is compressive, the whole reference table
+  included, unchanged.
 """
 
 from __future__ import annotations
@@ -118,6 +126,8 @@ def rft3d_stress(depth, nx, ny, nz, mx, my, mz, speed, p):
     gx, gy, gz = rft3d_generic(nx, ny, nz, mx, my, mz)
     an = gx * nx + gy * ny + gz * nz
     tx, ty, tz = gx - an * nx, gy - an * ny, gz - an * nz
+    if an > 0.0:  # no tension: cohesionless grains only push on a face (module docstring, "No tension")
+        an = 0.0
     # tangential sliding direction of the element
     mn = mx * nx + my * ny + mz * nz
     sx, sy, sz = mx - mn * nx, my - mn * ny, mz - mn * nz
