@@ -17,6 +17,8 @@ import argparse
 import os
 import warnings
 
+from mjrft.rerun_log import LOG_EVERY
+
 ENV_ID = "mjrft/HexapodSand-v0"
 DEFAULT_OUT = "mjrft-demo.rrd"
 
@@ -27,7 +29,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--gait", default="tripod:f=2", metavar="SPEC",
                         help="hexapod gait spec (default tripod:f=2; see mjrft.gaits)")
     parser.add_argument("--medium", default="poppy_cp", help="granular medium (default poppy_cp: closely packed poppy seeds)")
-    parser.add_argument("--log-every", type=int, default=5, metavar="N", help="log every N-th env step (default 5)")
+    parser.add_argument("--log-every", type=int, default=LOG_EVERY, metavar="N",
+                        help=f"log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("--seed", type=int, default=0, help="reset seed (default 0)")
     parser.add_argument("--spawn-viewer", action="store_true", help="also stream to a newly started rerun viewer")
 

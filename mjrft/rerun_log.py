@@ -58,6 +58,7 @@ import mujoco
 import numpy as np
 
 G = 9.81
+LOG_EVERY = 5  # env steps between logged frames: the default of mjrft demo, rollout and eval --rrd
 #: colour map anchors (viridis-like) for stress, from 0 to stress_max
 _CMAP = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], dtype=np.float64)
 _SAND_RGBA = (219, 189, 133, 110)

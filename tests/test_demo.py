@@ -104,3 +104,11 @@ def test_rollout_argument_checks():
         rollout(env, "tripod", steps=2, env_kwargs={"medium": "poppy_lp"})
     assert np.isfinite(rollout(env, "tripod", steps=2)["distance"])
     env.close()
+
+
+def test_log_every_has_one_default_for_demo_rollout_and_eval():
+    from mjrft import cli
+    from mjrft.rerun_log import LOG_EVERY
+
+    argvs = (["demo"], ["rollout", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod"], ["eval", "--policy", "tripod"])
+    assert {cli.build_parser(a[0]).parse_args(a).log_every for a in argvs} == {LOG_EVERY}

@@ -52,6 +52,8 @@ from pathlib import Path
 
 import numpy as np
 
+from mjrft.rerun_log import LOG_EVERY
+
 from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, algo_class, check_env_id, default_hyperparams,
                     find_config, load_config, make_env, parse_kwargs, side_file, _int_arg)
 
@@ -238,7 +240,7 @@ def summarize(rows: list[dict]) -> dict:
 # ---------------------------------------------------------------------------------------------- evaluation
 def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed: int = 0,
              env_kwargs: dict | None = None, deterministic: bool = True, rrd=None, *, device: str = "cpu",
-             log_every: int = 1) -> tuple[list[dict], dict]:
+             log_every: int = LOG_EVERY) -> tuple[list[dict], dict]:
     """Run ``episodes`` episodes of a policy or gait; return (per-episode rows, summary) (module doc).
 
     ``env_id`` / ``env_kwargs`` default to those of the run a model zip belongs to (given kwargs
@@ -374,8 +376,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
     parser.add_argument("--json", default=None, metavar="FILE", help="also write rows and summary as JSON")
     parser.add_argument("--rrd", default=None, metavar="FILE", help="log the first episode to a rerun file")
-    parser.add_argument("--log-every", type=_int_arg, default=1,
-                        help="with --rrd: log every N-th env step (default 1)")
+    parser.add_argument("--log-every", type=_int_arg, default=LOG_EVERY,
+                        help=f"with --rrd: log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
                         help="environment keyword arguments (override the run's), e.g. max_episode_steps=500")
 

@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from mjrft.errors import check_positive
+from mjrft.rerun_log import LOG_EVERY
 
 
 def _check_int(name: str, value, minimum: int) -> int:
@@ -82,7 +83,7 @@ def bind_policy(policy_or_spec, env):
 
 
 def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_path=None, *, steps: int | None = None,
-            log_every: int = 10, seed: int = 0, env_kwargs: dict | None = None, spawn_viewer: bool = False,
+            log_every: int = LOG_EVERY, seed: int = 0, env_kwargs: dict | None = None, spawn_viewer: bool = False,
             deterministic: bool = True) -> dict:
     """Run one rollout and return its summary (see the module docstring).
 
@@ -196,7 +197,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "(gaits: tripod, rect, stand, shift)")
     parser.add_argument("--seconds", type=float, default=5.0, help="simulated seconds to run (default 5)")
     parser.add_argument("--rrd", default="rollout.rrd", metavar="FILE", help="rerun file to write (default rollout.rrd)")
-    parser.add_argument("--log-every", type=int, default=10, metavar="N", help="log every N-th env step (default 10)")
+    parser.add_argument("--log-every", type=int, default=LOG_EVERY, metavar="N",
+                        help=f"log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("--seed", type=int, default=0, help="reset seed (default 0)")
     parser.add_argument("--spawn-viewer", action="store_true", help="also stream to a newly started rerun viewer")
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE", help="environment keyword arguments")
