@@ -1,10 +1,14 @@
-"""Output paths checked before any work starts: every command that writes files calls these first.
+"""What the commands write: output paths checked before any work starts, and numbers printed without noise.
 
 ``output_dir(path, option)`` creates the folder and proves it can be written; ``output_file(path,
 option)`` does the same for the folder a file goes into and refuses a path that is a folder. Both
 raise ``ValueError`` naming the option, the path and the reason, so the command line prints one
 line (exit status 2) instead of a traceback after the work is done. Nothing is left behind: the
 probe file is removed again, and the output file itself is not created until it is written.
+
+``number(x, spec, scale)`` formats a printed number: a value below ``NOISE`` x ``scale`` (floating-point
+round-off, e.g. the 1e-16 N drag of a plate pushed straight down) and a negative zero such as
+``-0.000`` print as zero.
 """
 
 from __future__ import annotations
@@ -12,7 +16,20 @@ from __future__ import annotations
 import os
 import tempfile
 
-__all__ = ["output_dir", "output_file"]
+__all__ = ["NOISE", "number", "output_dir", "output_file"]
+
+NOISE = 1e-9  # relative size below which a printed value is round-off
+
+
+def number(x, spec: str = ".4g", scale: float | None = None) -> str:
+    """``format(x, spec)``, with round-off (``|x| < NOISE * scale``, scale defaults to ``|x|``) and ``-0`` as 0."""
+    x = float(x)
+    if scale is not None and abs(x) < NOISE * abs(scale):
+        x = 0.0
+    text = format(x, spec)
+    if "-" in text.split("e")[0] and not any(c in "123456789" for c in text.split("e")[0]):
+        text = format(0.0, spec)  # "-0.000", "  -0.00" -> "0.000", "   0.00"
+    return text
 
 
 def _probe(folder: str, option: str, path: str) -> None:

@@ -72,7 +72,7 @@ import mujoco
 import numpy as np
 
 from .coupler import GranularTerrain
-from .outputs import output_dir
+from .outputs import number, output_dir
 from .errors import TerrainStabilityWarning, check_finite, check_positive, unknown
 from .laws import law_id
 from .media import MEDIA, Medium, get_medium
@@ -501,8 +501,10 @@ def main(args) -> int:
         png_path = plot_plate(profs, os.path.join(args.out, stem + ".png"))
         for p in profs.values():
             i = int(np.argmax(p.depth))
-            print(f"{p.label}: at depth {p.depth[i] * 100:.2f} cm lift {p.lift[i]:.4g} N, drag {p.drag[i]:.4g} N, "
-                  f"torque {p.torque[i] * 1000:.4g} N mm ({len(p.depth)} samples, {p.settings['elements']} elements)")
+            scale = max(abs(p.lift[i]), abs(p.drag[i]))  # forces below round-off of the larger one print as 0
+            print(f"{p.label}: at depth {p.depth[i] * 100:.2f} cm lift {number(p.lift[i], scale=scale)} N, "
+                  f"drag {number(p.drag[i], scale=scale)} N, torque {number(p.torque[i] * 1000, scale=scale * 1000)} "
+                  f"N mm ({len(p.depth)} samples, {p.settings['elements']} elements)")
     elif args.rig == "leg":
         kw = dict(omega=args.omega, start=math.radians(args.start), stop=math.radians(args.stop),
                   dtheta=math.radians(args.dtheta), axle_height=args.axle_height, medium=args.medium, law=args.law,
@@ -522,8 +524,10 @@ def main(args) -> int:
         csv_path = write_csv(profs, os.path.join(args.out, stem + ".csv"))
         png_path = plot_leg(profs, os.path.join(args.out, stem + ".png"))
         for p in profs.values():
-            print(f"{p.label}: peak forward {p.forward.max():.4g} N, peak support {p.support.max():.4g} N, "
-                  f"peak torque {p.torque.max() * 1000:.4g} N mm, max depth {p.depth.max() * 100:.2f} cm "
+            scale = max(np.abs(p.forward).max(), np.abs(p.support).max())
+            print(f"{p.label}: peak forward {number(p.forward.max(), scale=scale)} N, peak support "
+                  f"{number(p.support.max(), scale=scale)} N, peak torque {number(p.torque.max() * 1000)} N mm, "
+                  f"max depth {p.depth.max() * 100:.2f} cm "
                   f"({len(p.angle)} angles, {p.settings['elements']} elements)")
     else:  # argparse enforces the choice; kept for direct calls
         raise unknown("rig", args.rig, ["leg", "plate"])

@@ -62,3 +62,21 @@ def test_every_command_refuses_an_unwritable_output_before_working(argv, option,
     err = capsys.readouterr().err
     assert f"{option} '{blocker}" in err and "cannot be written" in err, err
     assert time.perf_counter() - t0 < 20  # refused up front, not after the work
+
+
+def test_printed_numbers_show_round_off_and_negative_zero_as_zero():
+    from mjrft.outputs import number
+
+    assert number(2.582e-16, ".4g", scale=3.2) == "0"
+    assert number(2.582e-16, ".4g") == "2.582e-16"  # no scale: a tiny value is not noise by itself
+    assert number(-0.0001, ".3f") == "0.000" and number(-0.0, ".2f") == "0.00"
+    assert number(-0.001, "8.2f") == "    0.00" and number(-0.02, ".3f") == "-0.020"
+    assert number(12.3, "8.2f") == "   12.30" and number(-4e-4, ".2e") == "-4.00e-04"
+
+
+def test_rig_prints_no_round_off(tmp_path, capsys):
+    from mjrft import cli
+
+    assert cli.main(["rig", "plate", "--depth", "0.02", "--step", "0.002", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "drag 0 N" in out and "e-1" not in out, out

@@ -52,6 +52,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mjrft.outputs import number
 from mjrft.rerun_log import LOG_EVERY
 
 from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, algo_class, check_env_id, default_hyperparams,
@@ -320,8 +321,8 @@ def format_table(rows: list[dict], summary: dict) -> str:
         if key == "steps":
             return f"{v:.0f}" if float(v).is_integer() else f"{v:.1f}"
         if key in ("cot",) and abs(v) >= 1e3:
-            return f"{v:.3g}"
-        return f"{v:.3f}" if key in ("speed", "slip") else f"{v:.2f}"
+            return number(v, ".3g")
+        return number(v, ".3f" if key in ("speed", "slip") else ".2f")
 
     lines = ["episode " + "".join(f"{h:>{w}s}" for h, w in zip(heads, width)),
              "        " + "".join(f"{u:>{w}s}" for u, w in zip(units, width))]

@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from mjrft.errors import check_positive
+from mjrft.outputs import number
 from mjrft.rerun_log import LOG_EVERY
 
 
@@ -177,10 +178,10 @@ def format_summary(s: dict) -> str:
     lines = [
         f"{s['policy']} on {s['env']}: {s['seconds']:.2f} s simulated ({s['steps']} steps, {s['wall_s']:.1f} s wall)"
         + ("  -- FELL (episode terminated)" if s["fell"] else ""),
-        f"  distance       {100 * s['distance']:8.2f} cm",
-        f"  mean speed     {100 * s['mean_speed']:8.2f} cm/s",
-        f"  mean sinkage   {s['mean_sinkage_mm']:8.2f} mm   (peak {s['peak_sinkage_mm']:.2f} mm)",
-        f"  return         {s['return']:8.2f}",
+        f"  distance       {number(100 * s['distance'], '8.2f')} cm",
+        f"  mean speed     {number(100 * s['mean_speed'], '8.2f')} cm/s",
+        f"  mean sinkage   {number(s['mean_sinkage_mm'], '8.2f')} mm   (peak {number(s['peak_sinkage_mm'], '.2f')} mm)",
+        f"  return         {number(s['return'], '8.2f')}",
     ]
     return "\n".join(lines)
 
