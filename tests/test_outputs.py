@@ -81,17 +81,3 @@ def test_rig_prints_no_round_off(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "drag 0 N" in out and "e-1" not in out, out
 
-
-def test_importing_the_repository_folder_as_mjrft_says_what_happened(tmp_path):
-    """A script run beside a clone named ``mjrft`` must not import the repository as an empty package."""
-    import subprocess
-    import sys
-
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    os.symlink(repo, tmp_path / "mjrft")
-    run = subprocess.run([sys.executable, "-c", "import mjrft"], cwd=tmp_path, capture_output=True, text=True)
-    assert run.returncode != 0
-    assert "found the mjrft repository folder" in run.stderr and "instead of the mjrft package" in run.stderr
-    ok = subprocess.run([sys.executable, "-c", "import mjrft, mjrft.envs; print(mjrft.__file__)"], cwd=repo,
-                        capture_output=True, text=True)
-    assert ok.returncode == 0 and ok.stdout.strip().endswith(os.path.join("mjrft", "__init__.py"))
