@@ -265,7 +265,8 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
                  yield_displacement: float | None = None, **leg) -> LegProfile:
     """Run the rotating-leg rig (module docstring); angles in radians, SI units.
 
-    ``shape``: ``"flat"``, ``"c"``, ``"reversed_c"`` or ``"semi_ellipse"``; ``**leg``: ``chord``,
+    ``shape``: ``"flat"``, ``"c"``, ``"reversed_c"``, ``"semi_ellipse"``, ``"v_section"`` or
+    ``"triangle_section"``; ``**leg``: ``chord``,
     ``curvature``, ``a``, ``b``, ``bulge``, ``width``, ``thickness``, ``n_segments``
     (:func:`mjrft.models.rigs.leg_geometry`). ``omega`` (rad/s, non-zero; default 0.2, Li 2013)
     turns the leg from ``start`` to ``stop``, which must lie in the direction of ``omega``;
@@ -316,7 +317,8 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     if shape == "semi_ellipse":
         label = f"semi-ellipse a {geo['a'] * 100:g} cm, b {geo['b'] * 100:.3g} cm"
     else:
-        label = {"flat": "flat", "c": "C-leg", "reversed_c": "reversed C-leg"}[shape]
+        label = {"flat": "flat", "c": "C-leg", "reversed_c": "reversed C-leg", "v_section": "V-section leg",
+                 "triangle_section": "triangle-section leg"}[shape]
     return LegProfile(angle=angles, time=times, depth=depth, forward=force[:, 0].copy(), support=force[:, 2].copy(),
                       torque=0.0 - tau_axle[:, 1], settings=settings, label=label)
 

@@ -34,6 +34,9 @@ and the hinge has ``ref = pi``). Shapes:
                    side leading (``bulge=+1``: bowing toward -x, the side that moves first when omega
                    > 0) or trailing (``bulge=-1``), the hybrid paper's legs and the convention of
                    :func:`mjrft.laws.hybrid.rotating_leg_profile`
+``v_section``      straight leg (default hip to tip ``chord`` = 11 cm) with a V cross-section of two
+                   plates 90 deg apart, open side leading (:func:`section_leg_mesh`): SGRFT's V-leg
+``triangle_section`` the same with a solid equilateral-triangle cross-section, apex leading: SGRFT's T-leg
 =================  ===================================================================================
 
 Defaults: Li 2013's leg rotation rig for ``flat``/``c``/``reversed_c`` (legs 7.62 cm hip to tip,
@@ -74,7 +77,10 @@ LI_AXLE_HEIGHT = 0.02
 HYBRID_A = 0.045
 HYBRID_AXLE_HEIGHT = 0.05
 
-LEG_SHAPES = ("flat", "c", "reversed_c", "semi_ellipse")
+LEG_SHAPES = ("flat", "c", "reversed_c", "semi_ellipse", "v_section", "triangle_section")
+# SGRFT's straight legs (Machines 2022, sec. 3.2): projection on the direction of motion 25 x 110 mm
+SGRFT_LEG_LENGTH = 0.110
+SECTION_SHAPES = ("v_section", "triangle_section")
 ALUMINIUM = 2700.0  # kg/m^3, only for the (unused) inertia of the kinematic bodies
 RIG_RESOLUTION = 0.005
 NO_CONTACT = 'contype="0" conaffinity="0"'
@@ -149,6 +155,13 @@ def leg_geometry(shape: str = "c", *, chord: float | None = None, curvature: flo
         return out
     if a is not None or b is not None:
         raise ValueError(f"the semi-axes a and b apply to shape 'semi_ellipse' only, not {shape!r}")
+    if shape in SECTION_SHAPES:
+        if curvature not in (None, 0, 0.0):
+            raise ValueError(f"shape {shape!r} is straight (no curvature), got {curvature!r}")
+        chord = check_positive("leg chord", SGRFT_LEG_LENGTH if chord is None else chord)
+        mesh = section_leg_mesh(shape, chord, width, thickness)
+        out.update(chord=chord, length=chord, curvature=0.0, mesh=mesh, vertices=mesh[0])
+        return out
     chord = check_positive("leg chord", LEG_CHORD if chord is None else chord)
     out.update(chord=chord, length=chord)
     if shape == "flat":
@@ -167,6 +180,54 @@ def leg_geometry(shape: str = "c", *, chord: float | None = None, curvature: flo
     mesh = curved_leg_mesh(chord, k, width, thickness, n_segments)
     out.update(curvature=k, mesh=mesh, vertices=mesh[0])
     return out
+
+
+def section_leg_mesh(shape: str, length: float, width: float, thickness: float) -> tuple[np.ndarray, np.ndarray]:
+    """Closed mesh ``(vertices, faces)`` of a straight leg from the hip (0, 0, 0) to the tip (0, 0, -length)
+    whose cross-section (x along the motion, y along the axle) is
+
+    * ``v_section``: a V of two plates ``thickness`` thick, 90 degrees apart, opening ``width`` wide and
+      ``width / 2`` deep, open side toward -x (the side that leads when omega > 0: a scoop);
+    * ``triangle_section``: a solid equilateral triangle of side ``width``, apex toward -x (leading: a wedge).
+
+    Both project on the direction of motion to ``width`` x ``length`` like a flat leg (the SGRFT paper's
+    R/V/T legs; it gives no cross-section, these are mjrft's reading). Rings every ``width / 2`` along the
+    leg keep the triangles near isotropic.
+    """
+    w, t = check_positive("leg width", width), check_positive("leg thickness", thickness)
+    if shape == "v_section":
+        d, s = w / 2, t * math.sqrt(2.0)  # depth of the V; offset of the inner V along x for thickness t
+        if not s < d:
+            raise ValueError(f"v_section: thickness {thickness!r} m too large for width {width!r} m "
+                             f"(needs thickness < width / (2 sqrt 2) = {d / math.sqrt(2.0):.6g} m)")
+        x0 = -d / 2  # x from -d/2 (open side) to +d/2 (apex)
+        poly = [(x0, -w / 2), (x0 + d, 0.0), (x0, w / 2), (x0, w / 2 - s), (x0 + d - s, 0.0), (x0, -w / 2 + s)]
+        caps = [(0, 1, 4, 5), (1, 2, 3, 4)]  # the two arms, each convex
+    elif shape == "triangle_section":
+        h = w * math.sqrt(3.0) / 2
+        poly = [(-h / 2, 0.0), (h / 2, -w / 2), (h / 2, w / 2)]
+        caps = [(0, 1, 2)]
+    else:
+        raise ValueError(f"unknown section leg {shape!r}; valid choices: {', '.join(SECTION_SHAPES)}")
+    poly = np.array(poly)
+    k = len(poly)
+    rings = max(1, math.ceil(length / (w / 2) - 1e-9))
+    zs = np.linspace(0.0, -length, rings + 1)
+    verts = np.array([(x, y, z) for z in zs for x, y in poly])
+    faces = []
+    ccw = np.sum(poly[:, 0] * np.roll(poly[:, 1], -1) - np.roll(poly[:, 0], -1) * poly[:, 1]) > 0
+    for r in range(rings):
+        for i in range(k):
+            j = (i + 1) % k
+            a, b, c, e = r * k + i, r * k + j, (r + 1) * k + j, (r + 1) * k + i
+            faces += [(a, e, c), (a, c, b)] if ccw else [(a, c, e), (a, b, c)]
+    for cap in caps:  # top cap faces +z, bottom cap -z
+        top = [cap[0], cap[1], cap[2]] if ccw else [cap[0], cap[2], cap[1]]
+        quads = [top] if len(cap) == 3 else [top, [cap[0], cap[2], cap[3]] if ccw else [cap[0], cap[3], cap[2]]]
+        for tri in quads:
+            faces.append(tuple(tri))
+            faces.append(tuple(rings * k + i for i in tri[::-1]))
+    return verts, np.array(faces, dtype=int)
 
 
 def default_axle_height(shape: str) -> float:
