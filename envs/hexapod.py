@@ -16,7 +16,9 @@ from .base import GranularMujocoEnv, split_env_kwargs
 class HexapodSand(GranularMujocoEnv):
     """RHex-class hexapod (150 g, six continuously rotating C-legs) walking forward (+x) on sand.
 
-    Model: :func:`mjrft.models.hexapod_xml` (``variant``, ``curvature``, ``sand``); granular bodies
+    Model: :func:`mjrft.models.hexapod_xml` (``variant``, ``curvature``, ``sand``; ``curvature`` is the
+    signed leg curvature 1/r in 1/m, default 1/R': positive = Li 2013's C-leg, convex side leading in
+    stance, negative = reversed C-leg, convention in :mod:`mjrft.geometry.curved_leg`); granular bodies
     torso + six legs. Physics step 1 ms, default ``frame_skip = 10`` (``dt = 0.01`` s).
 
     ## Action space

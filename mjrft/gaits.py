@@ -44,8 +44,11 @@ Choices where the papers are silent
   reference: stance (a fraction ``duty`` of the cycle) sweeps the leg at constant speed through
   ``sweep`` rad centred on straight down; the swing recirculates the remaining ``2 pi - sweep`` at
   constant speed. ``duty = 0.5, sweep = pi`` (default) is the constant-speed rotation of Li 2013's
-  RHex experiments. Tripod A (lf, rm, lr) has phase 0, tripod B phase ``offset`` (cycles, default
-  0.5); at ``t = 0`` tripod A is mid-stance (legs down) and B catches up to its phase at full speed.
+  RHex experiments. The legs always turn the forward-walking way (positive hip angle, the buried part
+  sweeping backward), the rotation for which a positive ``curvature`` is Li 2013's C-leg leading with
+  its convex side and a negative one the reversed C-leg (:mod:`mjrft.geometry.curved_leg`). Tripod A
+  (lf, rm, lr) has phase 0, tripod B phase ``offset`` (cycles, default 0.5); at ``t = 0`` tripod A is
+  mid-stance (legs down) and B catches up to its phase at full speed.
   A spec whose stance or swing speed exceeds the env's ``max_hip_speed`` is rejected.
 * **rect.** The foot centre (the ankle axis: the round foot's axis) moves relative to the hip on a
   rectangle ``length`` x ``height`` whose bottom edge is ``depth`` below the hip, centred under the

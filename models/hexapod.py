@@ -5,8 +5,10 @@ on the sides at front / middle / rear; each hip is a 1-DOF hinge about the
 body's lateral (y) axis. Positive hip angle rotates a hanging leg backward
 (the tip moves toward -x), i.e. the forward-walking direction for a leg
 rotating in stance is *positive* hip angle. Legs hang straight down at qpos 0
-and are curved legs built with :mod:`mjrft.geometry.curved_leg` (curvature
-``k > 0`` bows toward +x: a "C-leg"; ``k < 0`` a reversed C-leg).
+and are curved legs built with :mod:`mjrft.geometry.curved_leg`, whose module
+docstring defines the sign of ``curvature``: ``k > 0`` is Li 2013's C-leg
+(bowing toward -x when hanging, so its convex side leads through the grains
+in stance, the RHex leg), ``k < 0`` the reversed C-leg (concave side leading).
 
 Names: body ``torso``; leg bodies ``leg_{lf,lm,lr,rf,rm,rr}`` (l/r = left/right,
 f/m/r = front/middle/rear); hinge joints ``hip_{...}``; position actuators
@@ -20,7 +22,8 @@ Variant ``"rhex"`` (RHex-class, reference section 6):
   x = +5, 0, -5 cm in the belly plane (z = -1 cm in the torso frame), at
   y = +-3.2 cm (just outside the 5 cm wide body, 2 mm clearance);
 * legs: chord 2R' = 4.1 cm, width 1.0 cm, thickness 0.3 cm, 8 box segments,
-  2 g each; curvature in [-1/R', 1/R'] (R' = 2.05 cm), default 1/R' (C-leg);
+  2 g each; curvature in [-1/R', 1/R'] (R' = 2.05 cm), default 1/R' (the
+  semicircular C-leg);
 * total mass 150 g (torso 138 g + 6 x 2 g); total pitch inertia about the
   robot CoM at qpos 0 = 2.08e3 g cm^2 = 2.08e-4 kg m^2, set through the
   torso's ``<inertial>`` (ixx from the box, iyy solved so the whole robot has
@@ -149,6 +152,13 @@ def pitch_inertia(model: mujoco.MjModel, data: mujoco.MjData | None = None) -> f
     return float(total)
 
 
+def _leg_kind(k: float) -> str:
+    """Li 2013's name of a leg of signed curvature ``k`` (convention: :mod:`mjrft.geometry.curved_leg`)."""
+    if k > 0:
+        return "C-leg, convex side leading in stance"
+    return "reversed C-leg, concave side leading in stance" if k < 0 else "flat leg"
+
+
 def _build(v, variant, curvature, n_segments, opts, torso_inertia, kp, kv, torque_limit) -> str:
     k = curvature
     leg_z_min = _lowest_leg_point(v.leg_chord, k, v.leg_width, v.leg_thickness, n_segments)
@@ -201,7 +211,7 @@ def _build(v, variant, curvature, n_segments, opts, torso_inertia, kp, kv, torqu
         f"Body {v.body_length * 100:g} x {v.body_width * 100:g} x {v.body_height * 100:g} cm, "
         f"total mass {v.total_mass * 1000:g} g; legs chord {v.leg_chord * 100:g} cm, "
         f"width {v.leg_width * 100:g} cm, thickness {v.leg_thickness * 100:g} cm, "
-        f"curvature {k:.6g} 1/m (R' = {v.leg_chord * 50:g} cm, range +-{2 / v.leg_chord:.6g}).\n"
+        f"curvature {k:.6g} 1/m ({_leg_kind(k)}; R' = {v.leg_chord * 50:g} cm, range +-{2 / v.leg_chord:.6g}).\n"
         f"Hip position servos: kp {kp:g} N m/rad, kv {kv:g} N m s/rad, torque limit +-{torque_limit:g} N m.\n"
         "Tripod A = leg_lf leg_rm leg_lr, tripod B = leg_rf leg_lm leg_rr. See mjrft/models/hexapod.py."
     )
@@ -223,8 +233,10 @@ def hexapod_xml(curvature: float | None = None, variant: str = "rhex", sand: boo
     Parameters
     ----------
     curvature:
-        Signed leg curvature 1/r in 1/m, within [-1/R', 1/R'] (R' = chord/2);
-        default: the variant's C-leg 1/R' (48.78 for ``"rhex"``, 100 for ``"small"``).
+        Signed leg curvature 1/r in 1/m, within [-1/R', 1/R'] (R' = chord/2):
+        positive = C-leg (convex side leading in stance), negative = reversed
+        C-leg (sign convention: :mod:`mjrft.geometry.curved_leg`); default: the
+        variant's semicircular C-leg 1/R' (48.78 for ``"rhex"``, 100 for ``"small"``).
     variant:
         ``"rhex"`` (RHex-class, 150 g) or ``"small"`` (DynaRoACH-like, 25 g).
     sand:

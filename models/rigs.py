@@ -23,16 +23,20 @@ hinge ``axle`` (axis +y, ``qpos`` = leg angle theta, measured from straight down
 swung the tip backward, toward -x, so a leg turning at omega > 0 sweeps its buried part backward
 and the grains push it forward). The leg hangs along -z from the axle at theta = 0; the model's
 initial pose ``qpos0`` is theta = pi (pointing up, out of the sand: the body is built upside down
-and the hinge has ``ref = pi``). Shapes:
+and the hinge has ``ref = pi``). Shapes (their curvature follows the convention of
+:mod:`mjrft.geometry.curved_leg`: at omega > 0 the buried part sweeps toward -x, and Li 2013's C-leg
+is the one whose convex side leads):
 
 =================  ===================================================================================
 ``flat``           straight bar of length ``chord`` (one box)
-``c``              circular arc, hip-to-tip ``chord``, curvature ``+curvature`` (default the semicircle
-                   2/chord): bows toward +x when hanging, the hexapod's C-leg (:mod:`.hexapod`)
-``reversed_c``     the same arc bowing toward -x (curvature ``-curvature``)
+``c``              Li 2013's C-leg: circular arc, hip-to-tip ``chord``, curvature ``+curvature``
+                   (default the semicircle 2/chord), bowing toward -x when hanging, so its convex side
+                   leads when omega > 0 (the hexapod's default leg, :mod:`.hexapod`)
+``reversed_c``     Li 2013's reversed C-leg: the same arc bowing toward +x (curvature ``-curvature``),
+                   concave side leading
 ``semi_ellipse``   semi-ellipse, semi-axes ``a`` along the leg (hip-to-tip 2a) and ``b`` across, convex
-                   side leading (``bulge=+1``: bowing toward -x, the side that moves first when omega
-                   > 0) or trailing (``bulge=-1``), the hybrid paper's legs and the convention of
+                   side leading (``bulge=+1``: signed bulge ``+b``, bowing toward -x like the C-leg) or
+                   trailing (``bulge=-1``), the hybrid paper's legs and the convention of
                    :func:`mjrft.laws.hybrid.rotating_leg_profile`
 ``v_section``      straight leg (default hip to tip ``chord`` = 11 cm) with a V cross-section of two
                    plates 90 deg apart, open side leading (:func:`section_leg_mesh`): SGRFT's V-leg
@@ -149,7 +153,7 @@ def leg_geometry(shape: str = "c", *, chord: float | None = None, curvature: flo
             raise ValueError(f"bulge must be +1 (convex side leading) or -1 (trailing), got {bulge!r}")
         a = check_positive("semi-axis a", HYBRID_A if a is None else a)
         b = check_positive("semi-axis b", HYBRID_A if b is None else b)
-        signed_b = -bulge * b  # +1: convex side toward -x, the side that leads when omega > 0
+        signed_b = bulge * b  # +1: convex side toward -x, the side that leads when omega > 0
         mesh = semi_ellipse_mesh(a, signed_b, width, thickness, n_segments)
         out.update(a=a, b=b, bulge=bulge, length=2 * a, mesh=mesh, vertices=mesh[0])
         return out
@@ -270,7 +274,9 @@ def leg_rig_xml(shape: str = "c", *, axle_height: float | None = None, medium: s
         what = (f"semi-ellipse a = {geo['a'] * 100:g} cm, b = {geo['b'] * 100:g} cm, convex side "
                 f"{'leading' if geo['bulge'] == 1 else 'trailing'}")
     else:
-        what = f"{shape}, hip to tip {geo['chord'] * 100:g} cm, curvature {geo['curvature']:.6g} 1/m"
+        kind = {"flat": "flat", "c": "C-leg, convex side leading", "reversed_c": "reversed C-leg, concave side leading",
+                "v_section": "V-section, open side leading", "triangle_section": "triangle-section, apex leading"}
+        what = f"{kind.get(shape, shape)}, hip to tip {geo['chord'] * 100:g} cm, curvature {geo['curvature']:.6g} 1/m"
     comment = (
         f"Rotating-leg rig: leg {what}, width {geo['width'] * 100:g} cm, thickness {geo['thickness'] * 100:g} cm;\n"
         f"axle {h * 100:g} cm above the sand surface, hinge 'axle' about +y (qpos = leg angle from straight down,\n"

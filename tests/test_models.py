@@ -145,9 +145,10 @@ def test_curved_leg_boxes_follow_arc(k):
         mujoco.mju_quat2Mat(R, np.asarray(b["quat"], float))
         ends = [b["pos"] + s * b["size"][2] * R.reshape(3, 3)[:, 2] for s in (-1, 1)]
         assert min(np.linalg.norm(e - end) for e in ends) < 1e-9
-    # bow direction: k > 0 bows toward +x
+    # bow direction (mjrft.geometry.curved_leg): k > 0, the C-leg, bows toward -x, where the buried part
+    # of a leg turning the forward-walking way (tip swung toward -x) moves: its convex side leads
     xmid = np.mean([b["pos"][0] for b in boxes])
-    assert np.sign(xmid) == np.sign(k) if k != 0 else abs(xmid) < 1e-12
+    assert np.sign(xmid) == -np.sign(k) if k != 0 else abs(xmid) < 1e-12
 
 
 def test_arc_length():
@@ -259,6 +260,29 @@ def test_hexapod_geometry_and_inertia():
     texts, _ = _custom(m)
     assert texts["robot:tripod_a"].split() == ["leg_lf", "leg_rm", "leg_lr"]
     assert texts["robot:tripod_b"].split() == ["leg_rf", "leg_lm", "leg_rr"]
+
+
+@pytest.mark.parametrize("kfrac", [1.0, 0.6, -0.6, -1.0])
+def test_hexapod_leg_curvature_convention(kfrac):
+    """Positive curvature is Li 2013's C-leg: turning the forward-walking way (positive hip angle, the
+    buried part sweeping backward) its middle, the part farthest from the hip-tip chord, bulges toward
+    where it moves, so the convex side leads; a negative curvature (reversed C-leg) leads with the
+    concave side."""
+    m = hexapod_model(kfrac / RP, sand=False)
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    body = m.body("leg_lf").id
+    hip = d.xpos[body].copy()
+    ids = [g for g in range(m.ngeom) if m.geom_bodyid[g] == body]
+    mid = ids[len(ids) // 2 - 1: len(ids) // 2 + 1]  # the two middle boxes of the chain
+    bulge = d.geom_xpos[mid].mean(0) - hip  # from the chord (the hip's vertical) to the middle of the arc
+    before = d.geom_xpos[mid].mean(0).copy()
+    d.qpos[m.joint("hip_lf").qposadr[0]] += 1e-3
+    mujoco.mj_forward(m, d)
+    motion = d.geom_xpos[mid].mean(0) - before
+    assert motion[0] < 0 and abs(motion[2]) < abs(motion[0])  # the hanging leg's middle moves backward
+    assert np.sign(bulge[0] * motion[0]) == np.sign(kfrac)  # C-leg: bulge toward the motion
+    assert float(_custom(m)[1]["robot:curvature"][0]) == pytest.approx(kfrac / RP)
 
 
 def test_hexapod_servo_can_hold_body():

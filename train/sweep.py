@@ -1,13 +1,13 @@
 """``mjrft sweep``: a grid of environment or rig parameters, run in local processes or on Ray, resumable.
 
 >>> from mjrft.train.sweep import sweep
->>> rows = sweep({"f": [1, 2, 3], "curvature": [-48.8, 0, 48.8]}, "runs/hex_grid",
+>>> rows = sweep({"f": [1, 2, 3], "curvature": [-48.78, 0, 48.78]}, "runs/hex_grid",
 ...              env="mjrft/HexapodSand-v0", gait="tripod", seconds=2.0, workers=4)
 >>> rows = sweep({"shape": ["c", "flat", "reversed_c"], "omega": [0.2, 2.0]}, "runs/legs", rig="leg")
 
 Command line (the same)::
 
-    mjrft sweep --env mjrft/HexapodSand-v0 --gait tripod --grid "f=1,2,3" --grid "curvature=-48.8,0,48.8" \\
+    mjrft sweep --env mjrft/HexapodSand-v0 --gait tripod --grid "f=1,2,3" --grid "curvature=-48.78,0,48.78" \\
         --seconds 2 --out runs/hex_grid --workers 4
     mjrft sweep --rig leg --grid "shape=c,flat,reversed_c" --grid "omega=0.2,2" --out runs/legs
     mjrft sweep ... --address ray://head-node:10001        # the same grid as Ray tasks on a cluster
@@ -18,7 +18,10 @@ like ``mjrft train`` kwargs (numbers, ``true``/``false``, otherwise text such as
 
 * Environment sweeps (``--env`` with ``--gait``): a name is a parameter of the gait (``f``, ``duty``,
   ... see ``mjrft.gaits.describe()``) or a keyword argument of the environment (``curvature``,
-  ``medium``, ``resolution``, ...); ``gait.NAME`` / ``env.NAME`` say which when both have it. Each
+  ``medium``, ``resolution``, ...); ``gait.NAME`` / ``env.NAME`` say which when both have it. The
+  hexapod's ``curvature`` is signed 1/r in 1/m within [-1/R', 1/R'] (R' = 2.05 cm, 1/R' = 48.78):
+  positive is Li 2013's C-leg, negative the reversed C-leg (convention:
+  :mod:`mjrft.geometry.curved_leg`), so the grid above is reversed C, flat and C-legs. Each
   point runs ``episodes`` episodes of ``seconds`` simulated seconds (``episode_seconds``; an episode
   that falls ends early) with :func:`mjrft.train.evaluate.evaluate` and records ``distance_m`` (torso
   x displacement), ``speed_m_s``, ``cot`` (cost of transport), ``sink_mean_mm``, ``sink_peak_mm``,

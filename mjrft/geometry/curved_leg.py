@@ -1,7 +1,29 @@
 """Curved ("C") legs built from MuJoCo box geoms approximating a circular arc.
 
-Conventions
------------
+The leg curvature convention (the one place it is defined)
+----------------------------------------------------------
+Every leg in mjrft turns about the +y axis of its parent, and a positive angle swings the tip
+backward (toward -x): the hexapod's hips rotate that way to walk forward (+x), the leg rig turns
+that way at ``omega > 0``, and in both the buried part of the leg moves toward -x through the
+grains. ``curvature`` ``k = 1/r`` (1/m) is signed:
+
+* ``k > 0``: Li, Zhang & Goldman's (2013) **C-leg**, the RHex / SandBot leg. Hanging straight down
+  it bows toward -x, so while it is buried its convex side leads: the leg bulges toward where it
+  moves, and the robot rolls over the convex side, pivoting about the centre of the curve (the
+  rotary walking of SandBot and DynaRoACH). Its deep elements move with their leading faces
+  looking down and into the motion, the orientation that Li's stresses make push up hardest
+  (alpha_z at beta > 0 several times that at beta < 0), hence the supplement's "larger vertical
+  ground reaction forces produced by the C-legs relative to those by the reversed c-legs".
+* ``k < 0``: the **reversed C-leg**, bowing toward +x when hanging: concave side leading.
+* ``k = 0``: a straight (flat) leg.
+
+Li 2013's robot legs are ``k in [-1, -0.92, -0.60, 0, 0.60, 0.92, 1] / R'`` (``R' = chord/2``).
+The semi-elliptic legs of the hybrid paper follow the same sign with their bulge ``b``: ``b > 0``
+bows toward -x (convex side leading, the paper's legs, whose entry into the grains depends on
+``b`` while the exit does not), and ``a = b = chord/2`` is exactly the C-leg ``k = 2/chord``.
+
+Frame and discretisation
+------------------------
 * Frame: everything is expressed in the *leg body frame*. The hip (the leg's
   rotation axis, normally a hinge about y) is at the body origin; the leg hangs
   straight down and its tip is at ``(0, 0, -chord)``.
@@ -9,15 +31,8 @@ Conventions
   RHex-class leg of Li, Zhang & Goldman 2013).
 * The leg's centre line lies in the x-z plane. ``width`` is measured along y,
   ``thickness`` across the arc (in the x-z plane).
-* ``curvature`` ``k = 1/r`` (1/m) is signed:
-
-  - ``k = 0``: a straight bar;
-  - ``k > 0``: a "C-leg" bowing toward +x (forward) when hanging down;
-  - ``k < 0``: a reversed C-leg bowing toward -x.
-
-  ``|k| <= 2/chord`` (``|k| = 2/chord`` is a semicircle); a larger ``|k|``
-  raises ``ValueError``. With ``R' = chord/2`` the RHex family
-  ``k in [-1, -0.92, -0.60, 0, 0.60, 0.92, 1] / R'`` is all valid.
+* ``|k| <= 2/chord`` (``|k| = 2/chord`` is a semicircle); a larger ``|k|``
+  raises ``ValueError``.
 * Discretisation: the arc is cut into ``n_segments`` pieces of equal arc
   length. Each piece becomes one box whose long axis (local z) is the *chord*
   of that piece of arc, whose local x is across the arc (half size
@@ -91,6 +106,12 @@ def arc_length(chord: float, curvature: float) -> float:
     return 2.0 * _half_angle(c, k) / abs(k)
 
 
+def _start_angle(chord: float, k: float) -> float:
+    """Leg angle (from -z toward +x) of the centre line at the hip: negative for ``k > 0``, whose arc
+    leaves the hip toward -x and turns back (by ``k`` per unit length) to reach the tip on the z axis."""
+    return -math.copysign(_half_angle(chord, k), k) if k != 0.0 else 0.0
+
+
 def _direction(alpha: float) -> np.ndarray:
     """Unit tangent at leg angle ``alpha`` (measured from -z toward +x)."""
     return np.array([math.sin(alpha), 0.0, -math.cos(alpha)])
@@ -104,12 +125,12 @@ def arc_points(chord: float, curvature: float, n: int = 64) -> np.ndarray:
     if n < 1:
         raise ValueError(f"n must be >= 1, got {n!r}")
     L = arc_length(c, k)
-    alpha0 = math.copysign(_half_angle(c, k), k) if k != 0.0 else 0.0
+    alpha0 = _start_angle(c, k)
     ds = L / n
     seg_chord = ds if k == 0.0 else 2.0 * math.sin(k * ds / 2.0) / k
     pts = np.zeros((n + 1, 3))
     for i in range(n):
-        amid = alpha0 - k * (i + 0.5) * ds
+        amid = alpha0 + k * (i + 0.5) * ds
         pts[i + 1] = pts[i] + seg_chord * _direction(amid)
     pts[-1] = (0.0, 0.0, -c)  # remove round-off at the tip
     return pts
@@ -136,14 +157,14 @@ def curved_leg_boxes(
 
     L = arc_length(c, k)
     ds = L / n
-    alpha0 = math.copysign(_half_angle(c, k), k) if k != 0.0 else 0.0
+    alpha0 = _start_angle(c, k)
     dtheta = abs(k) * ds
     ext = 0.5 * t * math.tan(dtheta / 2.0)  # lengthening at each internal joint
     pts = arc_points(c, k, n)
 
     boxes = []
     for i in range(n):
-        amid = alpha0 - k * (i + 0.5) * ds
+        amid = alpha0 + k * (i + 0.5) * ds
         d = _direction(amid)
         e_start = ext if i > 0 else 0.0
         e_end = ext if i < n - 1 else 0.0
@@ -265,13 +286,13 @@ def _add_boxes(body, boxes, name_prefix, geom_kwargs) -> list:
 # Semi-elliptic legs (hybrid curved-leg model, reference section 4)
 # ================================================================================================
 # Same frame and box conventions as the C-legs above: hip at the origin, leg hanging along -z, tip at
-# (0, 0, -2a), centre line in the x-z plane. The profile is x = b sin t, z = -a (1 - cos t), t in
-# [0, pi]: ``a`` is half the hip-to-tip length and ``b`` the bulge, SIGNED like ``curvature``
-# (b > 0 bows toward +x, b < 0 toward -x, b = 0 is a straight bar), so a = b = chord/2 is exactly the
-# semicircular C-leg ``curvature = 2/chord``. The leg is cut into ``n_segments`` pieces of equal arc
-# length, one box per piece along its chord; at every internal joint both boxes are lengthened by
-# ``thickness/2 * tan(turn/2)`` (``turn`` the angle between the two pieces' chords) so the outer side
-# of each bend is closed, and the two leg ends are not extended.
+# (0, 0, -2a), centre line in the x-z plane. The profile is x = -b sin t, z = -a (1 - cos t), t in
+# [0, pi]: ``a`` is half the hip-to-tip length and ``b`` the bulge, SIGNED like ``curvature`` (module
+# docstring: b > 0 bows toward -x, convex side leading; b < 0 toward +x; b = 0 is a straight bar), so
+# a = b = chord/2 is exactly the semicircular C-leg ``curvature = 2/chord``. The leg is cut into
+# ``n_segments`` pieces of equal arc length, one box per piece along its chord; at every internal
+# joint both boxes are lengthened by ``thickness/2 * tan(turn/2)`` (``turn`` the angle between the two
+# pieces' chords) so the outer side of each bend is closed, and the two leg ends are not extended.
 
 
 def semi_ellipse_points(a: float, b: float, n: int = 64) -> np.ndarray:
@@ -289,11 +310,11 @@ def _semi_ellipse(a, b, n):
     b = check_finite("b", b)  # the signed bulge (m)
     n = _n_segments(n)
     t = np.linspace(0.0, math.pi, max(40000, 200 * n) + 1)
-    x = b * np.sin(t)
+    x = -b * np.sin(t)
     z = -a * (1.0 - np.cos(t))
     s = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(x), np.diff(z)))])
     ts = np.interp(np.linspace(0.0, s[-1], n + 1), s, t)
-    pts = np.stack([b * np.sin(ts), np.zeros(n + 1), -a * (1.0 - np.cos(ts))], axis=1)
+    pts = np.stack([-b * np.sin(ts), np.zeros(n + 1), -a * (1.0 - np.cos(ts))], axis=1)
     pts[0] = 0.0
     pts[-1] = (0.0, 0.0, -2.0 * a)  # remove round-off at the ends
     return pts, float(s[-1])
