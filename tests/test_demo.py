@@ -112,3 +112,19 @@ def test_log_every_has_one_default_for_demo_rollout_and_eval():
 
     argvs = (["demo"], ["rollout", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod"], ["eval", "--policy", "tripod"])
     assert {cli.build_parser(a[0]).parse_args(a).log_every for a in argvs} == {LOG_EVERY}
+
+
+def test_rollout_and_eval_show_progress_on_stderr(capsys, tmp_path):
+    from mjrft import cli
+
+    assert cli.main(["rollout", "--env", "mjrft/HexapodRigid-v0", "--policy", "tripod", "--seconds", "0.3",
+                     "--rrd", str(tmp_path / "r.rrd")]) == 0
+    err = capsys.readouterr().err
+    assert "rollout" in err and "30/30" in err, err
+    assert cli.main(["eval", "--env", "mjrft/HexapodRigid-v0", "--policy", "tripod", "--episodes", "2",
+                     "max_episode_steps=20"]) == 0
+    err = capsys.readouterr().err
+    assert "eval (2 episodes)" in err and "40/40" in err, err
+    assert cli.main(["eval", "--env", "mjrft/HexapodRigid-v0", "--policy", "tripod", "--episodes", "1",
+                     "--no-progress", "max_episode_steps=5"]) == 0
+    assert "eval (" not in capsys.readouterr().err

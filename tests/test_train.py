@@ -307,7 +307,7 @@ def test_eval_cli_writes_csv_json_and_rrd(tmp_path, capsys):
         frames = read_table(rrd, "/world/contacts")
     except ImportError:  # the dataframe reader needs datafusion (rerun extra)
         return
-    assert frames.num_rows == 16  # the reset state and 15 steps of the first episode
+    assert frames.num_rows == 4  # the reset state and every LOG_EVERY = 5th of the first episode's 15 steps
 
 
 @pytest.mark.parametrize("hp,message", [

@@ -55,6 +55,7 @@ import numpy as np
 from mjrft.outputs import number
 from mjrft.rerun_log import LOG_EVERY
 
+from .rollout import progress_bar
 from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, algo_class, check_env_id, default_hyperparams,
                     find_config, load_config, make_env, parse_kwargs, side_file, _int_arg)
 
@@ -241,12 +242,13 @@ def summarize(rows: list[dict]) -> dict:
 # ---------------------------------------------------------------------------------------------- evaluation
 def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed: int = 0,
              env_kwargs: dict | None = None, deterministic: bool = True, rrd=None, *, device: str = "cpu",
-             log_every: int = LOG_EVERY) -> tuple[list[dict], dict]:
+             log_every: int = LOG_EVERY, progress: bool = False) -> tuple[list[dict], dict]:
     """Run ``episodes`` episodes of a policy or gait; return (per-episode rows, summary) (module doc).
 
     ``env_id`` / ``env_kwargs`` default to those of the run a model zip belongs to (given kwargs
     override the saved ones); a gait needs ``env_id``. ``rrd``: log the first episode to this rerun
-    file (every ``log_every``-th step) with :mod:`mjrft.rerun_log`.
+    file (every ``log_every``-th step) with :mod:`mjrft.rerun_log`. ``progress``: a progress bar (tqdm,
+    on stderr) over the episodes' env steps (an episode that ends early jumps to its end).
     """
     from .train import _check_int
 
@@ -269,13 +271,18 @@ def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed
         if loaded.model is not None and hasattr(loaded.model, "set_random_seed"):
             loaded.model.set_random_seed(seed)
         meter = _Meter(env)
+        limit = env.spec.max_episode_steps if env.spec is not None else None
+        bar = progress_bar(episodes * limit if limit else None, f"eval ({episodes} episodes)", progress)
         for ep in range(episodes):
             logger = _open_logger(rrd, env, loaded.source) if (rrd is not None and ep == 0) else None
             try:
-                rows.append(_episode(env, policy, meter, ep, seed + ep, deterministic, logger, log_every))
+                rows.append(_episode(env, policy, meter, ep, seed + ep, deterministic, logger, log_every, bar))
             finally:
                 if logger is not None:
                     logger.close()
+            if limit:
+                bar.update((ep + 1) * limit - bar.n)
+        bar.close()
     finally:
         env.close()
     summary = summarize(rows)
@@ -284,7 +291,7 @@ def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed
     return rows, summary
 
 
-def _episode(env, policy, meter, ep, seed, deterministic, logger, log_every) -> dict:
+def _episode(env, policy, meter, ep, seed, deterministic, logger, log_every, bar) -> dict:
     obs, info = env.reset(seed=seed)
     meter.start(info)
     state, start = None, np.ones(1, dtype=bool)
@@ -296,6 +303,7 @@ def _episode(env, policy, meter, ep, seed, deterministic, logger, log_every) -> 
         start = np.zeros(1, dtype=bool)
         obs, reward, terminated, truncated, info = env.step(action)
         meter.step(reward, info)
+        bar.update(1)
         if logger is not None and meter.steps % log_every == 0:
             logger.log(env)
     return meter.row(ep, terminated)
@@ -379,6 +387,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--rrd", default=None, metavar="FILE", help="log the first episode to a rerun file")
     parser.add_argument("--log-every", type=_int_arg, default=LOG_EVERY,
                         help=f"with --rrd: log every N-th env step (default {LOG_EVERY})")
+    parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
                         help="environment keyword arguments (override the run's), e.g. max_episode_steps=500")
 
@@ -392,7 +401,7 @@ def main(args) -> int:
             output_file(getattr(args, option), f"--{option}")
     rows, summary = evaluate(args.policy, args.env_id, args.episodes, args.seed, env_kwargs,
                              deterministic=not args.stochastic, rrd=args.rrd, device=args.device,
-                             log_every=args.log_every)
+                             log_every=args.log_every, progress=args.progress)
     kw = ", ".join(f"{k}={v}" for k, v in summary["env_kwargs"].items())
     print(f"{summary['policy']} on {summary['env_id']}" + (f" ({kw})" if kw else "")
           + f", {len(rows)} episode(s), seed {args.seed}, {'deterministic' if not args.stochastic else 'stochastic'}")

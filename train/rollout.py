@@ -85,12 +85,12 @@ def bind_policy(policy_or_spec, env):
 
 def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_path=None, *, steps: int | None = None,
             log_every: int = LOG_EVERY, seed: int = 0, env_kwargs: dict | None = None, spawn_viewer: bool = False,
-            deterministic: bool = True) -> dict:
+            deterministic: bool = True, progress: bool = False) -> dict:
     """Run one rollout and return its summary (see the module docstring).
 
     ``env_id_or_env``: a gymnasium id (made with ``env_kwargs``) or an env (used as is, not closed).
     Give ``seconds`` (simulated) or ``steps`` (env steps). ``rrd_path`` None and ``spawn_viewer`` False
-    runs without logging.
+    runs without logging. ``progress``: a progress bar (tqdm, on stderr) over the env steps.
     """
     if (seconds is None) == (steps is None):
         raise ValueError("give exactly one of seconds (simulated time) or steps (env steps)")
@@ -133,10 +133,12 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
         sink_sum, sink_n, sink_peak = 0.0, 0, 0.0
         terminated = truncated = False
         n = 0
+        bar = progress_bar(steps, "rollout", progress)
         while n < steps and not (terminated or truncated):
             action, _ = policy.predict(obs, deterministic=deterministic)
             obs, reward, terminated, truncated, info = env.step(action)
             n += 1
+            bar.update(1)
             total += float(reward)
             x = float(info.get("x_position", u.data.qpos[0]))
             sink = np.asarray(info.get("sinkage", ()), dtype=np.float64)
@@ -147,6 +149,7 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
                 sink_peak = max(sink_peak, float(sink.max()))
             if logger is not None and n % log_every == 0:
                 logger.log(env)
+        bar.close()
         wall = time.perf_counter() - t0
         frames = logger.frames if logger is not None else 0
     finally:
@@ -171,6 +174,13 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
         "rrd": None if rrd_path is None else str(rrd_path),
         "wall_s": wall,
     }
+
+
+def progress_bar(total: int, what: str, enabled: bool):
+    """A tqdm bar over ``total`` env steps on stderr (a no-op bar when not ``enabled``)."""
+    from tqdm import tqdm
+
+    return tqdm(total=total, desc=what, unit="step", disable=not enabled, dynamic_ncols=True)
 
 
 def format_summary(s: dict) -> str:
@@ -202,6 +212,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("--seed", type=int, default=0, help="reset seed (default 0)")
     parser.add_argument("--spawn-viewer", action="store_true", help="also stream to a newly started rerun viewer")
+    parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE", help="environment keyword arguments")
 
 
@@ -212,7 +223,8 @@ def main(args) -> int:
 
     output_file(args.rrd, "--rrd")
     summary = rollout(args.env, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
-                      seed=args.seed, env_kwargs=parse_kwargs(args.env_kwargs), spawn_viewer=args.spawn_viewer)
+                      seed=args.seed, env_kwargs=parse_kwargs(args.env_kwargs), spawn_viewer=args.spawn_viewer,
+                      progress=args.progress)
     print(format_summary(summary))
     print(f"wrote {summary['rrd']} ({summary['frames']} frames, every {args.log_every} env steps)")
     print(open_hint(summary["rrd"]))
