@@ -7,7 +7,7 @@
 
 from . import _jit_cache  # noqa: F401  (must precede every compiled module)
 from .coupler import GranularTerrain, Region
-from .errors import MjrftError, NonFiniteError, TerrainStabilityWarning, UnknownNameError
+from .errors import MjrftError, NonFiniteError, TerrainStabilityWarning, UnknownNameError, ValidityRangeWarning
 from .media import MEDIA, Medium, calibrate, generic, get_medium, medium_3d
 from . import laws
 from . import models
@@ -22,4 +22,4 @@ else:
 __version__ = "0.1.0"
 
 __all__ = ["GranularTerrain", "MEDIA", "Medium", "MjrftError", "NonFiniteError", "Region", "TerrainStabilityWarning",
-           "UnknownNameError", "calibrate", "generic", "get_medium", "laws", "medium_3d", "models"]
+           "UnknownNameError", "ValidityRangeWarning", "calibrate", "generic", "get_medium", "laws", "medium_3d", "models"]

@@ -34,10 +34,12 @@ import mujoco
 import numpy as np
 
 from . import kernel
-from .errors import NonFiniteError, TerrainStabilityWarning, UnknownNameError, check_finite, check_positive, unknown
+from .errors import (NonFiniteError, TerrainStabilityWarning, UnknownNameError, ValidityRangeWarning, check_finite,
+                     check_positive, unknown)
 from .geometry import Elements, discretize_geom, exposed_elements, to_geom_frame
 from .laws import LAW_IDS, law_id
 from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
+from .laws import validity
 from .media import MEDIA, Medium, get_medium
 
 DEFAULTS = {
@@ -296,6 +298,13 @@ class GranularTerrain:
     level surface; a slope's lower downhill confinement is not modelled). ``surface`` (the attribute)
     is then the mean height, for display.
 
+    Calibrated ranges. Each law knows the speed, depth and grain-size range its source calibrated
+    (:mod:`mjrft.laws.validity`). The terrain warns once per (law, quantity) with
+    :class:`~mjrft.errors.ValidityRangeWarning`, naming the law, the quantity, the value and the range:
+    for the medium's grain size (and 3D-RFT's bulk density and internal friction) at construction,
+    and for the deepest and the fastest buried element of the last step every
+    ``STABILITY_CHECK_EVERY`` steps, alongside the stability check.
+
     MJCF ``<custom>`` keys for all of this: text ``mjrft:surface_hfield`` (geom name), text
     ``mjrft:regions`` (``"x_min medium law [water_depth]; ..."``, or ``"medium law [water_depth]; ..."``
     with a map), numeric ``mjrft:region_map`` (``x_min y_min cell_x cell_y nx ny`` then the nx x ny
@@ -459,6 +468,7 @@ class GranularTerrain:
         self._steps = 0
         self._warned: set[int] = set()
         self._cb_prev = None
+        self._validity_init()
         if model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4:
             warnings.warn("mjrft: the RK4 integrator evaluates forces at intermediate stages; GranularTerrain "
                           "applies one wrench per step (use Euler or implicitfast)", stacklevel=2)
@@ -562,6 +572,8 @@ class GranularTerrain:
         self._steps += nstep
         if before == 0 or before // STABILITY_CHECK_EVERY != self._steps // STABILITY_CHECK_EVERY:
             self._check_stability(data, dt)
+            if self._val_dynamic:
+                self._check_validity(data)
 
     def step(self, data: mujoco.MjData, nstep: int = 1) -> None:
         """``nstep`` times: ``mj_step1``, add the granular wrench to ``xfrc_applied``, ``mj_step2``."""
@@ -660,6 +672,47 @@ class GranularTerrain:
             f"granular stiffness on body '{name}' at t = {data.time:.4g} s ({what}, effective mass "
             f"{s0 / lam:.3g} kg in its stiffest mode); reduce the timestep or increase yield_displacement"),
             stacklevel=4)
+
+    def _validity_init(self) -> None:
+        """Warn now for the static quantities (grain size, ...) that leave a law's calibrated range
+        (:mod:`mjrft.laws.validity`) and list the dynamic ranges (depth, speed) that :meth:`_check_validity` watches:
+        ``_val_dynamic`` holds (region ids, law name, range) for each law in use that has one, once per
+        (law, quantity)."""
+        self._val_warned: set[tuple[str, str]] = set()
+        groups: dict[str, list[int]] = {}
+        for k, reg in enumerate(self.regions):
+            groups.setdefault(str(reg.law), []).append(k)
+            for r, v in validity.check_static(str(reg.law), reg.medium):
+                self._validity_warn(str(reg.law), r, v, f" (medium '{reg.medium.name}')", stacklevel=4)
+        self._val_dynamic = [(np.array(ks, dtype=np.int64), law, r) for law, ks in groups.items()
+                             for r in validity.dynamic_ranges(law)]
+
+    def _validity_warn(self, law: str, r, value: float, where: str, stacklevel: int) -> None:
+        if (law, r.quantity) in self._val_warned:
+            return
+        self._val_warned.add((law, r.quantity))
+        warnings.warn(ValidityRangeWarning(r.message(law, value, where)), stacklevel=stacklevel)
+
+    def _check_validity(self, data) -> None:
+        """Warn once per (law, quantity) when a buried element of the last step is deeper or faster than its law's
+        calibrated range (run with the stability check, every STABILITY_CHECK_EVERY steps)."""
+        buried = self.depth > 0.0
+        if not buried.any():
+            return
+        single = len(self.regions) == 1
+        for ks, law, r in self._val_dynamic:
+            if (law, r.quantity) in self._val_warned:
+                continue
+            sel = buried if single else buried & np.isin(self.region, ks)
+            if not sel.any():
+                continue
+            if r.quantity == "depth":
+                v = float(self.depth[sel].max())
+            else:
+                v = float(np.sqrt(np.einsum("ij,ij->i", self.vel[sel], self.vel[sel]).max()))
+            if not r.contains(v):
+                self._validity_warn(law, r, v, f" at t = {data.time:.4g} s", stacklevel=5)
+        self._val_dynamic = [d for d in self._val_dynamic if (d[1], d[2].quantity) not in self._val_warned]
 
     def _spring(self, lam: float) -> tuple[float, float]:
         """(K, c) per unit mass of the stiffest mode, for kernel.stable_step / max_stable_dt with w = 1."""

@@ -25,6 +25,10 @@ class TerrainStabilityWarning(RuntimeWarning):
     """The timestep is beyond the explicit-integration stability limit of the granular stiffness."""
 
 
+class ValidityRangeWarning(RuntimeWarning):
+    """A scene leaves the speed, depth or grain-size range a law's source calibrated (:mod:`mjrft.laws.validity`)."""
+
+
 def unknown(kind: str, value, choices: Iterable[str]) -> UnknownNameError:
     """Build the error for an unknown ``kind`` name, listing every valid choice."""
     choices = sorted(str(c) for c in choices)

@@ -1,0 +1,126 @@
+"""The speed, depth and grain-size ranges over which each law's source calibrated it.
+
+:class:`mjrft.GranularTerrain` checks a scene against these: the static quantities (the medium's grain
+size, and for ``rft3d`` its bulk density and internal friction) at construction, the dynamic ones
+(the deepest buried element and the fastest buried element) every ``STABILITY_CHECK_EVERY`` steps,
+and warns once per terrain per (law, quantity) with :class:`mjrft.errors.ValidityRangeWarning`
+naming the law, the quantity, the value and the range. Outside a range the law still runs: its
+force there is an extrapolation of the source's fit.
+
+Ranges and their sources (``None``: no bound published):
+
+* ``rft``, ``depth_only`` (Li, Zhang & Goldman 2013, suppl.): speed up to 1 m/s (plates measured at
+  ~1 cm/s; "at v = 1 m/s, force only increased by less than 20 %", sec. 2); depth up to 7.62 cm
+  (alpha fitted at |z| = 2.54, 5.08 and 7.62 cm, sec. 2); grain diameter 0.1 to 3.2 mm (the
+  scaling routine's "~0.1 to ~1 mm", sec. 3, and the measured media of table S1 up to the 3.2 mm
+  glass spheres).
+* ``wet`` (SGRFT, MDPI 2022): speed up to 50 mm/s and depth up to 60 mm (the paper's tests,
+  10-50 mm/s and 0-60 mm); grains up to 1 mm (sea sand, "particle diameter <= 1 mm").
+* ``hybrid`` (hybrid curved-leg model): speed up to 1 m/s (bar drags at 1-100 cm/s); depth up to
+  4 cm (bar drags at 2, 3 and 4 cm; the semicircle leg, a = b = 4.5 cm under a 5 cm axle, reaches
+  4 cm). One sand was tested (0.41 mm mean grain), so no grain-size range is claimed.
+* ``rft3d`` (Agarwal, Goldman & Kamrin 2023, not among the seed papers; granular-physics.md sec. 2):
+  the published example inputs, bulk density 1310 to 1700 kg/m^3 and internal friction 0.21 to
+  1.07. Choice: its generic response is a quasi-static fit like Li's, so the same 1 m/s bound
+  applies to speed; no depth or grain-size range is published, so none is checked.
+
+Choice for every law: only the upper bound of speed is checked. Each stroke of a leg passes through
+zero speed at its turning points and a resting body sits still, so a lower bound (SGRFT's 10 mm/s)
+would warn in every scene and say nothing about the scene.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+__all__ = ["RANGES", "Range", "check_static", "static_quantity"]
+
+
+@dataclass(frozen=True)
+class Range:
+    """``low <= value <= high`` (either bound ``None``: open) for one quantity of one law."""
+
+    quantity: str  # "speed", "depth", "grain_diameter", "rho_bulk", "mu_int"
+    low: float | None
+    high: float | None
+    unit: str
+    source: str
+    scale: float = 1.0  # printed value = SI value x scale (e.g. 1e3 for mm)
+    shown_unit: str = ""
+
+    def contains(self, value: float) -> bool:
+        return (self.low is None or value >= self.low) and (self.high is None or value <= self.high)
+
+    def describe(self) -> str:
+        u = self.shown_unit or self.unit
+        lo = "" if self.low is None else f"{self.low * self.scale:g}"
+        hi = "" if self.high is None else f"{self.high * self.scale:g}"
+        if self.low is None:
+            return f"<= {hi} {u}"
+        if self.high is None:
+            return f">= {lo} {u}"
+        return f"{lo} to {hi} {u}"
+
+    def message(self, law: str, value: float, where: str = "") -> str:
+        u = self.shown_unit or self.unit
+        return (f"mjrft: law '{law}': {LABELS.get(self.quantity, self.quantity)} {value * self.scale:.3g} {u}{where} is outside "
+                f"the range its source calibrated, {self.describe()} ({self.source}); the force there is an "
+                "extrapolation of the fit")
+
+
+LABELS = {"speed": "speed", "depth": "depth", "grain_diameter": "grain diameter", "rho_bulk": "bulk density",
+          "mu_int": "internal friction"}
+_LI = "Li 2013 suppl."
+_LI_SPEED = Range("speed", None, 1.0, "m/s", f"{_LI} sec. 2: force within 20 % from 1 cm/s to 1 m/s")
+_LI_DEPTH = Range("depth", None, 0.0762, "m", f"{_LI} sec. 2: alpha fitted at depths 2.54, 5.08 and 7.62 cm",
+                  100.0, "cm")
+_LI_GRAIN = Range("grain_diameter", 0.1e-3, 3.2e-3, "m",
+                  f"{_LI} sec. 3 scaling routine ~0.1 to ~1 mm, table S1 media up to 3.2 mm", 1e3, "mm")
+_SG = "SGRFT (MDPI 2022)"
+RANGES: dict[str, tuple[Range, ...]] = {
+    "rft": (_LI_SPEED, _LI_DEPTH, _LI_GRAIN),
+    "depth_only": (_LI_SPEED, _LI_DEPTH, _LI_GRAIN),
+    "wet": (Range("speed", None, 0.050, "m/s", f"{_SG}: tests at 10-50 mm/s", 1e3, "mm/s"),
+            Range("depth", None, 0.060, "m", f"{_SG}: tests at 0-60 mm", 1e3, "mm"),
+            Range("grain_diameter", None, 1e-3, "m", f"{_SG}: sea sand, particle diameter <= 1 mm", 1e3, "mm")),
+    "hybrid": (Range("speed", None, 1.0, "m/s", "hybrid model: bar drags at 1-100 cm/s"),
+               Range("depth", None, 0.04, "m", "hybrid model: bar drags at 2-4 cm, legs reaching 4 cm", 100.0, "cm")),
+    "rft3d": (Range("speed", None, 1.0, "m/s", "quasi-static like Li's fit (mjrft's choice; Agarwal 2023 gives none)"),
+              Range("rho_bulk", 1310.0, 1700.0, "kg/m^3", "Agarwal 2023 example inputs (granular-physics.md sec. 2)"),
+              Range("mu_int", 0.21, 1.07, "", "Agarwal 2023 example inputs (granular-physics.md sec. 2)")),
+    "water": (),
+}
+STATIC = ("grain_diameter", "rho_bulk", "mu_int")
+DYNAMIC = ("speed", "depth")
+
+
+def static_quantity(medium, quantity: str) -> float | None:
+    """The medium's value of a static quantity (SI), or None when it is unknown.
+
+    Grain diameter: the medium's mean ``grain_diameter``, else its ``grain_diameter_max`` constant
+    (a medium known only by an upper bound, e.g. SGRFT's sea sand, "<= 1 mm").
+    """
+    if quantity == "grain_diameter":
+        d = medium.grain_diameter
+        return d if d is not None else medium.get("grain_diameter_max")
+    if quantity == "rho_bulk":
+        return medium.rho_bulk
+    if quantity == "mu_int":
+        return medium.mu_int
+    raise ValueError(f"unknown static quantity {quantity!r}; valid choices: {', '.join(STATIC)}")
+
+
+def check_static(law: str, medium) -> list[tuple[Range, float]]:
+    """The (range, value) pairs of ``law``'s static ranges that ``medium`` leaves."""
+    out = []
+    for r in RANGES.get(law, ()):
+        if r.quantity in STATIC:
+            v = static_quantity(medium, r.quantity)
+            if v is not None and math.isfinite(v) and not r.contains(v):
+                out.append((r, float(v)))
+    return out
+
+
+def dynamic_ranges(law: str) -> tuple[Range, ...]:
+    return tuple(r for r in RANGES.get(law, ()) if r.quantity in DYNAMIC)
