@@ -52,11 +52,14 @@ omega > 0, the convention of :func:`mjrft.laws.hybrid.rotating_leg_profile`), ``
 point of the leg below the surface.
 
 The ``hybrid`` law (per element, :mod:`mjrft.laws.hybrid`) needs the leg's width and the stroke's
-maximum penetration depth (its density correction): unless the medium already carries
-``hybrid_width`` / ``hybrid_max_depth``, the rigs add the leg's (plate's) width and the deepest point
-of the leg (plate) surface over the whole sweep. The undisturbed-grain (shadow) rule of the whole-leg
-model is not part of the per-element law, so bent legs (b > sqrt(2) a) get more force here than from
-:func:`~mjrft.laws.hybrid.rotating_leg_profile`.
+maximum penetration depth Delta d (its density correction): unless the medium already carries
+``hybrid_width`` / ``hybrid_max_depth``, the rigs add the leg's (plate's) width and, for the leg, the
+deepest any point of the leg reaches over a turn (``settings["stroke_depth"]``: its largest distance
+from the axle minus the axle height, whatever ``start``/``stop`` cover), for the plate the deepest
+point of its path. The undisturbed-grain (shadow) rule of the whole-leg model cannot be part of the
+per-element law (:mod:`mjrft.laws.hybrid`, item 3), so the part of a bent leg (b > sqrt(2) a) that
+moves into its own wake pushes here and not in :func:`~mjrft.laws.hybrid.rotating_leg_profile`;
+``mjrft validate --case hybrid_leg_family`` measures the difference.
 """
 
 from __future__ import annotations
@@ -296,7 +299,9 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     times = (angles - start) / omega
     z_axle = surface + h
     depth = _leg_depths(geo["vertices"], angles, z_axle, surface)
-    med = _medium_for(medium, law, geo["width"], float(depth.max()))
+    # the hybrid law's Delta d: the deepest the leg reaches over a turn, whatever the sweep covers
+    stroke = max(0.0, float(np.max(np.hypot(geo["vertices"][:, 0], geo["vertices"][:, 2]))) - h)
+    med = _medium_for(medium, law, geo["width"], stroke)
     model = mujoco.MjModel.from_xml_string(leg_rig_xml(shape, axle_height=h, medium=_xml_medium_name(med), law=law,
                                                        resolution=resolution, surface=surface, **leg))
     body = model.body("leg").id
@@ -309,7 +314,8 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     settings = {"rig": "leg", "shape": shape, "omega": omega, "start": start, "stop": stop, "dtheta": dtheta,
                 "axle_height": h, "medium": med.name, "law": law, "resolution": resolution, "surface": surface,
                 "yield_displacement": terrain.yield_displacement, "elements": terrain.n_elements,
-                "max_depth": float(depth.max()), "width": geo["width"], "thickness": geo["thickness"],
+                "max_depth": float(depth.max()), "stroke_depth": stroke, "width": geo["width"],
+                "thickness": geo["thickness"],
                 "length": geo["length"]}
     for key in ("chord", "curvature", "a", "b", "bulge"):
         if key in geo:

@@ -7,10 +7,11 @@ import pytest
 
 import mjrft
 from mjrft.laws import LAW_IDS, LAWS, hybrid
-from mjrft.laws.hybrid import (AXLE_HEIGHT, C_PAR_RATIO, GAMMA_S, LEG_A, LEG_FAMILY, LEG_WIDTH, PHI, PHI_W, PSI_BREAK,
+from mjrft.laws.common import LEAD_EPS
+from mjrft.laws.hybrid import (AXLE_HEIGHT, C_PAR_H_FRACTION, C_PAR_RATIO, GAMMA_S, LEG_A, LEG_FAMILY, LEG_WIDTH, PHI, PHI_W, PSI_BREAK,
                                HybridModel, active_angle, c_perp, hybrid_leg_forces, hybrid_stress, leg_family,
                                leg_family_profiles, leg_pose, passive_force, rotating_leg_profile, semi_ellipse_leg,
-                               shadowed_elements, wedge_force, wedge_shape)
+                               shadowed_elements, stroke_depth, wedge_force, wedge_shape)
 
 STEP = 0.1 * 1e-3  # one 1 ms step at 0.1 m/s
 ANGLES = np.linspace(-3 * math.pi / 4, 3 * math.pi / 4, 121)
@@ -88,8 +89,17 @@ def test_bar_drag_fit():
     assert m.f_par(0.0, d) == pytest.approx(m.c_par_h(d))
     assert m.f_par(math.pi / 2, d) == pytest.approx(0.0, abs=1e-12 * cp)
     assert np.max(np.abs(np.diff(fpar))) < 1e-3 * cp  # continuous at 36 deg
-    jaky = 2 * math.tan(PHI_W) * (1 - math.sin(PHI)) * GAMMA_S
-    assert m.c_par_h(d) == pytest.approx(jaky * d * LEG_WIDTH)
+    # default C_par^h: eq. (4)'s two forms, amplitude C_par / cos 36, meeting at 36 deg
+    amp = C_PAR_RATIO * cp / math.cos(PSI_BREAK)
+    assert m.c_par_h(d) == pytest.approx(C_PAR_H_FRACTION * C_PAR_RATIO * cp)
+    reg1 = m.c_par_h(d) + (amp - m.c_par_h(d)) * np.sin(psi)
+    reg2 = amp * np.cos(psi)
+    np.testing.assert_allclose(fpar, np.where(psi <= PSI_BREAK, reg1, reg2), rtol=1e-12, atol=1e-12 * cp)
+    # fig. 3e in words: region I rises slowly, region II falls more rapidly (mean rates)
+    i36 = np.argmax(fpar)
+    assert (fpar[i36] - fpar[0]) / psi[i36] < (fpar[i36] - fpar[-1]) / (psi[-1] - psi[i36])
+    lin = HybridModel(c_par_h_coef=3000.0)
+    assert lin.c_par_h(d) == pytest.approx(3000 * d * LEG_WIDTH) and lin.f_par(0.0, d) == pytest.approx(lin.c_par_h(d))
     print(f"C_perp(30 mm) = {cp:.2f} N/m, C_par = {C_PAR_RATIO * cp:.2f} N/m, C_par^h = {m.c_par_h(d):.3f} N/m")
 
 
@@ -138,8 +148,20 @@ def test_family_runs_and_is_finite():
             assert p[k].shape == ANGLES.shape and np.all(np.isfinite(p[k])), (name, k)
         out = p["depth"] == 0
         assert np.all(p["F_f"][out] == 0) and np.all(p["torque"][out] == 0)
-        assert p["max_depth"] == pytest.approx(p["depth"].max())
+        # Delta d is the leg's own deepest reach over a turn (element centres stay just above it)
+        assert p["max_depth"] == pytest.approx(stroke_depth(leg_family()[name], AXLE_HEIGHT))
+        assert p["depth"].max() <= p["max_depth"] <= p["depth"].max() + 2e-3
     semi = prof["semicircle"]
+    # the density correction does not depend on the angles sampled (very bent: deepest at -55 deg)
+    vb = leg_family()["very_bent"]
+    part = rotating_leg_profile(vb, AXLE_HEIGHT, 5.0, ANGLES[60:62])  # theta = 0 and 2.25 deg only
+    assert part["max_depth"] == pytest.approx(prof["very_bent"]["max_depth"]) and part["depth"].max() < 0.041
+    np.testing.assert_allclose(part["F_f"], prof["very_bent"]["F_f"][60:62], rtol=1e-12)
+    a, b = LEG_A, 2 * LEG_A  # closed form of the largest reach for b > sqrt(2) a: cos t = a^2 / (a^2 - b^2)
+    c = a * a / (a * a - b * b)
+    reach = math.hypot(a * (1 - c), b * math.sqrt(1 - c * c))
+    assert stroke_depth(vb, AXLE_HEIGHT) == pytest.approx(reach - AXLE_HEIGHT, rel=1e-7)
+    assert stroke_depth(vb, 0.2) == 0.0
     assert semi["max_depth"] == pytest.approx(2 * LEG_A - AXLE_HEIGHT, abs=2e-4)
     assert semi["k_forward"] == pytest.approx(0.0325 * 40, rel=1e-2)
     assert semi["k_support"] == pytest.approx(0.06 * 40, rel=1e-2)
@@ -188,7 +210,19 @@ def test_leg_forces_match_bar_drag_and_per_element_law():
         assert s[0] * LEG_WIDTH == pytest.approx(c_perp(d), rel=2e-3)
     # tangential: a bar sliding along itself feels C_par^h, split over its two faces
     f = hybrid(0.03, [[1.0, 0, 0], [-1.0, 0, 0]], [0, 0, -0.1], 1.0, "generic").sum(axis=0)
-    assert f[2] * LEG_WIDTH == pytest.approx(HybridModel().c_par_h(0.03))
+    assert f[2] * LEG_WIDTH == pytest.approx(HybridModel().c_par_h(0.03), rel=2e-3)
+    # every psi: the per-element law is the bar-drag fit (up to the quadratic C_perp(d) it stores)
+    m = HybridModel()
+    for psi in np.radians([0.0, 4.5, 20.0, 36.0, 50.0, 89.0, 90.0]):
+        for d in (0.01, 0.03, 0.05):
+            n_vec = np.array([math.sin(psi), math.cos(psi), 0.0])  # bar face normal; motion along +x
+            sx, sy, _ = hybrid_stress(d, *n_vec, 1.0, 0.0, 0.0, 0.1, p)
+            t_vec = np.array([math.cos(psi), -math.sin(psi), 0.0])
+            fn = -(sx * n_vec[0] + sy * n_vec[1]) * LEG_WIDTH
+            ft = -(sx * t_vec[0] + sy * t_vec[1]) * LEG_WIDTH
+            lw = min(1.0, 0.5 + math.sin(psi) / (2 * LEAD_EPS))  # smoothed leading-surface weight
+            assert fn == pytest.approx(lw * m.f_perp(psi, d), rel=2e-3, abs=1e-9)
+            assert ft == pytest.approx(lw * m.f_par(psi, d), rel=2e-3, abs=1e-9)
     # undisturbed mask and the density correction from the deepest element
     masked = hybrid_leg_forces(pts, tan, vel, 1.0, undisturbed=[True, False, True, False], density_correction=False)
     assert masked["F_f"] == pytest.approx(c_perp(depths[[0, 2]]).sum())

@@ -39,48 +39,84 @@ What is implemented, and every choice where the paper is ambiguous
    stores only g0, g1, g2 (a parameter vector has no room for a table).
    For d <= W, C_perp = gamma_s g0 d^2 exactly (h1 = 0, homogeneous of degree 2).
 
-2. **Bar-drag fit** (:class:`HybridModel`)::
+2. **Bar-drag fit** (:class:`HybridModel`), the paper's eqs. (3) and (4)::
 
        F_perp = C_perp^h + (C_perp - C_perp^h) sin psi
-       F_par  = C_par^h + (C_par - C_par^h) sin psi / sin 36deg      psi <= 36 deg (region I)
-       F_par  = C_par cos psi / cos 36deg                            psi >  36 deg (region II)
-       C_par  = 0.37 C_perp
+       F_par  = C_par^h + (C' - C_par^h) sin psi        psi <= 36 deg (region I)
+       F_par  = C' cos psi                               psi >  36 deg (region II)
+       C' = C_par / cos 36deg,   C_par = 0.37 C_perp
 
-   The paper writes region I as "+ (C_par - C_par^h) sin psi" and region II as "C_par cos psi" while
-   calling C_par the maximum of F_par at 36 deg; read literally F_par would jump at 36 deg and never
-   reach C_par. We normalise both regions by their value at 36 deg so they meet at exactly C_par
-   (continuous, maximum C_par at 36 deg, zero at 90 deg).
+   The paper names C_par "the maximum F_par can reach, which occurs at 36 deg" (and measures
+   C_par / C_perp = 0.37 +- 0.02 as a ratio of maxima), but writes region II as "C_par cos psi",
+   which reaches C_par only at psi = 0, outside region II. We keep both of eq. (4)'s functional
+   forms and give them the amplitude C' that makes region II reach the stated maximum C_par at the
+   region boundary 36 deg. A force is continuous in psi, so region I must meet region II there:
+   C_par^h + (C' - C_par^h) sin 36 = C_par, which fixes the psi = 0 value
 
-   *C^h (psi = 0, bar sliding along its axis)* are not given in the reference (only as "depth
-   dependent"); defaults, stated assumptions: C_perp^h = 0 (a bar sliding along its axis is loaded
-   symmetrically), and C_par^h = 2 tan(phi_w) K0 gamma_s d W with K0 = 1 - sin phi (Jaky's at-rest
-   pressure on both faces times the wall friction): 4097 N/m^3 x d x W for the defaults. Measured
-   values replace them through :func:`mjrft.calibration.fit_hybrid_constants` /
-   :meth:`HybridModel.from_fit`.
+       C_par^h = C_par (cos 36 - sin 36) / (cos 36 (1 - sin 36)) = 0.6634 C_par   (C_PAR_H_FRACTION)
+
+   (region I is then C_par^h + (C_par - C_par^h) sin psi / sin 36). The paper gives no value of
+   C_par^h beyond "depth dependent"; this one follows from its equations alone, and it agrees with
+   its description of fig. 3e: F_par "increases slowly" in region I (by 0.34 C_par over 36 deg) and
+   "decreases more rapidly" in region II (by C_par over 54 deg), which any C_par^h below C_par / 3
+   would contradict. *C_perp^h* (psi = 0, the bar sliding along its own axis) has no such
+   constraint; the default is 0, the paper's own explanation of fig. 3d (F_perp grows with psi
+   "for the bar needed to push away more sand blocking its way"; at psi = 0 it blocks none).
+   Measured values replace both through :func:`mjrft.calibration.fit_hybrid_constants` /
+   :meth:`HybridModel.from_fit`, or ``c_perp_h_coef`` / ``c_par_h_coef`` (N/m^3: C^h = coef x d x W).
 
 3. **Only elements moving into undisturbed grains count.** Leading surface: the normal force acts on
    the face whose normal points along the element's velocity (the smoothed rule of
    :mod:`mjrft.laws.common`, so a thin leg's two faces add up to one). Undisturbed grains: for a leg
    rotating about its axle an element moves into space that the leg has just cleared when another
    part of the leg at the same distance from the axle is ahead of it in the direction of rotation
-   (less than half a turn ahead); such elements feel nothing (:func:`shadowed_elements`, exact for
-   any profile). For the semi-ellipse family with its convex side leading this is exactly the
-   paper's sign rule on psi: with psi signed from the velocity to the hip-to-tip tangent, an element
-   counts iff its tangent points away from the axle (t . r_hat > 0); only legs with b > sqrt(2) a
-   (the bent and very bent legs) have a part curving back toward the axle, and that part feels
-   nothing (22 and 42 of 100 elements). In :func:`hybrid_leg_forces` without an axle (or in the per-element law, which sees one
-   element) only the leading-surface rule applies.
+   (less than half a turn ahead): that part swept the very same point earlier in the stroke. Such
+   elements feel nothing (:func:`shadowed_elements`, exact for any profile).
 
-4. **Density correction** k = lambda x (maximum penetration depth), lambda = 0.0325 (forward force)
-   and 0.06 (support force). The unit of lambda is not stated; we read it as per millimetre
+   *The sign of psi.* The paper states this rule twice with opposite signs: section 2.2 integrates
+   an element "only when psi > 0", while section 4 and fig. 12 (psi measured counterclockwise from
+   v to the element's tangent) say "a negative psi corresponds to the situation where the leg
+   element is in contact" and that psi is negative along the whole of the straight ... semicircle
+   legs. Read with section 2.2's sign, those three legs would feel no force at all, so we follow
+   section 4 and fig. 12, and implement the rule as geometry, with no signed angle: for the
+   semi-ellipse family with its convex side leading it is exactly fig. 12's sign change, an element
+   counting iff its hip-to-tip tangent points away from the axle (t . r_hat > 0); only legs with
+   b > sqrt(2) a (the bent and very bent legs) have a part curving back toward the axle (fig. 12:
+   psi changes sign "as xi approaches 0", toward the tip), and that part feels nothing (22 and 42 of
+   100 elements), which makes these legs lose their force long before they leave the sand.
+
+   *Which side leads.* The paper's legs turn with the convex side leading: section 4 says the legs
+   enter the sand at different moments but leave it at the same moment "thanks to the
+   semi-elliptical shape", which holds only when the tip (2a from the axle for every leg) trails;
+   with the concave side leading the tip would enter first for every leg and the legs would leave
+   at different moments, and the shadowed part would sit at the hip end instead of toward the tip.
+
+   *Not in the per-element law.* A law of the coupler sees one element's depth, unit normal, unit
+   motion and speed, and these do not decide the rule: a shadowed element of the very bent leg and
+   an element of the semicircle leg turning the other way about an axle mirrored through that
+   element have identical inputs (tested), and only the second counts. The rule needs the rest of
+   the leg, so it lives in the whole-leg functions (:func:`rotating_leg_profile`,
+   :func:`hybrid_leg_forces` with an ``axle``); through the coupler a bent leg's shadowed part
+   pushes (``mjrft.rigs`` docstring). :func:`hybrid_leg_forces` without an axle applies only the
+   leading-surface rule.
+
+4. **Density correction** k = lambda x (maximum penetration depth Delta d), lambda = 0.0325 (forward
+   force) and 0.06 (support force). The unit of lambda is not stated; we read it as per millimetre
    (32.5 /m and 60 /m), the only reading for which k is of order one (k_f = 1.3, k_s = 2.4 for the
    semicircle leg's 40 mm); per centimetre would shrink forces ten-fold, against the stated purpose
-   (density, hence force, grows under the leg). k_f multiplies the horizontal and k_s the vertical
-   component of every element force, and the torque is taken from the corrected forces.
+   (density, hence force, grows under the leg). Delta d is a property of the leg and the axle
+   height, the deepest any point of the leg reaches over a turn (largest distance from the axle
+   minus the axle's height above the sand: 4.0 cm for the straight ... semicircle legs, 4.05 cm bent,
+   5.39 cm very bent), not of the angles a caller happens to sample. k_f multiplies the horizontal
+   and k_s the vertical component of every element force, and the torque is taken from the
+   corrected forces.
 
 5. **Speed**: an optional user curve of (speed m/s, factor) pairs, linearly interpolated in the
-   element's speed and held at its end values; default a flat factor 1 (the paper finds leg forces
-   barely change up to 11 rad/s).
+   element's speed and held at its end values; default a flat factor 1. The paper scales its forces
+   by a measured F_perp(v) (fig. 6, 1-100 cm/s at 3 cm depth) whose numbers are not in the text, and
+   finds the leg forces "negligibly" changed by omega below 11 rad/s (fig. 9, omega = 1, 4, 7,
+   10 rad/s), which a flat factor reproduces. The per-element law has no speed factor (a parameter
+   vector has no room for a curve), so it is the flat default there.
 
 6. **Defaults (assumptions; the paper measured its friction angles by shear tests without giving
    them)**: phi = 35 deg (a medium quartz river sand), phi_w = 20 deg (about 0.57 phi, the usual
@@ -111,11 +147,12 @@ motion; horizontal components x k_f, vertical x k_s. Medium constants (``Medium.
 ``hybrid_width`` (W, 0.0254 m), ``hybrid_phi`` / ``hybrid_phi_w`` (radians; 35 / 20 deg),
 ``hybrid_unit_weight`` (N/m^3; default 9.81 x the medium's bulk density when known, else the river
 sand's), ``hybrid_c_par_ratio`` (0.37), ``hybrid_c_perp_h`` / ``hybrid_c_par_h`` (N/m^3, C^h per unit
-length = value x d x W; defaults 0 and the Jaky friction above), ``hybrid_max_depth`` (m; default none,
-k = 1). Not available per element: the undisturbed-grain (shadow) rule and the speed curve (they need
-the whole leg or an array; a parameter vector has 32 slots). Parameter slots 22..30:
-22 W, 23-25 gamma_s g0, g1, g2, 26 C_par/C_perp, 27 C_perp^h coefficient, 28 C_par^h coefficient,
-29 k_f, 30 k_s.
+length = value x d x W; defaults 0 and, for C_par^h, the continuity value C_PAR_H_FRACTION x C_par of
+item 2), ``hybrid_max_depth`` (m, the stroke's Delta d; default none, k = 1; the rigs set it). Not
+available per element: the undisturbed-grain (shadow) rule (item 3) and the speed curve (item 5).
+Parameter slots 22..31: 22 W, 23-25 gamma_s g0, g1, g2, 26 C_par/C_perp, 27 C_perp^h coefficient,
+28 C_par^h coefficient, 29 k_f, 30 k_s, 31 C_par^h as a fraction of C_par (C_par^h = slot 31 x
+C_par + slot 28 x d x W).
 """
 
 from __future__ import annotations
@@ -141,6 +178,8 @@ C_PAR_RATIO = 0.37  # C_par / C_perp (paper: 0.37 +- 0.02)
 PSI_BREAK = math.radians(36.0)  # region I / II boundary, maximum of F_par
 SIN_BREAK = math.sin(PSI_BREAK)
 COS_BREAK = math.cos(PSI_BREAK)
+# C_par^h / C_par from eq. (4) continuous at 36 deg with its maximum C_par there (docstring item 2)
+C_PAR_H_FRACTION = (COS_BREAK - SIN_BREAK) / (COS_BREAK * (1.0 - SIN_BREAK))
 LAMBDA_FORWARD = 32.5  # 1/m (0.0325 per mm)
 LAMBDA_SUPPORT = 60.0  # 1/m (0.06 per mm)
 LEG_WIDTH = 0.0254  # m, assumption (Li 2013 leg-rotation rig)
@@ -160,7 +199,8 @@ P_HYB_PERP_H = P_FIRST_FREE + 12
 P_HYB_PAR_H = P_FIRST_FREE + 13
 P_HYB_KF = P_FIRST_FREE + 14
 P_HYB_KS = P_FIRST_FREE + 15
-assert P_HYB_KS < P_SIZE
+P_HYB_PAR_H_FRAC = P_FIRST_FREE + 16
+assert P_HYB_PAR_H_FRAC < P_SIZE
 
 
 # ================================================================================================
@@ -282,11 +322,6 @@ def c_perp(depth, width=LEG_WIDTH, gamma_s=GAMMA_S, phi=PHI, phi_w=PHI_W):
     return np.where(d <= width, shallow, gamma_s * width * width * gx)
 
 
-def jaky_par_h_coefficient(gamma_s=GAMMA_S, phi=PHI, phi_w=PHI_W) -> float:
-    """Default C_par^h / (d W) = 2 tan(phi_w) (1 - sin phi) gamma_s (N/m^3), module docstring item 2."""
-    return 2.0 * math.tan(phi_w) * (1.0 - math.sin(phi)) * gamma_s
-
-
 # ================================================================================================
 # Bar-drag fit and the leg model
 # ================================================================================================
@@ -334,7 +369,7 @@ class HybridModel:
     """The hybrid model's constants (module docstring); every field has a documented default.
 
     ``c_perp_h_coef`` / ``c_par_h_coef``: C^h per unit length = coef x d x W (N/m^3); None for
-    ``c_par_h_coef`` means the Jaky-friction default. ``speed_curve``: (n, 2) (speed m/s, factor).
+    ``c_par_h_coef`` means C_par^h = :data:`C_PAR_H_FRACTION` x C_par (module docstring, item 2). ``speed_curve``: (n, 2) (speed m/s, factor).
     ``c_perp_table`` / ``c_perp_h_table`` / ``c_par_h_table``: optional measured (depths, N/m) that
     replace the wedge / the C^h defaults (linear interpolation from zero at the surface; the deepest
     value is held below the deepest measurement).
@@ -363,9 +398,8 @@ class HybridModel:
         s(self, "gamma_s", check_positive("gamma_s", self.gamma_s))
         s(self, "c_par_ratio", check_positive("c_par_ratio", self.c_par_ratio))
         s(self, "c_perp_h_coef", check_finite("c_perp_h_coef", self.c_perp_h_coef))
-        if self.c_par_h_coef is None:
-            s(self, "c_par_h_coef", jaky_par_h_coefficient(self.gamma_s, phi, phi_w))
-        s(self, "c_par_h_coef", check_finite("c_par_h_coef", self.c_par_h_coef))
+        if self.c_par_h_coef is not None:
+            s(self, "c_par_h_coef", check_finite("c_par_h_coef", self.c_par_h_coef))
         s(self, "lambda_forward", check_positive("lambda_forward", self.lambda_forward, allow_zero=True))
         s(self, "lambda_support", check_positive("lambda_support", self.lambda_support, allow_zero=True))
         s(self, "speed_curve", _speed_curve(self.speed_curve))
@@ -397,6 +431,8 @@ class HybridModel:
         d = np.clip(np.asarray(depth, dtype=float), 0.0, None)
         if self.c_par_h_table is not None:
             return np.interp(d, *self.c_par_h_table) * (d > 0)
+        if self.c_par_h_coef is None:
+            return C_PAR_H_FRACTION * self.c_par(d)
         return self.c_par_h_coef * d * self.width
 
     # --- bar-drag fit ----------------------------------------------------------------------------
@@ -585,13 +621,31 @@ def leg_pose(leg, theta, h=AXLE_HEIGHT, bulge=1):
     return pts, tan
 
 
+def stroke_depth(leg, h, surface=0.0) -> float:
+    """Delta d (m): the deepest any point of ``leg`` reaches over a turn about an axle ``h`` above the
+    ground at height ``surface`` (module docstring, item 4): its largest distance from the axle minus
+    the axle's height above the sand, >= 0. Exact for a :func:`semi_ellipse_leg` (its curve, not its
+    element centres); other legs given as ``points`` (leg frame, hip at the origin) use their points.
+    """
+    h = check_finite("h", h)
+    surface = check_finite("surface", surface)
+    if "a" in leg and "b" in leg:
+        t = np.linspace(0.0, math.pi, 20001)
+        reach = float(np.max(np.hypot(leg["a"] * (1.0 - np.cos(t)), leg["b"] * np.sin(t))))
+    else:
+        pts = _as2("leg points", leg["points"])
+        reach = float(np.max(np.hypot(pts[:, 0], pts[:, 1])))
+    return max(0.0, reach - (h - surface))
+
+
 def rotating_leg_profile(leg, h, omega, angles, *, model: HybridModel | None = None, bulge=1, surface=0.0,
                          max_depth=None, density_correction=True) -> dict:
     """F_f, F_s and torque against leg angle for ``leg`` rotating at constant ``omega`` (rad/s).
 
     ``leg`` from :func:`semi_ellipse_leg`; axle at height ``h`` (m) above the sand surface; ``angles``
     leg angles (radians from straight down, positive backward); ``bulge`` +1 convex side leading, -1
-    trailing. ``max_depth`` defaults to the deepest penetration over ``angles`` (the stroke).
+    trailing. ``max_depth`` (Delta d of the density correction) defaults to :func:`stroke_depth`, the
+    deepest the leg reaches over a turn, whatever ``angles`` cover.
     Returns arrays ``angle``, ``F_f``, ``F_s``, ``torque``, ``depth`` (deepest element per angle) and
     ``n_counted``, plus ``shadowed`` (the elements the undisturbed-grain rule drops), ``k_forward``,
     ``k_support``, ``max_depth``.
@@ -615,12 +669,9 @@ def rotating_leg_profile(leg, h, omega, angles, *, model: HybridModel | None = N
         pts, tan = leg_pose(leg, th, h, bulge)
         poses.append((pts, tan))
         depth[i] = max(0.0, float(np.max(surface - pts[:, 1])))
-    if density_correction:
-        dmax = float(depth.max()) if max_depth is None else check_positive("max_depth", max_depth, allow_zero=True)
-        k_f, k_s = model.density_factors(dmax)
-    else:
-        dmax = float(depth.max()) if max_depth is None else max_depth
-        k_f = k_s = 1.0
+    dmax = stroke_depth(leg, h, surface) if max_depth is None else check_positive("max_depth", max_depth,
+                                                                                  allow_zero=True)
+    k_f, k_s = model.density_factors(dmax) if density_correction else (1.0, 1.0)
     out = {k: np.empty(ang.size) for k in ("F_f", "F_s", "torque")}
     n_counted = np.empty(ang.size, dtype=int)
     for i, (pts, tan) in enumerate(poses):
@@ -668,7 +719,7 @@ def hybrid_stress(depth, nx, ny, nz, mx, my, mz, speed, p):
         cperp = p[P_HYB_E0] * w * w + p[P_HYB_E1] * w * x + p[P_HYB_E2] * x * x
     cperp_h = p[P_HYB_PERP_H] * depth * w
     cpar = p[P_HYB_RATIO] * cperp
-    cpar_h = p[P_HYB_PAR_H] * depth * w
+    cpar_h = p[P_HYB_PAR_H_FRAC] * cpar + p[P_HYB_PAR_H] * depth * w
     fperp = cperp_h + (cperp - cperp_h) * sp
     if sp <= SIN_BREAK:
         fpar = cpar_h + (cpar - cpar_h) * sp / SIN_BREAK
@@ -707,10 +758,8 @@ def hybrid_constants(medium) -> dict:
     if c["hybrid_phi"] + c["hybrid_phi_w"] >= math.pi / 2:
         raise ValueError(f"medium {name!r}: hybrid_phi + hybrid_phi_w must be < pi/2 (radians), got "
                          f"{c['hybrid_phi']!r} + {c['hybrid_phi_w']!r}")
-    par_h = g("hybrid_c_par_h", None)
-    if par_h is None:
-        par_h = jaky_par_h_coefficient(c["hybrid_unit_weight"], c["hybrid_phi"], c["hybrid_phi_w"])
-    c["hybrid_c_par_h"] = check_finite(f"medium {name!r} hybrid_c_par_h", par_h)
+    par_h = g("hybrid_c_par_h", None)  # None: the continuity value C_PAR_H_FRACTION x C_par
+    c["hybrid_c_par_h"] = None if par_h is None else check_finite(f"medium {name!r} hybrid_c_par_h", par_h)
     md = g("hybrid_max_depth", None)
     c["hybrid_max_depth"] = None if md is None else check_positive(f"medium {name!r} hybrid_max_depth", md,
                                                                    allow_zero=True)
@@ -727,7 +776,9 @@ def _hybrid_params(medium, p):
     p[P_HYB_E2] = gam * g2
     p[P_HYB_RATIO] = c["hybrid_c_par_ratio"]
     p[P_HYB_PERP_H] = c["hybrid_c_perp_h"]
-    p[P_HYB_PAR_H] = c["hybrid_c_par_h"]
+    par_h = c["hybrid_c_par_h"]
+    p[P_HYB_PAR_H] = 0.0 if par_h is None else par_h
+    p[P_HYB_PAR_H_FRAC] = C_PAR_H_FRACTION if par_h is None else 0.0
     md = c["hybrid_max_depth"]
     p[P_HYB_KF] = 1.0 if md is None else LAMBDA_FORWARD * md
     p[P_HYB_KS] = 1.0 if md is None else LAMBDA_SUPPORT * md
