@@ -176,19 +176,19 @@ def run_plate(quick: bool) -> CaseResult:
 
     x = np.arange(len(media), dtype=float)
     panels = [
-        Panel("vertical stress vs depth, plate pushed down (loosely packed poppy seeds)", "depth of bottom face (cm)",
+        Panel("poppy LP: sigma_z vs depth, plate pushed down", "depth of bottom face (cm)",
               "sigma_z (N/cm^2)", [
                   Line(curves[0][1] * 100, curves[0][2] / 1e4, "mjrft, medium's fit"),
                   Line(curves[0][3] * 100, curves[0][4] / 1e4, "mjrft, depth-only"),
                   Line([0.0, 7.62], [0.0, 7.62 * meas_pub["poppy_lp"]], "paper: measured slope", source="table S3"),
                   Line([0.0, 7.62], [0.0, 7.62 * fit_pub["poppy_lp"]], "paper: fit slope", source="table S3")]),
-        Panel("alpha_z(0, pi/2) per medium (0 poppy LP, 1 poppy CP, 2 glass 0.3 LP, 3 glass 0.3 CP, 4 glass 3 CP)",
-              "medium", "alpha_z (N/cm^3)", [
+        Panel("alpha_z(0, pi/2) per medium",
+              "medium (0 poppy LP, 1 poppy CP, 2/3 0.3 mm glass LP/CP, 4 3 mm glass)", "alpha_z (N/cm^3)", [
                   Line(x, [slopes[n][0] / N_CM3 for n in media], "mjrft, medium's fit"),
                   Line(x, [slopes[n][1] / N_CM3 for n in media], "mjrft, depth-only"),
                   Line(x, [fit_pub[n] for n in media], "paper: fit", source="table S3"),
                   Line(x, [meas_pub[n] for n in media], "paper: measured", source="table S3")]),
-        Panel("poppy LP, plates moving down: alpha_z vs attack angle (fig. S1 vs fit)", "beta (deg)",
+        Panel("poppy LP, plates moving down (fig. S1)", "beta (deg)",
               "alpha_z (N/cm^3)", [
                   Line([math.degrees(bb) for bb, gg, _, _ in grid if gg == gm],
                        [kk / N_CM3 for bb, gg, kk, _ in grid if gg == gm], f"fit, gamma {math.degrees(gm):g} deg")
@@ -267,14 +267,14 @@ def run_scaling(quick: bool) -> CaseResult:
     jh = int(np.argmin(np.abs(G[0])))
     deg = np.degrees(B[:, 0])
     panels = [
-        Panel("zeta per medium (0 poppy LP, 1 poppy CP, 2 glass 0.3 LP, 3 glass 0.3 CP, 4 glass 3 CP)", "medium",
+        Panel("zeta per medium", "medium (0 poppy LP, 1 poppy CP, 2/3 0.3 mm glass LP/CP, 4 3 mm glass)",
               "zeta (N/cm^3)", [Line(x, [zcal[n] / N_CM3 for n in media], "mjrft: calibrate(plate test)"),
                                 Line(x, [zeta_pub[n] for n in media], "paper", source="table S2")]),
-        Panel("poppy LP: alpha_z vs beta, plate pushed down (gamma = pi/2)", "beta (deg)", "alpha_z (N/cm^3)",
+        Panel("poppy LP: alpha_z, gamma = pi/2", "beta (deg)", "alpha_z (N/cm^3)",
               [Line(deg, az_fit[:, jg] / N_CM3, "medium's fit"), Line(deg, az_gen[:, jg] / N_CM3, "generic x zeta")]),
-        Panel("poppy LP: alpha_x vs beta, plate dragged (gamma = 0)", "beta (deg)", "alpha_x (N/cm^3)",
+        Panel("poppy LP: alpha_x, gamma = 0", "beta (deg)", "alpha_x (N/cm^3)",
               [Line(deg, ax_fit[:, jh] / N_CM3, "medium's fit"), Line(deg, ax_gen[:, jh] / N_CM3, "generic x zeta")]),
-        Panel("RMS difference generic x zeta vs fit over (beta, gamma), / alpha_z^fit(0, pi/2)", "medium", "relative RMS",
+        Panel("generic x zeta vs fit: RMS over (beta, gamma)", "medium (order of table S2)", "RMS / alpha_z^fit(0, pi/2)",
               [Line(x, [rms_z[n] for n in media], "alpha_z"), Line(x, [rms_x[n] for n in media], "alpha_x")]),
     ]
     return CaseResult(
@@ -408,7 +408,7 @@ def run_leg(quick: bool) -> CaseResult:
             lines.append(Line(np.degrees(p.angle), p.forward, f"F_x {LAW_LABEL[law]}"))
         panels.append(Panel(f"{SHAPE_LABEL[s]}, loosely packed poppy seeds", "leg angle theta (deg)", "force (N)", lines))
     x = np.arange(len(media), dtype=float)
-    panels.append(Panel("peak F_z over-prediction of depth-only vs the fit, per medium", "medium (order of table S3)",
+    panels.append(Panel("depth-only peak F_z over-prediction vs the fit", "medium (order of table S3)",
                         "over-prediction (%)",
                         [Line(x, [over[n, s] for n in media], SHAPE_LABEL[s]) for s in SHAPES]))
     rev = R["poppy_lp", "reversed_c", "fit"]
