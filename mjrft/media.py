@@ -24,8 +24,8 @@ S5 not in the text), so every medium takes those two from its fit (:meth:`Medium
 ``mu_int`` and surface (leg) friction ``mu_surface``; its stress scale is
 ``xi_n = g rho_bulk (894 mu^3 - 386 mu^2 + 89 mu)``. For the Li media the paper gives no internal
 friction, so we *choose* the ``mu_int`` that makes 3D-RFT's plate-pushed-down stress (0.875 xi_n)
-equal the medium's own measured alpha_z(0, pi/2): the two laws then agree on vertical penetration,
-and the angle of repose is kept only as a reported property. Likewise a medium made by
+equal the medium's fitted alpha_z(0, pi/2) (what the ``rft`` law gives): the two laws then agree on
+vertical penetration, and the angle of repose is kept only as a reported property. Likewise a medium made by
 :func:`medium_3d` gets the Li generic profile with the same vertical stress.
 """
 
