@@ -269,3 +269,58 @@ def test_errors_name_the_bad_value():
         mjrft.get_medium("generic").with_extra(hybrid_width=-1.0).params()
     with pytest.raises(ValueError, match="hybrid_phi"):
         mjrft.get_medium("generic").with_extra(hybrid_phi=1.2, hybrid_phi_w=0.5).params()
+
+
+def test_shadow_rule_is_not_a_function_of_the_per_element_inputs():
+    """A shadowed element of the very bent leg and an element of a semicircle leg turning the other way
+    about the axle mirrored through it have the same depth, normal, motion and speed: the per-element
+    law cannot tell them apart, so the undisturbed-grain rule needs the whole leg (docstring item 3)."""
+    vb = semi_ellipse_leg(LEG_A, 2 * LEG_A, 400)
+    axle = np.array([0.0, AXLE_HEIGHT])
+    theta = -0.6
+    pts, tan = leg_pose(vb, theta)
+    shadow = shadowed_elements(pts, axle, 1.0)
+    depth = -pts[:, 1]
+    i = int(np.flatnonzero(shadow & (depth > 0.01))[0])
+    p, t = pts[i], tan[i]
+    r = p - axle
+    rho = float(np.hypot(*r))
+    v = np.array([r[1], -r[0]])  # omega = +1
+    m = v / np.linalg.norm(v)
+    nrm = np.array([-t[1], t[0]])
+    n_lead = nrm if nrm @ m > 0 else -nrm
+    sin_psi = float(n_lead @ m)
+    assert n_lead @ (r / rho) < 0  # the shadowed element's leading face looks toward its axle
+    # semicircle about O' = 2p - O, omega' = -1 (same velocity at p); on a semicircle psi equals the
+    # polar angle phi of the element from the chord (tangent-chord angle), and rho = 2 a' cos(phi)
+    o2 = 2 * p - axle
+    u_hat = (p - o2) / rho
+    u_perp = np.array([-u_hat[1], u_hat[0]])
+    phi = math.asin(sin_psi)
+    a2 = rho / (2 * math.cos(phi))
+    semi = semi_ellipse_leg(a2, a2, 4000)
+    best = None
+    for side in (1.0, -1.0):
+        c_hat = math.cos(phi) * u_hat - side * math.sin(phi) * u_perp
+        w_hat = math.sin(phi) * u_hat + side * math.cos(phi) * u_perp
+        wp = o2 + semi["points"][:, :1] * c_hat + semi["points"][:, 1:] * w_hat
+        wt = semi["tangents"][:, :1] * c_hat + semi["tangents"][:, 1:] * w_hat
+        j = int(np.argmin(np.hypot(*(wp - p).T)))
+        if best is None or abs(wt[j] @ nrm) < abs(best[2][best[3]] @ nrm):
+            best = (wp, None, wt, j)
+    wp, _, wt, j = best
+    assert np.hypot(*(wp[j] - p)) < 1e-4 and abs(wt[j] @ nrm) < 2e-3  # same place, same tangent line
+    r2 = wp[j] - o2
+    v2 = -np.array([r2[1], -r2[0]])  # omega' = -1
+    np.testing.assert_allclose(v2, v, atol=1e-4)
+    assert not shadowed_elements(wp, o2, -1.0)[j]  # ... and it counts
+    prm = mjrft.get_medium("generic").params()
+    s1 = hybrid_stress(float(depth[i]), n_lead[0], 0.0, n_lead[1], m[0], 0.0, m[1], rho, prm)
+    n2 = np.array([-wt[j][1], wt[j][0]])
+    n2 = n2 if n2 @ v2 > 0 else -n2
+    m2 = v2 / np.linalg.norm(v2)
+    s2 = hybrid_stress(float(-wp[j][1]), n2[0], 0.0, n2[1], m2[0], 0.0, m2[1], float(np.hypot(*r2)), prm)
+    np.testing.assert_allclose(s2, s1, rtol=3e-3, atol=1e-6 * np.abs(s1).max())
+    assert np.abs(s1).max() > 10.0  # Pa: the element would push, were it not in the wake
+    print(f"very bent element {i} (shadowed) at depth {1000 * depth[i]:.1f} mm, psi {math.degrees(phi):.1f} deg: "
+          f"stress {np.round(s1, 1)} Pa; semicircle (a' = {1000 * a2:.1f} mm, not shadowed): {np.round(s2, 1)} Pa")
