@@ -281,7 +281,9 @@ def test_shadow_rule_is_not_a_function_of_the_per_element_inputs():
     pts, tan = leg_pose(vb, theta)
     shadow = shadowed_elements(pts, axle, 1.0)
     depth = -pts[:, 1]
-    i = int(np.flatnonzero(shadow & (depth > 0.01))[0])
+    rr = pts - axle
+    sin_all = np.abs(tan[:, 0] * rr[:, 0] + tan[:, 1] * rr[:, 1]) / np.hypot(rr[:, 0], rr[:, 1])  # |sin psi|
+    i = int(np.argmax(np.where(shadow & (depth > 0.01), sin_all, -1.0)))
     p, t = pts[i], tan[i]
     r = p - axle
     rho = float(np.hypot(*r))
