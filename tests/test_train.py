@@ -342,3 +342,45 @@ def test_train_command_reports_a_bad_hyperparameter_in_one_line(tmp_path, capsys
         cli.main(["train", "--env", "mjrft/HexapodSand-v0", "--out", str(tmp_path / "run"), "--hp", "n_steps=1.5"])
     assert e.value.code == 2
     assert "PPO hyper-parameter n_steps takes an integer, got 1.5" in capsys.readouterr().err
+
+
+def test_training_shows_each_kind_of_warning_once_and_logs_all(tmp_path, capsys):
+    """An env that warns every step (numbers in the message vary): one line per kind, a count, a CSV of all."""
+    import csv as _csv
+    import warnings as _warnings
+
+    import gymnasium as gym
+    import numpy as _np
+
+    from mjrft.errors import TerrainStabilityWarning
+    from mjrft.train.run_warnings import WARNINGS_CSV, warning_kind
+    from mjrft.train.train import train
+
+    class Warns(gym.Env):
+        observation_space = gym.spaces.Box(-1, 1, (2,))
+        action_space = gym.spaces.Box(-1, 1, (1,))
+
+        def reset(self, seed=None, options=None):
+            super().reset(seed=seed)
+            self.t = 0
+            return _np.zeros(2, _np.float32), {}
+
+        def step(self, action):
+            self.t += 1
+            _warnings.warn(TerrainStabilityWarning(f"mjrft: body 'leg' at t = {self.t * 0.01:.4g} s"))
+            return _np.zeros(2, _np.float32), 0.0, False, self.t >= 8, {}
+
+    gym.register("mjrft_test/Warns-v0", entry_point=Warns)
+    try:
+        train("mjrft_test/Warns-v0", "ppo", timesteps=32, n_envs=1, seed=0, out_dir=tmp_path, checkpoint_every=1000,
+              hyperparams={"n_steps": 16, "batch_size": 16, "n_epochs": 1})
+    finally:
+        gym.registry.pop("mjrft_test/Warns-v0", None)
+    out = capsys.readouterr()
+    assert out.out.count("TerrainStabilityWarning (shown once") == 1
+    assert "32 warning(s) of 1 kind(s)" in out.out and "32 x TerrainStabilityWarning: mjrft: body 'leg'" in out.out
+    assert "TerrainStabilityWarning" not in out.err  # not printed per occurrence
+    with open(tmp_path / WARNINGS_CSV) as f:
+        rows = list(_csv.DictReader(f))
+    assert len(rows) == 32 and rows[0]["category"] == "TerrainStabilityWarning" and "t = 0.01 s" in rows[0]["message"]
+    assert warning_kind("W", "at t = 0.01 s, 3e-4 kg") == warning_kind("W", "at t = 2.5 s, 1 kg")

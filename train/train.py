@@ -19,6 +19,9 @@ Run folder (``out_dir``):
 ``monitor.csv``                                 one row per finished episode (return, length, wall time);
                                                 a resumed run appends to it
 ``logs/from_<N>/progress.csv``                  SB3's training log of the run that started at step N
+``warnings.csv``                                every warning the environments raised while training (step,
+                                                env, category, message); each kind is printed once, with
+                                                counts at the end (:mod:`mjrft.train.run_warnings`)
 ==============================================  ==========================================================
 
 Choices (the issue is silent on them):
@@ -183,6 +186,14 @@ def make_env(env_id: str, env_kwargs: dict | None = None, rank: int = 0):
                          f"{', '.join(valid_env_kwargs(env_id))}") from None
 
 
+def make_training_env(env_id: str, env_kwargs: dict | None = None, rank: int = 0):
+    """:func:`make_env` with its warnings put into ``info["warnings"]`` for the trainer's tally
+    (:mod:`mjrft.train.run_warnings`)."""
+    from .run_warnings import CaptureWarnings
+
+    return CaptureWarnings(make_env(env_id, env_kwargs, rank))
+
+
 def start_method() -> str:
     """``forkserver`` where available (Linux), else ``spawn``: safe with threads (torch, numba)."""
     return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
@@ -194,7 +205,7 @@ def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: dict | None = 
     from stable_baselines3.common.monitor import ResultsWriter
     from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
 
-    fns = [functools.partial(make_env, env_id, dict(env_kwargs or {}), i) for i in range(n_envs)]
+    fns = [functools.partial(make_training_env, env_id, dict(env_kwargs or {}), i) for i in range(n_envs)]
     if n_envs > 1 and start_method() == "forkserver":
         # the fork server imports these once; each worker forks from it instead of importing torch, SB3,
         # gymnasium and mjrft again (no effect once this process's fork server is running)
@@ -587,7 +598,9 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         model.set_logger(configure(str(log_dir), ["csv"] + (["stdout"] if verbose else [])))
 
         saved_paths = []
-        callbacks = [_periodic_save_callback(out_dir, checkpoint_every, saved_paths.append)]
+        from .run_warnings import warning_tally
+
+        callbacks = [_periodic_save_callback(out_dir, checkpoint_every, saved_paths.append), warning_tally(out_dir)]
         if callback is not None:
             callbacks += list(callback) if isinstance(callback, (list, tuple)) else [callback]
         interrupted = False
