@@ -684,7 +684,7 @@ class GranularTerrain:
             groups.setdefault(str(reg.law), []).append(k)
             for r, v in validity.check_static(str(reg.law), reg.medium):
                 self._validity_warn(str(reg.law), r, v, f" (medium '{reg.medium.name}')", stacklevel=4)
-        self._val_dynamic = [(np.array(ks, dtype=np.int64), law, r) for law, ks in groups.items()
+        self._val_dynamic = [(validity.group_mask(len(self.regions), ks), law, r) for law, ks in groups.items()
                              for r in validity.dynamic_ranges(law)]
 
     def _validity_warn(self, law: str, r, value: float, where: str, stacklevel: int) -> None:
@@ -696,20 +696,16 @@ class GranularTerrain:
     def _check_validity(self, data) -> None:
         """Warn once per (law, quantity) when a buried element of the last step is deeper or faster than its law's
         calibrated range (run with the stability check, every STABILITY_CHECK_EVERY steps)."""
-        buried = self.depth > 0.0
-        if not buried.any():
-            return
-        single = len(self.regions) == 1
-        for ks, law, r in self._val_dynamic:
+        extremes = {}
+        for mask, law, r in self._val_dynamic:
             if (law, r.quantity) in self._val_warned:
                 continue
-            sel = buried if single else buried & np.isin(self.region, ks)
-            if not sel.any():
+            if law not in extremes:  # one compiled pass per law: (deepest, fastest) buried element
+                extremes[law] = validity.buried_extremes(self.depth, self.vel, self.region, mask)
+            dmax, vmax = extremes[law]
+            if dmax <= 0.0:
                 continue
-            if r.quantity == "depth":
-                v = float(self.depth[sel].max())
-            else:
-                v = float(np.sqrt(np.einsum("ij,ij->i", self.vel[sel], self.vel[sel]).max()))
+            v = dmax if r.quantity == "depth" else vmax
             if not r.contains(v):
                 self._validity_warn(law, r, v, f" at t = {data.time:.4g} s", stacklevel=5)
         self._val_dynamic = [d for d in self._val_dynamic if (d[1], d[2].quantity) not in self._val_warned]

@@ -34,7 +34,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["RANGES", "Range", "check_static", "static_quantity"]
+import numpy as np
+from numba import njit
+
+__all__ = ["RANGES", "Range", "buried_extremes", "check_static", "dynamic_ranges", "static_quantity"]
 
 
 @dataclass(frozen=True)
@@ -124,3 +127,27 @@ def check_static(law: str, medium) -> list[tuple[Range, float]]:
 
 def dynamic_ranges(law: str) -> tuple[Range, ...]:
     return tuple(r for r in RANGES.get(law, ()) if r.quantity in DYNAMIC)
+
+
+@njit(cache=True, error_model="numpy")
+def buried_extremes(depth, vel, region, in_group):
+    """(deepest depth, largest speed) over the elements with ``depth > 0`` whose ``region`` has
+    ``in_group[region]`` set; (0, 0) when there is none. One pass, no temporaries."""
+    dmax = 0.0
+    v2max = 0.0
+    for i in range(depth.shape[0]):
+        d = depth[i]
+        if d > 0.0 and in_group[region[i]]:
+            if d > dmax:
+                dmax = d
+            v2 = vel[i, 0] * vel[i, 0] + vel[i, 1] * vel[i, 1] + vel[i, 2] * vel[i, 2]
+            if v2 > v2max:
+                v2max = v2
+    return dmax, math.sqrt(v2max)
+
+
+def group_mask(n_regions: int, ids) -> np.ndarray:
+    """Boolean mask over region ids for :func:`buried_extremes`."""
+    m = np.zeros(n_regions, dtype=np.bool_)
+    m[np.asarray(ids, dtype=np.int64)] = True
+    return m
