@@ -23,10 +23,11 @@ coefficient is the slope of the fitted line ... added as a multiplier" (section 
 force is predicted from the base force at 30 mm/s and 30 mm depth, and the paper applies the SAME
 line at leg speeds far above its 10-50 mm/s plate tests: its predicted +30.33 % horizontal thrust
 from 30 to 40 rpm (section 3.2) is what this line gives on a 110 mm leg sunk 30 mm (the buried
-part moves at 0.25-0.46 m/s; the ``sgrft_rpm`` validation case measures it in the rig). Other
-readings miss that number: the same line anchored at 10 mm/s gives +28.6-28.9 %, force
-proportional to speed +33.3 %, and compounding eps_v per 10 mm/s ((1 + eps_v) ** ((v - v_base) /
-dv)) several hundred per cent.
+part moves at 0.25-0.46 m/s; mjrft's rig gives +30.29 %, the ``sgrft_rpm`` validation case). Other
+readings miss that number (evaluated by hand at one effective radius, 95-110 mm): the same line
+anchored at 10 mm/s gives +28.6 to +28.9 %, force proportional to speed +33.3 %, compounding eps_v
+per 10 mm/s ((1 + eps_v) ** ((v - v_base) / dv)) +340 to +450 %, and a factor held at its 50 mm/s
+value +0 %.
 
 What the line does not meet: the paper's plate ratio F(50 mm/s) / F(10 mm/s) = 1.786 at 30 mm depth
 (section 2.4) becomes 1.32 / 0.68 = 1.94 (+8.7 %); eps_v is the paper's average over its test
@@ -37,9 +38,9 @@ Limits (the paper states none; documented choices that apply to every scene):
 
 * high speed: above ``v_cap`` = 1 m/s the factor is held at its value there (1 + 0.16 x 97 = 16.52
   with the default constants). 1 m/s is the speed up to which the dry RFT that SGRFT
-  extends is stated rate-independent (the paper's introduction, citing Li et al. 2013); beyond it
-  grain inertia adds a different, quadratic term that neither paper fits. The hold keeps the force
-  finite at any speed (1e300 m/s, inf) and the line is still continuous there.
+  extends is stated rate-independent (the paper's introduction and section 3.1, citing Goldman and
+  co-workers [10]); the paper offers no basis for its line beyond it. The hold keeps the force
+  finite at any speed (1e300 m/s, inf), and the factor is continuous there.
 * zero and low speed: the line is used down to v = 0, where it is 1 - eps_v v_base / dv = 0.52
   (finite and positive: an element at rest still resists with 0.52 of the base stress, direction
   from the unit motion m; the coupler's rest model decides what a resting element feels). A NaN or
