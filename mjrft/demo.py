@@ -42,6 +42,10 @@ def main(args) -> int:
     from mjrft.outputs import output_file
 
     out = os.path.abspath(output_file(args.out))
+    if args.spawn_viewer:
+        from mjrft.rerun_log import check_viewer_display
+
+        check_viewer_display()
     print(f"mjrft demo: RHex-class hexapod, gait {args.gait}, on {args.medium}, {args.seconds:g} s simulated "
           "(the first run compiles the terrain kernels, up to a minute)", flush=True)
     with warnings.catch_warnings(record=True) as caught:

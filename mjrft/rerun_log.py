@@ -161,6 +161,8 @@ class RerunLogger:
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         if path is None and not spawn:
             raise ValueError("RerunLogger needs a path to write (.rrd) or spawn=True for a viewer")
+        if spawn:
+            check_viewer_display()
         self._rr = rr
         self.model = model
         self.terrain = terrain
@@ -325,6 +327,20 @@ class RerunLogger:
             self.close()
         except Exception:
             pass
+
+
+def check_viewer_display() -> None:
+    """Raise ``ValueError`` when a spawned viewer could not open a window (Linux or BSD without a display).
+
+    The rerun viewer is a desktop program: with no X11 or Wayland display it cannot start, and a
+    spawned one would hang the caller. Commands call this before any work (``--spawn-viewer``).
+    """
+    import sys
+
+    if sys.platform.startswith(("linux", "freebsd", "openbsd", "netbsd")) and not (
+            os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+        raise ValueError("--spawn-viewer needs a display (neither DISPLAY nor WAYLAND_DISPLAY is set); drop it "
+                         "and open the written file later with: rerun FILE")
 
 
 def episode_logger(path, env, *, name: str | None = None, spawn: bool = False, **kwargs) -> RerunLogger:

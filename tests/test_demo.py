@@ -128,3 +128,24 @@ def test_rollout_and_eval_show_progress_on_stderr(capsys, tmp_path):
     assert cli.main(["eval", "--env", "mjrft/HexapodRigid-v0", "--policy", "tripod", "--episodes", "1",
                      "--no-progress", "max_episode_steps=5"]) == 0
     assert "eval (" not in capsys.readouterr().err
+
+
+def test_spawn_viewer_without_a_display_fails_fast(monkeypatch, tmp_path, capsys):
+    import sys
+    import time
+
+    from mjrft import cli
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("the display check applies to Linux/BSD")
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    for argv in (["demo", "--out", str(tmp_path / "d.rrd"), "--spawn-viewer"],
+                 ["rollout", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod", "--rrd", str(tmp_path / "r.rrd"),
+                  "--spawn-viewer"]):
+        t0 = time.perf_counter()
+        with pytest.raises(SystemExit) as e:
+            cli.main(argv)
+        assert e.value.code == 2 and time.perf_counter() - t0 < 10
+        assert "--spawn-viewer needs a display" in capsys.readouterr().err
+        assert not list(tmp_path.iterdir())  # nothing written, no viewer process left behind

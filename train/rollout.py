@@ -222,6 +222,10 @@ def main(args) -> int:
     from .train import parse_kwargs
 
     output_file(args.rrd, "--rrd")
+    if args.spawn_viewer:
+        from mjrft.rerun_log import check_viewer_display
+
+        check_viewer_display()
     summary = rollout(args.env, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
                       seed=args.seed, env_kwargs=parse_kwargs(args.env_kwargs), spawn_viewer=args.spawn_viewer,
                       progress=args.progress)
