@@ -9,18 +9,20 @@ grains. ``curvature`` ``k = 1/r`` (1/m) is signed:
 
 * ``k > 0``: Li, Zhang & Goldman's (2013) **C-leg**, the RHex / SandBot leg. Hanging straight down
   it bows toward -x, so while it is buried its convex side leads: the leg bulges toward where it
-  moves, and the robot rolls over the convex side, pivoting about the centre of the curve (the
-  rotary walking of SandBot and DynaRoACH). Its deep elements move with their leading faces
-  looking down and into the motion, the orientation that Li's stresses make push up hardest
-  (alpha_z at beta > 0 several times that at beta < 0), hence the supplement's "larger vertical
-  ground reaction forces produced by the C-legs relative to those by the reversed c-legs".
+  moves, and the robot rolls over the convex side, "pivoted about the center of the curve of the
+  leg" (the rotary walking of SandBot and DynaRoACH; robophysics thesis, sec. 1.4.1). Its deep elements move with their leading faces
+  looking down and into the motion, which Li's stresses lift several times harder than faces
+  looking up (a plate dragged at attack angle +45 deg against -45 deg), hence the supplement's
+  "larger vertical ground reaction forces produced by the C-legs relative to those by the reversed
+  c-legs" (Li 2013 suppl., fig. S14 text; at the leg rig, Li RFT, measured: C-leg peak lift 2.8x
+  the reversed C-leg's, ``tests/test_rigs.py``).
 * ``k < 0``: the **reversed C-leg**, bowing toward +x when hanging: concave side leading.
 * ``k = 0``: a straight (flat) leg.
 
 Li 2013's robot legs are ``k in [-1, -0.92, -0.60, 0, 0.60, 0.92, 1] / R'`` (``R' = chord/2``).
 The semi-elliptic legs of the hybrid paper follow the same sign with their bulge ``b``: ``b > 0``
-bows toward -x (convex side leading, the paper's legs, whose entry into the grains depends on
-``b`` while the exit does not), and ``a = b = chord/2`` is exactly the C-leg ``k = 2/chord``.
+bows toward -x (convex side leading, the paper's legs: their entry into the grains depends on
+``b`` while their exit does not, hybrid paper sec. 4), and ``a = b = chord/2`` is exactly the C-leg ``k = 2/chord``.
 
 Frame and discretisation
 ------------------------
