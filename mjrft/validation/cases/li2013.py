@@ -4,9 +4,9 @@ Three cases, each rerunning a published experiment under the paper's setup (publ
 ``mjrft/validation/data/li2013.json``):
 
 ``li2013_plate``
-    Li's plate (3.81 x 2.54 x 0.64 cm) pushed straight down at 1 cm/s to 7.62 cm in each of the five
-    media under the medium's Fourier fit (law ``rft``) and under the depth-only law; the stress per
-    depth is the slope of a zero-intercept line through vertical stress (lift / plate area) against
+    Li's plate (3.81 x 2.54 x 0.64 cm) pushed straight down at 1 cm/s until its bottom face is 7.62 cm
+    deep, in each of the five media, under the medium's Fourier fit (law ``rft``) and under the
+    depth-only law; the stress per depth is the slope of a zero-intercept line through vertical stress (lift / plate area) against
     the depth of the plate's bottom face over the whole (linear) intrusion, as the paper does (fig.
     S11). Compared with table S3: the fit's alpha_z^fit(0, pi/2), the measured alpha_z(0, pi/2)
     (the depth-only law is built from it, eqs. S3-S7) and the ratio chi between them (eq. S13).
@@ -82,7 +82,8 @@ def _settings(quick: bool) -> dict:
 # plate
 # ------------------------------------------------------------------------------------------------
 def plate_test(medium, law: str, quick: bool, beta: float = 0.0, gamma: float = math.pi / 2, thickness_scale=1.0):
-    """Li's plate at (beta, gamma) into ``medium`` to 7.62 cm at 1 cm/s: (face depth m, stress Pa, slope N/m^3).
+    """Li's plate at (beta, gamma) into ``medium`` at 1 cm/s until its lowest point is 7.62 cm deep (Li's deepest
+    depth): (depth of the lowest point m, stress Pa, slope N/m^3).
 
     ``thickness_scale`` scales the 0.64 cm thickness (a diagnostic of the side faces' share).
 
@@ -92,12 +93,12 @@ def plate_test(medium, law: str, quick: bool, beta: float = 0.0, gamma: float = 
     """
     s = _settings(quick)
     size = published(PAPER, "plate_size").value
-    depth_max = published(PAPER, "plate_depths").value[-1] / 100
+    depth_max = published(PAPER, "plate_depths").value[-1] / 100  # deepest point of the plate
+    length, thickness = size[0] / 100, size[2] / 100 * thickness_scale
+    half_z = 0.5 * (length * abs(math.sin(beta)) + thickness * abs(math.cos(beta)))
     p = rigs.plate_intrusion(beta=beta, gamma=gamma, speed=published(PAPER, "plate_speed").value / 100,
-                             depth=depth_max, length=size[0] / 100, width=size[1] / 100,
-                             thickness=size[2] / 100 * thickness_scale,
+                             depth=depth_max - half_z, length=length, width=size[1] / 100, thickness=thickness,
                              medium=medium, law=law, resolution=s["resolution"], step=s["step"])
-    half_z = 0.5 * (p.settings["length"] * abs(math.sin(beta)) + p.settings["thickness"] * abs(math.cos(beta)))
     d = p.depth + half_z
     stress = p.lift / p.settings["area"]
     k = d > 0
@@ -202,11 +203,11 @@ def run_plate(quick: bool) -> CaseResult:
         name="li2013_plate", title="Plate intrusion: stress per depth of a horizontal plate pushed down", paper=CITE,
         source="table S3; section 1 and fig. S1; Materials and Methods (plate intrusion)",
         setup=(f"Plate 3.81 x 2.54 x 0.64 cm (3.81 cm in the plane of motion), beta = 0, pushed straight down "
-               f"(gamma = pi/2) at 1 cm/s until its centre is 7.62 cm deep, in poppy seeds LP/CP, 0.3 mm glass "
-               f"LP/CP and 3 mm glass CP; laws rft (medium's Fourier fit, table S2) and depth_only (eqs. S3-S7 "
+               f"(gamma = pi/2) at 1 cm/s until its bottom face is 7.62 cm deep (Li's deepest depth), in poppy "
+               f"seeds LP/CP, 0.3 mm glass LP/CP and 3 mm glass CP; laws rft (medium's Fourier fit, table S2) and depth_only (eqs. S3-S7 "
                f"with the measured alpha_z(0, pi/2) of table S3); elements {s['resolution'] * 1000:g} mm, one "
                f"sample per {s['step'] * 1000:g} mm of travel. Fig. S1 check: poppy LP, the same plate at the "
-               f"listed (beta, gamma) to the same depth."),
+               f"listed (beta, gamma) until its lowest point is 7.62 cm deep."),
         checks=checks, panels=panels, cause=cause,
         notes=("Depth is that of the plate's lowest point (Li's |z| = 0 when the plate touches the surface). The "
                "fit rig value includes the plate's four 0.64 cm side faces, which move along their own plane "
