@@ -374,8 +374,8 @@ def rpm(quick: bool) -> CaseResult:
     summary = "; ".join(f"{n}: {peaks[(n, r30)][0]:.3f} -> {peaks[(n, r40)][0]:.3f} N ({change[n] * 100:+.2f} %)"
                         for n, _ in LEGS)
     notes = (LEG_NOTES + " Measured peaks: " + summary + ". The law's speed factor follows the paper's line at these "
-             "speeds (mjrft.laws.wet); a factor held at its 50 mm/s value would give +0 % here, every buried "
-             "element being faster than 50 mm/s at both speeds.")
+             "speeds (mjrft.laws.wet); a factor held at its 50 mm/s value would leave the sand's force unchanged "
+             "here (+0 %), every buried element being faster than 50 mm/s at both speeds.")
     if water_share:
         notes += (" Water drag on the leg's part between the sand and the water surface adds "
                   + ", ".join(f"{water_share[r] * 100:.2f} % at {r:g} rpm" for r in (r30, r40))
