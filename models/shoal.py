@@ -14,8 +14,8 @@ x >= 1.0           ``sea_sand_...``    ``wet``  0.02         2 cm of standing wa
 
 (``sea_sand_...`` = ``sea_sand_saturated``.) Choices: the catalogue has no dry sea sand (the paper's dry
 reference is :func:`mjrft.laws.wet.dry_reference`, not a catalogue name an MJCF file can carry), so the
-dry strip is closely packed poppy seeds, whose zeta (0.488 N/cm^3) is within 12 % of that reference
-(0.436 N/cm^3). 2 cm of water reaches half-way up the RHex-class legs (4.1 cm chord) and stays below
+dry strip is closely packed poppy seeds, whose zeta (0.488 N/cm^3) is within 13 % of that reference
+(0.432 N/cm^3). 2 cm of water reaches half-way up the RHex-class legs (4.1 cm chord) and stays below
 the belly (~4 cm up). Buoyancy is on (water and saturated sand); neighbouring strips blend over the
 coupler's default 1 cm transition. The bed runs from x = -0.5 to 2.5 m. The strips are placed for
 the open-loop tripod at 2 Hz, which walks about 22 cm/s here, so it reaches the saturated sand after
