@@ -47,6 +47,11 @@ Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power
 depth below the surface of each foot/leg body in m, order ``foot_names``; zeros on rigid ground) and
 ``granular_force`` (array (n_feet, 3), net granular force on each foot/leg body in N, world frame;
 zeros on rigid ground).
+
+Divergence: when the simulation diverges (a non-finite granular force or state, or MuJoCo resetting a
+state it found non-finite or huge, on sand and on rigid ground alike), ``step`` does not go on from a
+made-up state: it returns ``terminated=True``, reward 0, ``x_velocity`` 0 and ``info["diverged"]``
+with the :class:`mjrft.NonFiniteError` message (body and time); ``reset()`` starts a new episode.
 """
 
 from __future__ import annotations
@@ -59,8 +64,8 @@ import numpy as np
 from gymnasium import spaces, utils
 from gymnasium.envs.mujoco import MujocoEnv
 
-from mjrft.coupler import GranularTerrain
-from mjrft.errors import check_positive
+from mjrft.coupler import GranularTerrain, mujoco_reset_error, mujoco_resets
+from mjrft.errors import NonFiniteError, check_positive
 from mjrft.laws import law_id
 from mjrft.media import get_medium
 from mjrft.models import model_path
@@ -160,6 +165,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         if self.sand and resolution is None and chosen["resolution_scale"] != 1.0:
             resolution = chosen["resolution_scale"] * model_resolution(self.model)
         self.terrain = (GranularTerrain(self.model, medium, law, resolution=resolution) if self.sand else None)
+        self.diverged: str | None = None  # the NonFiniteError message once the simulation diverged
         self._torso_id = self.model.body(self.torso_name).id
         self._foot_ids = np.array([self.model.body(n).id for n in self.foot_names], dtype=np.int64)
         self._total_mass = float(self.model.body_subtreemass[0])
@@ -221,11 +227,20 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         self.data.ctrl[:] = ctrl
 
     def _advance(self, n_frames) -> None:
-        """The physics alone (``mjrft.envs.vector`` replaces this call by one batched call for all its envs)."""
-        if self.terrain is not None:
-            self.terrain.step(self.data, n_frames)
-        else:
-            mujoco.mj_step(self.model, self.data, nstep=n_frames)
+        """The physics alone (``mjrft.envs.vector`` replaces this call by one batched call for all its envs).
+
+        A divergence is noted in ``self.diverged`` (the error message) for :meth:`_end_step`."""
+        try:
+            if self.terrain is not None:
+                self.terrain.step(self.data, n_frames)
+            else:
+                before, t0 = mujoco_resets(self.data), self.data.time
+                mujoco.mj_step(self.model, self.data, nstep=n_frames)
+                if mujoco_resets(self.data) > before:
+                    raise mujoco_reset_error(self.model, self.data, f"between t = {t0:.6g} s and the end of "
+                                                                    f"{n_frames} step(s)")
+        except NonFiniteError as exc:
+            self.diverged = str(exc)
 
     # ------------------------------------------------------------------ measurements
     def torso_height(self) -> float:
@@ -283,6 +298,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
     def _end_step(self, a, x_before, com_before):
         """``step`` after the physics: observation, reward, termination, truncation and info."""
+        if self.diverged is not None:
+            return self._diverged_step()
         x_after = self.data.qpos[0]
         x_velocity = float((x_after - x_before) / self.dt)
         xy_velocity = (self.data.subtree_com[self._torso_id, :2] - com_before) / self.dt
@@ -314,7 +331,20 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
             self.render()
         return self._get_obs(), float(reward), bool(terminated), bool(truncated), info
 
+    def _diverged_step(self):
+        """The step that ends a diverged episode: terminated, reward 0, the reason in ``info["diverged"]``."""
+        obs = self._get_obs()
+        if not np.all(np.isfinite(obs)):
+            obs = np.zeros_like(obs)
+        info = {"x_position": float(self.data.qpos[0]) if np.isfinite(self.data.qpos[0]) else 0.0,
+                "x_velocity": 0.0, "power": 0.0, "cost_of_transport": 0.0, "reward_forward": 0.0,
+                "reward_energy": 0.0, "reward_ctrl": 0.0, "reward_healthy": 0.0, "is_healthy": False,
+                "sinkage": np.zeros(len(self._foot_ids)), "granular_force": np.zeros((len(self._foot_ids), 3)),
+                "diverged": self.diverged}
+        return obs, 0.0, True, False, info
+
     def reset_model(self):
+        self.diverged = None
         noise = self._reset_noise_scale
         qpos = self.init_qpos + self.np_random.uniform(-noise, noise, size=self.model.nq)
         qvel = self.init_qvel + self.np_random.uniform(-noise, noise, size=self.model.nv)

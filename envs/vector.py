@@ -24,9 +24,11 @@ plain ``mj_step`` per environment).
   (see :mod:`mjrft.batch` for the measurements behind the default).
 * Any other keyword argument goes to every sub-environment (``medium``, ``frame_skip``, ...).
 
-A non-finite action raises ``ValueError`` naming the environment index before anything is stepped;
-a non-finite granular force or state raises :class:`mjrft.NonFiniteError` naming the environment
-index, body and time (reset the vector env afterwards).
+A non-finite action raises ``ValueError`` naming the environment index before anything is stepped.
+A sub-environment whose simulation diverges (a non-finite granular force or state, or MuJoCo resetting
+it) ends its episode as a single env does (``terminated``, reward 0, ``info["diverged"]`` with the
+:class:`mjrft.NonFiniteError` message naming the body and time) and is reset by the autoreset; the
+others step on undisturbed.
 
 stable-baselines3: ``SB3VecEnv(env_id, num_envs, **kwargs)`` (or ``SB3VecEnv(vector_env)`` for a
 gymnasium vector env in ``"SameStep"`` or ``"Disabled"`` mode) is a
@@ -51,7 +53,7 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from mjrft.batch import BatchedTerrain
-from mjrft.errors import unknown
+from mjrft.errors import NonFiniteError, unknown
 
 from .base import GranularMujocoEnv
 
@@ -215,7 +217,11 @@ class GranularVectorEnv(VectorEnv):
         for i in np.flatnonzero(stepping):
             starts[i] = self.envs[i]._begin_step(actions[i])
         if self.batch is not None:
-            self.batch.step(np.where(stepping, self.frame_skip, 0))
+            try:
+                self.batch.step(np.where(stepping, self.frame_skip, 0))
+            except NonFiniteError as exc:  # each failed environment ends its episode (info["diverged"])
+                for i, message in exc.env_messages.items():
+                    self.envs[i].diverged = message
         else:
             for i in starts:
                 self.envs[i]._advance(self.frame_skip)

@@ -274,4 +274,5 @@ class BatchedTerrain:
             more = f" (also failed: environments {', '.join(str(i) for i, _ in errors[1:])})"
         err = NonFiniteError(f"environment {e}: {exc}{more}")
         err.env_indices = [i for i, _ in errors]
+        err.env_messages = {i: str(x) for i, x in errors}  # each failed environment's own error
         raise err from exc

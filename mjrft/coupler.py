@@ -26,6 +26,7 @@ different ``MjData``, or one whose time went backwards (a reset), clears the ele
 
 from __future__ import annotations
 
+import difflib
 import math
 import warnings
 from dataclasses import dataclass
@@ -53,6 +54,10 @@ DEFAULTS = {
     "buoyancy": 0.0,
 }
 CUSTOM_PREFIX = "mjrft:"
+#: the ``mjrft:*`` keys a model's <custom> section may hold (any other one is warned about as a misspelling)
+CUSTOM_KEYS = ("medium", "law", "bodies", "geoms", "surface", "surface_hfield", "resolution", "yield_displacement",
+               "damping_time", "v_eps", "water_depth", "regions", "region_map", "transition", "buoyancy",
+               "drag_coefficient", "water_density")
 _SUPPORTED_GEOMS = {
     int(mujoco.mjtGeom.mjGEOM_BOX), int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER),
     int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID), int(mujoco.mjtGeom.mjGEOM_MESH),
@@ -61,6 +66,44 @@ STABILITY_CHECK_EVERY = 50
 CULL_GROUP = 32  # elements per cull box (the kernel skips a box lying wholly above the surface)
 CULL_PAD = 1e-9  # m, added to each cull box's half sizes: rounding never culls an element at the surface
 _STEP_FUNCTIONS = kernel.mujoco_step_functions()  # None -> the plain Python stepping loop is used
+
+
+_RESET_WARNINGS = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQACC)
+
+
+def mujoco_resets(data: mujoco.MjData) -> int:
+    """How many times MuJoCo found a bad (non-finite or huge) position, velocity or acceleration in
+    ``data`` and reset it (its warning counters; ``mj_resetData`` clears them)."""
+    return int(sum(data.warning[w].number for w in _RESET_WARNINGS))
+
+
+def mujoco_reset_error(model: mujoco.MjModel, data: mujoco.MjData, since: str) -> NonFiniteError:
+    """The :class:`NonFiniteError` for a simulation that MuJoCo reset after it diverged, naming the body."""
+    for w in _RESET_WARNINGS:
+        if data.warning[w].number:
+            info = int(data.warning[w].lastinfo)
+            if w == mujoco.mjtWarning.mjWARN_BADQPOS:
+                joint = int(np.searchsorted(model.jnt_qposadr, info, side="right")) - 1
+                body = int(model.jnt_bodyid[max(joint, 0)]) if model.njnt else 0
+                what = f"position (qpos[{info}])"
+            else:
+                body = int(model.dof_bodyid[info]) if 0 <= info < model.nv else 0
+                what = ("velocity" if w == mujoco.mjtWarning.mjWARN_BADQVEL else "acceleration") + f" (dof {info})"
+            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
+            break
+    return NonFiniteError(f"the simulation diverged: MuJoCo found a non-finite or huge {what} on body '{name}' "
+                          f"{since} and reset the state (its time is now {data.time:.6g} s); the diverged state is "
+                          "lost. Reduce the timestep, or check the model and the forces applied to it")
+
+
+def check_custom_keys(cfg: dict, stacklevel: int = 3) -> None:
+    """Warn about each ``mjrft:*`` key that mjrft does not read (a misspelling would otherwise be ignored)."""
+    for key in cfg:
+        if key not in CUSTOM_KEYS:
+            close = difflib.get_close_matches(key, CUSTOM_KEYS, n=1)
+            hint = f"did you mean 'mjrft:{close[0]}'? " if close else ""
+            warnings.warn(f"mjrft: the model's <custom> key 'mjrft:{key}' is not an mjrft setting and is ignored; "
+                          f"{hint}valid keys: {', '.join('mjrft:' + k for k in CUSTOM_KEYS)}", stacklevel=stacklevel)
 
 
 def _custom(model: mujoco.MjModel) -> dict:
@@ -320,6 +363,12 @@ class GranularTerrain:
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         self.model = model
         cfg = _custom(model)
+        check_custom_keys(cfg)
+        for name, value in (("bodies", bodies), ("geoms", geoms)):
+            if value is not None and not isinstance(value, (str, int, np.integer)) and len(value) == 0:
+                raise ValueError(f"{name}=[] selects nothing; name the {name} to cut into elements, or pass None "
+                                 "to use the model's mjrft:bodies / mjrft:geoms (default: every geom not on the "
+                                 "world body)")
 
         def pick(key, value):
             if value is not None:
@@ -464,6 +513,8 @@ class GranularTerrain:
         self._jac6 = (np.zeros((6, model.nv)), np.zeros((6, model.nv)))  # stability check scratch
         self._damp_max = np.zeros(model.nbody)
         self._data = None
+        self._resets_seen = 0  # MuJoCo's reset-after-divergence count of the bound data, when last seen
+        self._t_begin = 0.0
         self._last_time = -np.inf
         self._steps = 0
         self._warned: set[int] = set()
@@ -502,6 +553,7 @@ class GranularTerrain:
         if data.xpos.shape[0] != self.model.nbody or data.qpos.shape[0] != self.model.nq:
             raise ValueError("data does not belong to this terrain's model")
         self._data = data
+        self._resets_seen = mujoco_resets(data)
         self._views = (data.geom_xpos, data.geom_xmat, data.xpos, data.xmat, data.xipos, data.cvel, data.subtree_com)
         self.reset()
 
@@ -553,15 +605,28 @@ class GranularTerrain:
                 self._damp_max)
 
     def _begin(self, data) -> None:
-        """Before evaluating on ``data``: bind to it, and forget the memory if its time went back (a reset)."""
+        """Before evaluating on ``data``: bind to it, raise if MuJoCo reset it after a divergence since the
+        terrain last saw it, and forget the memory if its time went back (a reset)."""
         self._bind(data)
+        self._check_mujoco_reset(data, f"after t = {self._last_time:.6g} s")
+        self._t_begin = data.time
         if data.time < self._last_time:
             self.reset()
+
+    def _check_mujoco_reset(self, data, since: str) -> None:
+        """Raise :class:`NonFiniteError` when MuJoCo's reset-after-divergence counters grew since last seen."""
+        n = mujoco_resets(data)
+        grew = n > self._resets_seen
+        self._resets_seen = n
+        if grew:
+            self.wrench[:] = 0.0
+            raise mujoco_reset_error(self.model, data, since)
 
     def _finish(self, data, status, body, dt, nstep) -> None:
         """After ``nstep`` evaluations on ``data``: note its time; raise on a non-finite result; run the
         stability check every STABILITY_CHECK_EVERY steps."""
         self._last_time = data.time
+        self._check_mujoco_reset(data, f"between t = {self._t_begin:.6g} s and the end of {nstep} step(s)")
         if status != kernel.OK:
             name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
             what = "granular force" if status == kernel.BAD_FORCE else "state (position or velocity)"

@@ -363,3 +363,23 @@ def test_group_inside_the_dry_strip_of_a_shoal_costs_and_gives_what_the_dry_scen
         mujoco.mj_step2(m, d)
         d.xfrc_applied[rows] = 0.0
     assert 0.0 < d.qpos[0] < 0.4  # it walked, inside the dry strip
+
+
+def test_misspelled_custom_key_warns_naming_the_key_and_the_valid_ones():
+    from mjrft.models import model_path
+
+    xml = open(model_path("hexapod")).read().replace('name="mjrft:medium"', 'name="mjrft:meduim"')
+    m = mujoco.MjModel.from_xml_string(xml)
+    with pytest.warns(UserWarning, match=r"'mjrft:meduim' is not an mjrft setting and is ignored; did you mean "
+                                         r"'mjrft:medium'\? valid keys: mjrft:medium, mjrft:law"):
+        t = mjrft.GranularTerrain(m, resolution=0.02)
+    assert t.medium.name == "poppy_cp"  # the default, as the misspelled key is ignored
+
+
+def test_empty_body_or_geom_selection_is_an_error():
+    from mjrft.models import hexapod_model
+
+    m = hexapod_model()
+    for kw in ({"bodies": []}, {"geoms": ()}):
+        with pytest.raises(ValueError, match=r"=\[\] selects nothing"):
+            mjrft.GranularTerrain(m, **kw)
