@@ -39,12 +39,12 @@ SLIPPERY_3D = mjrft.medium_3d("slippery", 1500.0, 0.1, 0.3)
 
 
 @pytest.mark.parametrize("medium, law, z, vx, expect", [
-    ("poppy_cp", "rft", -0.10, 0.1, ["law 'rft'", "depth 11 cm", "<= 7.62 cm", "Li 2013"]),
+    ("poppy_cp", "rft", -0.10, 0.1, ["law 'rft'", "depth 11 cm", "<= 9.525 cm", "Li 2013"]),
     ("poppy_cp", "rft", -0.02, 2.0, ["law 'rft'", "speed 2 m/s", "<= 1 m/s"]),
     (BIG_GRAINS, "rft", -0.02, 0.1, ["law 'rft'", "grain diameter 5 mm", "0.1 to 3.2 mm", "'pebbles'"]),
-    ("poppy_cp", "depth_only", -0.10, 0.1, ["law 'depth_only'", "depth 11 cm", "<= 7.62 cm"]),
+    ("poppy_cp", "depth_only", -0.10, 0.1, ["law 'depth_only'", "depth 11 cm", "<= 9.525 cm"]),
     ("sea_sand_saturated", "wet", -0.02, 0.3, ["law 'wet'", "speed 300 mm/s", "<= 50 mm/s", "SGRFT"]),
-    ("sea_sand_saturated", "wet", -0.08, 0.03, ["law 'wet'", "depth 90 mm", "<= 60 mm"]),
+    ("sea_sand_saturated", "wet", -0.08, 0.03, ["law 'wet'", "depth 90 mm", "<= 70 mm"]),
     ("poppy_cp", "hybrid", -0.06, 0.1, ["law 'hybrid'", "depth 7 cm", "<= 4 cm"]),
     ("poppy_cp", "hybrid", -0.02, 1.5, ["law 'hybrid'", "speed 1.5 m/s", "<= 1 m/s"]),
     (LOOSE_3D, "rft3d", -0.02, 0.1, ["law 'rft3d'", "bulk density 1e+03 kg/m^3", "1310 to 1700 kg/m^3"]),

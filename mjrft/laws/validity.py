@@ -10,12 +10,14 @@ force there is an extrapolation of the source's fit.
 Ranges and their sources (``None``: no bound published):
 
 * ``rft``, ``depth_only`` (Li, Zhang & Goldman 2013, suppl.): speed up to 1 m/s (plates measured at
-  ~1 cm/s; "at v = 1 m/s, force only increased by less than 20 %", sec. 2); depth up to 7.62 cm
-  (alpha fitted at |z| = 2.54, 5.08 and 7.62 cm, sec. 2); grain diameter 0.1 to 3.2 mm (the
+  ~1 cm/s; "at v = 1 m/s, force only increased by less than 20 %", sec. 2); depth up to 9.53 cm
+  (alpha fitted with the plate at |z| = 2.54, 5.08 and 7.62 cm, sec. 2; the 3.81 cm plate at attack
+  angles up to 90 degrees reaches half its length, 1.91 cm, deeper); grain diameter 0.1 to 3.2 mm (the
   scaling routine's "~0.1 to ~1 mm", sec. 3, and the measured media of table S1 up to the 3.2 mm
   glass spheres).
-* ``wet`` (SGRFT, MDPI 2022): speed up to 50 mm/s and depth up to 60 mm (the paper's tests,
-  10-50 mm/s and 0-60 mm); grains up to 1 mm (sea sand, "particle diameter <= 1 mm").
+* ``wet`` (SGRFT, MDPI 2022): speed up to 50 mm/s and depth up to 70 mm (the paper's tests,
+  10-50 mm/s and 0-60 mm, with the 20 mm plate reaching 10 mm below its stated depth: the paper's
+  definition of depth is in its lost fig. 2b); grains up to 1 mm (sea sand, "particle diameter <= 1 mm").
 * ``hybrid`` (hybrid curved-leg model): speed up to 1 m/s (bar drags at 1-100 cm/s); depth up to
   4 cm (bar drags at 2, 3 and 4 cm; the semicircle leg, a = b = 4.5 cm under a 5 cm axle, reaches
   4 cm). One sand was tested (0.41 mm mean grain), so no grain-size range is claimed.
@@ -76,8 +78,9 @@ LABELS = {"speed": "speed", "depth": "depth", "grain_diameter": "grain diameter"
           "mu_int": "internal friction"}
 _LI = "Li 2013 suppl."
 _LI_SPEED = Range("speed", None, 1.0, "m/s", f"{_LI} sec. 2: force within 20 % from 1 cm/s to 1 m/s")
-_LI_DEPTH = Range("depth", None, 0.0762, "m", f"{_LI} sec. 2: alpha fitted at depths 2.54, 5.08 and 7.62 cm",
-                  100.0, "cm")
+_LI_DEPTH = Range("depth", None, 0.0762 + 0.0381 / 2, "m",
+                  f"{_LI} sec. 2: alpha fitted with the plate at depths 2.54, 5.08 and 7.62 cm, its 3.81 cm length "
+                  "reaching 1.91 cm deeper", 100.0, "cm")
 _LI_GRAIN = Range("grain_diameter", 0.1e-3, 3.2e-3, "m",
                   f"{_LI} sec. 3 scaling routine ~0.1 to ~1 mm, table S1 media up to 3.2 mm", 1e3, "mm")
 _SG = "SGRFT (MDPI 2022)"
@@ -85,7 +88,7 @@ RANGES: dict[str, tuple[Range, ...]] = {
     "rft": (_LI_SPEED, _LI_DEPTH, _LI_GRAIN),
     "depth_only": (_LI_SPEED, _LI_DEPTH, _LI_GRAIN),
     "wet": (Range("speed", None, 0.050, "m/s", f"{_SG}: tests at 10-50 mm/s", 1e3, "mm/s"),
-            Range("depth", None, 0.060, "m", f"{_SG}: tests at 0-60 mm", 1e3, "mm"),
+            Range("depth", None, 0.070, "m", f"{_SG}: tests at 0-60 mm with a 20 mm plate", 1e3, "mm"),
             Range("grain_diameter", None, 1e-3, "m", f"{_SG}: sea sand, particle diameter <= 1 mm", 1e3, "mm")),
     "hybrid": (Range("speed", None, 1.0, "m/s", "hybrid model: bar drags at 1-100 cm/s"),
                Range("depth", None, 0.04, "m", "hybrid model: bar drags at 2-4 cm, legs reaching 4 cm", 100.0, "cm")),
