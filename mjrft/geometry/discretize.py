@@ -385,7 +385,7 @@ def inside_geom(model: mujoco.MjModel, geom_id: int, points, tol: float = 1e-9) 
         with np.errstate(divide="ignore", invalid="ignore"):
             q = (x / shrunk[0]) ** 2 + (y / shrunk[1]) ** 2 + (z / shrunk[2]) ** 2
         return np.nan_to_num(q, nan=np.inf) < 1.0
-    return np.zeros(len(pts), dtype=bool)
+    return np.zeros(len(local), dtype=bool)
 
 
 def _on_box_face(model: mujoco.MjModel, geom_id: int, points, normals, tol: float = 1e-9) -> np.ndarray:
