@@ -299,7 +299,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
     def _end_step(self, a, x_before, com_before):
         """``step`` after the physics: observation, reward, termination, truncation and info."""
         if self.diverged is not None:
-            return self._diverged_step()
+            return self._diverged_step(float(x_before))
         x_after = self.data.qpos[0]
         x_velocity = float((x_after - x_before) / self.dt)
         xy_velocity = (self.data.subtree_com[self._torso_id, :2] - com_before) / self.dt
@@ -331,12 +331,13 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
             self.render()
         return self._get_obs(), float(reward), bool(terminated), bool(truncated), info
 
-    def _diverged_step(self):
-        """The step that ends a diverged episode: terminated, reward 0, the reason in ``info["diverged"]``."""
+    def _diverged_step(self, x_before: float):
+        """The step that ends a diverged episode: terminated, reward 0, the reason in ``info["diverged"]``;
+        ``x_position`` is the last one before the divergence (the state after it is MuJoCo's reset)."""
         obs = self._get_obs()
         if not np.all(np.isfinite(obs)):
             obs = np.zeros_like(obs)
-        info = {"x_position": float(self.data.qpos[0]) if np.isfinite(self.data.qpos[0]) else 0.0,
+        info = {"x_position": x_before,
                 "x_velocity": 0.0, "power": 0.0, "cost_of_transport": 0.0, "reward_forward": 0.0,
                 "reward_energy": 0.0, "reward_ctrl": 0.0, "reward_healthy": 0.0, "is_healthy": False,
                 "sinkage": np.zeros(len(self._foot_ids)), "granular_force": np.zeros((len(self._foot_ids), 3)),

@@ -90,3 +90,23 @@ def test_vector_env_ends_only_the_diverged_episode():
     assert "diverged" in info and info["_diverged"][1] and not info["_diverged"][0]
     assert "diverged" in info["diverged"][1]
     venv.close()
+
+
+def test_rollout_and_eval_say_a_run_diverged_instead_of_printing_numbers(capsys):
+    from mjrft import cli
+    from mjrft.train.evaluate import evaluate
+    from mjrft.train.rollout import rollout
+
+    s = rollout("mjrft/HexapodSand-v0", "tripod", seconds=1.0, env_kwargs={"timestep": 0.1})
+    assert "diverged" in s["diverged"] and not s["fell"]
+    rows, summary = evaluate("tripod", "mjrft/HexapodSand-v0", episodes=2,
+                             env_kwargs={"timestep": 0.1, "max_episode_steps": 5})
+    assert summary["diverged"] == 2 and np.isnan(summary["speed"]) and all(r["diverged"] for r in rows)
+    assert cli.main(["rollout", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod", "--seconds", "1",
+                     "--no-progress", "timestep=0.1"]) == 0
+    out = capsys.readouterr().out
+    assert "DIVERGED after 1 steps" in out and "no distance, speed or sinkage" in out and " cm" not in out
+    assert cli.main(["eval", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod", "--episodes", "2", "--no-progress",
+                     "timestep=0.1", "max_episode_steps=5"]) == 0
+    out = capsys.readouterr().out
+    assert "DIVERGED: 2 of 2 episodes" in out and "nan" not in out

@@ -61,6 +61,8 @@ from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, algo_class, check_env_id,
 
 G = 9.81
 COLUMNS = ("episode", "return", "steps", "seconds", "speed", "cot", "sink_mean_mm", "sink_peak_mm", "slip", "fell")
+#: the metric columns (averaged over the episodes that did not diverge)
+METRICS = COLUMNS[1:-1]
 #: printed headers (name, unit) of the metric columns
 HEADERS = {
     "return": ("return", ""), "steps": ("steps", ""), "speed": ("speed", "m/s"), "cot": ("CoT", ""),
@@ -172,8 +174,11 @@ class _Meter:
         self.sink_peak = 0.0
         self.slip_num = 0.0
         self.slip_den = 0.0
+        self.diverged = ""
 
     def step(self, reward, info) -> None:
+        if info.get("diverged"):
+            self.diverged = str(info["diverged"])
         self.ret += float(reward)
         self.steps += 1
         self.x = float(info["x_position"])
@@ -224,18 +229,21 @@ class _Meter:
             "sink_mean_mm": 1e3 * self.sink_sum / self.sink_n if self.sink_n else 0.0,
             "sink_peak_mm": 1e3 * self.sink_peak,
             "slip": self.slip_num / self.slip_den if self.slip_den > 0 else 0.0,
-            "fell": bool(terminated),
+            "fell": bool(terminated) and not self.diverged,
+            "diverged": self.diverged,  # the NonFiniteError message when the simulation diverged, else ""
         }
 
 
 def summarize(rows: list[dict]) -> dict:
-    """Mean and standard deviation (population) of every metric, and the fall rate."""
-    out = {"episodes": len(rows)}
-    for key in COLUMNS[1:-1]:
-        vals = np.array([r[key] for r in rows], dtype=float)
-        out[key] = float(vals.mean())
-        out[key + "_std"] = float(vals.std())
-    out["fall_rate"] = float(np.mean([r["fell"] for r in rows]))
+    """Mean and standard deviation (population) of every metric and the fall rate, over the episodes that
+    did not diverge (NaN when none is left), and the count of diverged ones."""
+    ok = [r for r in rows if not r.get("diverged")]
+    out = {"episodes": len(rows), "diverged": len(rows) - len(ok)}
+    for key in METRICS:
+        vals = np.array([r[key] for r in ok], dtype=float)
+        out[key] = float(vals.mean()) if ok else math.nan
+        out[key + "_std"] = float(vals.std()) if ok else math.nan
+    out["fall_rate"] = float(np.mean([r["fell"] for r in ok])) if ok else math.nan
     return out
 
 
@@ -324,6 +332,8 @@ def format_table(rows: list[dict], summary: dict) -> str:
     width = [max(9, len(h) + 1) for h in heads]
 
     def fmt(key, v):
+        if isinstance(v, float) and math.isnan(v):
+            return "-"  # every episode diverged: no mean
         if key == "fell":
             return "yes" if v else "no"
         if key == "steps":
@@ -335,30 +345,39 @@ def format_table(rows: list[dict], summary: dict) -> str:
     lines = ["episode " + "".join(f"{h:>{w}s}" for h, w in zip(heads, width)),
              "        " + "".join(f"{u:>{w}s}" for u, w in zip(units, width))]
     for r in rows:
+        if r.get("diverged"):
+            lines.append(f"{r['episode']:>7d}  DIVERGED after {r['steps']} steps (no metrics): {r['diverged']}")
+            continue
         lines.append(f"{r['episode']:>7d} " + "".join(f"{fmt(k, r[k]):>{w}s}" for k, w in zip(keys, width)))
     for label, suffix in (("mean", ""), ("std", "_std")):
         cells = []
         for k, w in zip(keys, width):
             if k == "fell":
-                cells.append(f"{summary['fall_rate']:.0%}" if label == "mean" else "")
+                rate = summary["fall_rate"]
+                cells.append(("-" if math.isnan(rate) else f"{rate:.0%}") if label == "mean" else "")
             else:
                 cells.append(fmt(k, summary[k + suffix]))
         lines.append(f"{label:>7s} " + "".join(f"{c:>{w}s}" for c, w in zip(cells, width)))
     n_fell = sum(r["fell"] for r in rows)
-    lines.append(f"fall rate {summary['fall_rate']:.0%} ({n_fell} of {len(rows)} episodes terminated before the "
-                 f"time limit)")
+    n_ok = len(rows) - summary.get("diverged", 0)
+    if n_ok:
+        lines.append(f"fall rate {summary['fall_rate']:.0%} ({n_fell} of {n_ok} episodes terminated before the "
+                     f"time limit)")
+    if summary.get("diverged"):
+        lines.append(f"DIVERGED: {summary['diverged']} of {len(rows)} episodes (left out of mean and std)")
     return "\n".join(lines)
 
 
 def write_csv(path, rows: list[dict], summary: dict) -> None:
     """Per-episode rows, then ``mean`` and ``std`` rows (``fell`` of the mean row is the fall rate)."""
     with open(path, "w", newline="") as fh:
-        w = csv.DictWriter(fh, fieldnames=COLUMNS)
+        w = csv.DictWriter(fh, fieldnames=(*COLUMNS, "diverged"))
         w.writeheader()
         for r in rows:
             w.writerow({**r, "fell": int(r["fell"])})
-        w.writerow({"episode": "mean", **{k: summary[k] for k in COLUMNS[1:-1]}, "fell": summary["fall_rate"]})
-        w.writerow({"episode": "std", **{k: summary[k + "_std"] for k in COLUMNS[1:-1]}, "fell": ""})
+        w.writerow({"episode": "mean", **{k: summary[k] for k in METRICS}, "fell": summary["fall_rate"],
+                    "diverged": summary["diverged"]})
+        w.writerow({"episode": "std", **{k: summary[k + "_std"] for k in METRICS}, "fell": ""})
 
 
 def write_json(path, rows: list[dict], summary: dict) -> None:

@@ -31,6 +31,8 @@ Summary (a dict; ``format_summary`` prints it):
 ``peak_sinkage_mm``    largest ``info["sinkage"]`` over the rollout (mm)
 ``return``             sum of the env's rewards
 ``fell``               the episode terminated (unhealthy) before the time ran out
+``diverged``           the simulation diverged (``info["diverged"]``: the NonFiniteError message), else
+                       ""; the distance and sinkage of such a run mean nothing and are not printed
 ``frames``             frames logged; ``rrd`` the file (None without one); ``wall_s`` wall-clock seconds
 =====================  ====================================================================================
 """
@@ -132,6 +134,7 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
         total = 0.0
         sink_sum, sink_n, sink_peak = 0.0, 0, 0.0
         terminated = truncated = False
+        diverged = ""
         n = 0
         bar = progress_bar(steps, "rollout", progress)
         while n < steps and not (terminated or truncated):
@@ -140,6 +143,7 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
             n += 1
             bar.update(1)
             total += float(reward)
+            diverged = str(info.get("diverged") or "")
             x = float(info.get("x_position", u.data.qpos[0]))
             sink = np.asarray(info.get("sinkage", ()), dtype=np.float64)
             buried = sink[sink > 0]
@@ -169,7 +173,8 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
         "mean_sinkage_mm": 1e3 * sink_sum / sink_n if sink_n else 0.0,
         "peak_sinkage_mm": 1e3 * sink_peak,
         "return": total,
-        "fell": bool(terminated),
+        "fell": bool(terminated) and not diverged,
+        "diverged": diverged,  # the NonFiniteError message when the simulation diverged (then no metrics hold)
         "frames": frames,
         "rrd": None if rrd_path is None else str(rrd_path),
         "wall_s": wall,
@@ -184,7 +189,10 @@ def progress_bar(total: int, what: str, enabled: bool):
 
 
 def format_summary(s: dict) -> str:
-    """A few aligned lines for the terminal."""
+    """A few aligned lines for the terminal (for a diverged run: what happened, no numbers)."""
+    if s.get("diverged"):
+        return (f"{s['policy']} on {s['env']}: DIVERGED after {s['steps']} steps ({s['seconds']:.2f} s simulated); "
+                f"no distance, speed or sinkage is reported.\n  {s['diverged']}")
     lines = [
         f"{s['policy']} on {s['env']}: {s['seconds']:.2f} s simulated ({s['steps']} steps, {s['wall_s']:.1f} s wall)"
         + ("  -- FELL (episode terminated)" if s["fell"] else ""),
