@@ -10,6 +10,7 @@ import os
 
 import pytest
 
+import mjrft
 from mjrft import cli, validation
 from mjrft.validation.case import CASES, CaseResult, Line, Panel, check_band, check_close, check_outcome
 from mjrft.validation.report import write_report
@@ -117,3 +118,25 @@ def test_cli_runs_a_case_and_exit_status_follows_the_verdict(toy_case, tmp_path,
     assert "toy_case" in out and "wrote" in out
     assert (tmp_path / "report.md").exists() and (tmp_path / "results.csv").exists()
     assert cli.main(["validate", "--list"]) == 0
+
+
+def test_warnings_of_a_case_are_collected_once_per_kind_not_printed(tmp_path, recwarn):
+    import warnings
+
+    @validation.case("warning_case", "warns", "nobody 2000")
+    def run(quick):
+        for v in (1.2, 1.5, 2.0):
+            warnings.warn(mjrft.ValidityRangeWarning(f"mjrft: law 'rft': speed {v} m/s is outside"))
+        warnings.warn(UserWarning("something else"))
+        return CaseResult(name="warning_case", title="warns", paper="nobody 2000", source="-", setup="-",
+                          checks=[check_outcome("x", True, published="-", simulated="-", source="-")])
+
+    try:
+        r = validation.run_case("warning_case")
+    finally:
+        CASES.pop("warning_case", None)
+    assert len(recwarn) == 0
+    assert r.warnings == ["ValidityRangeWarning: law 'rft': speed 1.2 m/s is outside (and 2 more like it)",
+                          "UserWarning: something else"]
+    md = open(write_report([r], str(tmp_path))["report"]).read()
+    assert "*Warnings during the run*" in md and "speed 1.2 m/s is outside (and 2 more like it)" in md

@@ -132,6 +132,7 @@ class CaseResult:
     cause: str = ""  # for a case that does not agree: the cause, from a measurement
     notes: str = ""  # choices where the paper is silent
     seconds: float = math.nan  # wall time of the run (set by the runner)
+    warnings: list[str] = field(default_factory=list)  # distinct warnings the run raised (set by the runner)
 
     @property
     def passed(self) -> bool:

@@ -13,8 +13,10 @@ from __future__ import annotations
 import csv
 import math
 import os
+import re
 import sys
 import time
+import warnings
 
 from ..errors import unknown
 from ..outputs import output_dir
@@ -45,9 +47,23 @@ def run_case(name: str, quick: bool = False) -> CaseResult:
     from . import CASES
 
     t0 = time.perf_counter()
-    result = CASES[name].run(quick)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = CASES[name].run(quick)
     result.seconds = time.perf_counter() - t0
+    result.warnings = distinct_warnings(caught)
     return result
+
+
+def distinct_warnings(caught) -> list[str]:
+    """One line per kind of warning (category and message with its numbers blanked), first instance shown,
+    with how often it came; e.g. a law run outside its calibrated range (:mod:`mjrft.laws.validity`)."""
+    kinds: dict[str, list] = {}
+    for w in caught:
+        text = str(w.message).removeprefix("mjrft: ")
+        key = f"{w.category.__name__}: " + re.sub(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", "#", text)
+        kinds.setdefault(key, [w.category.__name__, text, 0])[2] += 1
+    return [f"{cat}: {text}" + (f" (and {n - 1} more like it)" if n > 1 else "") for cat, text, n in kinds.values()]
 
 
 class _Progress:
@@ -125,6 +141,9 @@ def _markdown(results, quick: bool) -> str:
         out.append("")
         if r.cause:
             out += [f"*Why it does not agree (measured).* {r.cause}", ""]
+        if r.warnings:
+            out += ["*Warnings during the run* (e.g. the paper's own setup outside a law's calibrated range, "
+                    "`mjrft.laws.validity`):", "", *[f"* {_cell(w)}" for w in r.warnings], ""]
         if r.panels:
             out += [f"![{r.name}]({r.name}.png)", ""]
     return "\n".join(out)
