@@ -1,5 +1,5 @@
 """Surface elements of MuJoCo geoms, and curved-leg builders."""
 
 from .curved_leg import add_curved_leg, arc_length, curved_leg_boxes, curved_leg_xml
-from .discretize import (GEOM_TYPES, Elements, discretize_geom, exposed, exposed_elements, geom_elements,
-                         inside_geom, surface_area, to_geom_frame)
+from .discretize import (GEOM_TYPES, Elements, discretize_geom, estimate_elements, exposed, exposed_elements,
+                         geom_elements, inside_geom, surface_area, to_geom_frame)

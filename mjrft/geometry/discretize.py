@@ -359,6 +359,23 @@ def discretize_geom(model: mujoco.MjModel, geom_id: int, resolution: float) -> E
     return local.transform(*_geom_frame(model, geom_id))
 
 
+def estimate_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> int:
+    """About how many elements :func:`discretize_geom` makes of these geoms, without making them:
+    surface area / resolution^2 per geom (a mesh at least one per triangle). Cheap: use it to refuse a
+    resolution that would take minutes and gigabytes before any element is built."""
+    res = _check_resolution(resolution)
+    total = 0.0
+    for g in geom_ids:
+        g = int(g)
+        geom_type = int(model.geom_type[g])
+        if _geom_name(geom_type) == "mesh":
+            v, f = _mesh_arrays(model, int(model.geom_dataid[g]))
+            total += max(surface_area(geom_type, None, v, f) / res**2, len(f))
+        else:
+            total += surface_area(geom_type, model.geom_size[g]) / res**2
+    return int(math.ceil(total))
+
+
 def inside_geom(model: mujoco.MjModel, geom_id: int, points, tol: float = 1e-9) -> np.ndarray:
     """Which ``points`` (N, 3), given in the geom's BODY frame, lie strictly inside geom ``geom_id``.
 
