@@ -4,8 +4,9 @@ Every env step checks the observation, the reward, every number in ``info`` and 
 outputs (per-element ``force`` and ``depth``, per-body ``wrench``, ``qpos``, ``qvel`` and
 ``xfrc_applied``) for NaN or inf; inside each env step the compiled loop itself checks every
 physics step's state and force (it raises ``mjrft.NonFiniteError`` instead of writing a bad value
-into MuJoCo). Episodes end by falls (``terminated``) or the 1000-step time limit (``truncated``)
-and are reset; both are counted, as are stability warnings (once per body and env).
+into MuJoCo; the env then ends the episode with ``info["diverged"]``, counted here as a divergence).
+Episodes end by falls (``terminated``), divergences or the 1000-step time limit (``truncated``) and
+are reset; all three are counted, as are stability warnings (once per body and env).
 
 ``--steps`` counts physics steps (1 ms each) by default: 1,000,000 physics steps = 100,000 env
 steps at the default ``frame_skip`` of 10. ``--unit env`` counts env steps instead (1e6 env steps
@@ -57,7 +58,7 @@ def soak_env(env_id: str, steps: int, unit: str = "physics", seed: int = 0, prog
     env.action_space.seed(seed)
     obs, info = env.reset(seed=seed)
     out = {"env": env_id, "env_steps": 0, "physics_steps": 0, "episodes": 1, "falls": 0, "time_limits": 0,
-           "nonfinite": 0, "nonfinite_errors": 0, "stability_warnings": 0, "failures": [], "warnings": [],
+           "nonfinite": 0, "nonfinite_errors": 0, "diverged": 0, "stability_warnings": 0, "failures": [], "warnings": [],
            "max_sinkage_m": 0.0, "max_granular_force_N": 0.0, "elements": int(u.terrain.n_elements)}
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
@@ -83,8 +84,12 @@ def soak_env(env_id: str, steps: int, unit: str = "physics", seed: int = 0, prog
                                                   float(np.max(np.linalg.norm(info["granular_force"], axis=1))))
             out["env_steps"] += 1
             out["physics_steps"] += frame_skip
-            if terminated or truncated:
+            if info.get("diverged"):
+                out["diverged"] += 1
+                out["failures"].append(f"env step {k}: {info['diverged']}")
+            elif terminated or truncated:
                 out["falls" if terminated else "time_limits"] += 1
+            if terminated or truncated:
                 out["episodes"] += 1
                 obs, info = env.reset()
             if progress is not None and (k + 1) % 20000 == 0:
@@ -101,11 +106,11 @@ def soak_env(env_id: str, steps: int, unit: str = "physics", seed: int = 0, prog
 
 def table(results: list[dict]) -> str:
     head = ("| environment | elements | env steps | physics steps | episodes | falls | time limits | non-finite "
-            "| NonFiniteError | stability warnings | max sinkage (mm) | max foot force (N) | wall (s) |")
-    rows = [head, "|" + "---|" * 13]
+            "| NonFiniteError | diverged | stability warnings | max sinkage (mm) | max foot force (N) | wall (s) |")
+    rows = [head, "|" + "---|" * 14]
     for r in results:
         rows.append(f"| {r['env']} | {r['elements']} | {r['env_steps']:,} | {r['physics_steps']:,} | {r['episodes']:,} "
-                    f"| {r['falls']:,} | {r['time_limits']:,} | {r['nonfinite']} | {r['nonfinite_errors']} "
+                    f"| {r['falls']:,} | {r['time_limits']:,} | {r['nonfinite']} | {r['nonfinite_errors']} | {r['diverged']} "
                     f"| {r['stability_warnings']} | {1e3 * r['max_sinkage_m']:.1f} | {r['max_granular_force_N']:.1f} "
                     f"| {r['wall_s']:.0f} |")
     return "\n".join(rows)
@@ -131,7 +136,7 @@ def main(argv=None) -> int:
         print(f"{env_id}: {args.steps:,} {args.unit} steps of random actions (seed {args.seed})", flush=True)
         r = soak_env(env_id, args.steps, args.unit, args.seed, progress)
         results.append(r)
-        print(f"  done: {r['nonfinite']} non-finite, {r['nonfinite_errors']} NonFiniteError, "
+        print(f"  done: {r['nonfinite']} non-finite, {r['nonfinite_errors']} NonFiniteError, {r['diverged']} diverged, "
               f"{r['stability_warnings']} stability warnings, {r['episodes']:,} episodes", flush=True)
         for line in r["failures"] + r["warnings"]:
             print(f"    {line}", flush=True)
@@ -139,8 +144,9 @@ def main(argv=None) -> int:
             with open(args.json, "w") as fh:
                 json.dump(results, fh, indent=1)
     print(table(results), flush=True)
-    ok = all(r["nonfinite"] == 0 and r["nonfinite_errors"] == 0 for r in results)
-    print("PASS: no non-finite value" if ok else "FAIL: non-finite values (see above)", flush=True)
+    ok = all(r["nonfinite"] == 0 and r["nonfinite_errors"] == 0 and r["diverged"] == 0 for r in results)
+    print("PASS: no non-finite value, no divergence" if ok else "FAIL: non-finite values or divergences (see above)",
+          flush=True)
     return 0 if ok else 1
 
 
