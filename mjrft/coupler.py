@@ -41,6 +41,7 @@ from .geometry import Elements, discretize_geom, exposed_elements, to_geom_frame
 from .laws import LAW_IDS, law_id
 from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
 from .laws import validity
+from .laws.inertial import DRY_LAWS, INERTIAL_DRAG, set_inertial
 from .media import MEDIA, Medium, get_medium
 
 DEFAULTS = {
@@ -52,12 +53,14 @@ DEFAULTS = {
     "v_eps": 1e-3,
     "transition": 0.01,
     "buoyancy": 0.0,
+    "inertial": 0.0,
+    "inertial_drag": INERTIAL_DRAG,
 }
 CUSTOM_PREFIX = "mjrft:"
 #: the ``mjrft:*`` keys a model's <custom> section may hold (any other one is warned about as a misspelling)
 CUSTOM_KEYS = ("medium", "law", "bodies", "geoms", "surface", "surface_hfield", "resolution", "yield_displacement",
                "damping_time", "v_eps", "water_depth", "regions", "region_map", "transition", "buoyancy",
-               "drag_coefficient", "water_density")
+               "drag_coefficient", "water_density", "inertial", "inertial_drag")
 _SUPPORTED_GEOMS = {
     int(mujoco.mjtGeom.mjGEOM_BOX), int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER),
     int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID), int(mujoco.mjtGeom.mjGEOM_MESH),
@@ -301,6 +304,13 @@ class GranularTerrain:
         drag_coefficient: the water drag's ``C`` in ``C rho_w v^2 S`` for every region (default: each
             medium's constant, 0.585 unless set; ``mjrft.laws.wet``).
         water_density: ``rho_w`` (kg/m^3) of the drag and the buoyancy (default: each medium's, 1000).
+        inertial: add the dry inertial (speed-dependent) regime to every region with a dry law (``rft``,
+            ``rft3d``, ``depth_only``): above the critical speed ``v_c = sqrt(2 g d)`` a buried face pushed
+            along its normal at speed ``u`` feels ``C rho_bulk (u^2 - v_c^2)`` (:mod:`mjrft.laws.inertial`,
+            Zhang et al. DynaRoACH paper). Default False: the laws stay rate-independent and the regime costs
+            nothing. The medium needs a grain diameter and a bulk density.
+        inertial_drag: its coefficient ``C`` (default ``mjrft.laws.inertial.INERTIAL_DRAG`` = 2.20, derived
+            from the DynaRoACH paper's numbers; the same for every medium).
 
     Water layer. Where a region has ``water_depth`` ``h_w > 0``, an element between the sand surface
     and the water surface (``-h_w < depth <= 0``) feels the SGRFT water drag ``C rho_w v^2 S`` on its
@@ -352,13 +362,14 @@ class GranularTerrain:
     ``mjrft:regions`` (``"x_min medium law [water_depth]; ..."``, or ``"medium law [water_depth]; ..."``
     with a map), numeric ``mjrft:region_map`` (``x_min y_min cell_x cell_y nx ny`` then the nx x ny
     ids row by row, rows along y), numeric ``mjrft:water_depth``, ``mjrft:transition``,
-    ``mjrft:buoyancy`` (0/1), ``mjrft:drag_coefficient``, ``mjrft:water_density``.
+    ``mjrft:buoyancy`` (0/1), ``mjrft:drag_coefficient``, ``mjrft:water_density``, ``mjrft:inertial`` (0/1),
+    ``mjrft:inertial_drag``.
     """
 
     def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, surface=None,
                  resolution=None, yield_displacement=None, damping_time=None, v_eps=None, water_depth=None,
                  regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
-                 water_density=None):
+                 water_density=None, inertial=None, inertial_drag=None):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         self.model = model
@@ -403,6 +414,11 @@ class GranularTerrain:
         # --- regions: strips along x or a map; water layer, buoyancy ---
         self.transition = check_positive("transition", pick("transition", transition), allow_zero=True)
         self.buoyancy = bool(pick("buoyancy", buoyancy))
+        inertial = pick("inertial", inertial)
+        if not isinstance(inertial, (bool, np.bool_)) and inertial not in (0, 1):
+            raise ValueError(f"inertial must be True/False (mjrft:inertial 0 or 1), got {inertial!r}")
+        self.inertial = bool(inertial)
+        self.inertial_drag = check_positive("inertial_drag", pick("inertial_drag", inertial_drag))
         if drag_coefficient is None:
             drag_coefficient = cfg.get("drag_coefficient")
         if water_density is None:
@@ -435,6 +451,11 @@ class GranularTerrain:
             p = med.params()
             p[P_WATER_DEPTH] = hw
             p[P_WATER_DRAG] = cd * rho
+            if self.inertial and str(reg.law) in DRY_LAWS:
+                try:
+                    set_inertial(p, med, self.inertial_drag)
+                except ValueError as exc:
+                    raise ValueError(f"{where}inertial=True: {exc}") from None
             laws.append(lid_k)
             params.append(p)
             rhos.append(rho if self.buoyancy and (hw > 0 or lid_k in _SATURATED_LAWS) else 0.0)
@@ -456,6 +477,9 @@ class GranularTerrain:
         self._reg_map, self._reg_map_frame = np.zeros((0, 0), dtype=np.int64), np.zeros(4)
         if region_map is not None:
             self._reg_map, self._reg_map_frame = _region_map(region_map, len(entries), self.transition)
+        if self.inertial and not any(str(r.law) in DRY_LAWS for r in self.regions):
+            raise ValueError(f"inertial=True needs a region with a dry law ({', '.join(DRY_LAWS)}); the terrain's laws "
+                             f"are {', '.join(sorted({str(r.law) for r in self.regions}))}")
         self.water_depth = float(self._reg_params[:, P_WATER_DEPTH].max())  # deepest water anywhere
         self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
 
@@ -512,6 +536,8 @@ class GranularTerrain:
         self._stiff_max = np.zeros((model.nbody, kernel.HELD_STEPS + 1, 10))  # see kernel.track_stiffness
         self._jac6 = (np.zeros((6, model.nv)), np.zeros((6, model.nv)))  # stability check scratch
         self._damp_max = np.zeros(model.nbody)
+        self._inert = np.zeros((model.nbody, 10))  # moments of the inertial regime's dampers (kernel)
+        self._inert_max = np.zeros((model.nbody, 10))  # ... of the step with the most of it (track_stiffness)
         self._data = None
         self._resets_seen = 0  # MuJoCo's reset-after-divergence count of the bound data, when last seen
         self._t_begin = 0.0
@@ -565,6 +591,7 @@ class GranularTerrain:
         self.wrench[:] = 0.0
         self._g_active[:] = False
         self._stiff_max[:] = 0.0
+        self._inert_max[:] = 0.0
         self._last_time = -np.inf
 
     # ------------------------------------------------------------------ per-step work
@@ -585,7 +612,7 @@ class GranularTerrain:
         if dt is None:
             dt = self.model.opt.timestep
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
-        kernel.track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max)
+        kernel.track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max, self._inert, self._inert_max)
         self._finish(data, status, body, dt, 1)
         return self.wrench
 
@@ -596,13 +623,13 @@ class GranularTerrain:
                 self._hf_z, self._hf_frame, self._reg_map, self._reg_map_frame, self._reg_rho, self.transition,
                 max(0.0, -float(self.model.opt.gravity[2])), dt, self.yield_displacement, self.damping_time, self.v_eps,
                 self._u, self.pos, self.vel, self.normal, self.depth, self.force, self.region,
-                self.wrench, self._stiff, self._damp, self._scr_f, self._scr_i)
+                self.wrench, self._stiff, self._damp, self._inert, self._scr_f, self._scr_i)
 
     def _step_args(self, data, dt) -> tuple:
         """Arguments of ``kernel.run_steps`` after ``(nstep, f_step1, f_step2, m_addr, d_addr)`` (also used by
         :mod:`mjrft.batch`, which keeps one such tuple per environment: the only list of them is here)."""
         return (data.xfrc_applied, self.body_ids, self._saved, *self._kernel_args(dt), self._stiff_max,
-                self._damp_max)
+                self._damp_max, self._inert_max)
 
     def _begin(self, data) -> None:
         """Before evaluating on ``data``: bind to it, raise if MuJoCo reset it after a divergence since the
@@ -708,34 +735,45 @@ class GranularTerrain:
     # ------------------------------------------------------------------ diagnostics
     def _check_stability(self, data, dt) -> None:
         """Warn once per body when dt exceeds the explicit stability limit (see :mod:`mjrft.kernel`):
-        for a stiffness held ``HELD_STEPS`` steps, or a single step that amplifies by ``SPIKE_GROWTH``."""
+        for a stiffness held ``HELD_STEPS`` steps, or a single step that amplifies by ``SPIKE_GROWTH``;
+        with the inertial regime on, its largest damping rate since the last check is added to both."""
         m = self.model
         held, spike, damp = self._stiff_max[:, 0].copy(), self._stiff_max[:, 1].copy(), self._damp_max.copy()
+        inert = self._inert_max.copy() if self.inertial else None
         self._stiff_max[:, :2] = 0.0
         self._damp_max[:] = 0.0
+        if self.inertial:
+            self._inert_max[:] = 0.0
         for b in self.body_ids:
-            if spike[b, 0] <= 0 or b in self._warned:
+            has_inert = inert is not None and inert[b, 0] > 0
+            if (spike[b, 0] <= 0 and not has_inert) or b in self._warned:
                 continue
             jac, minv_jac = self._jacobians(data, int(b))
-            for moments, growth in ((held[b], 1.0), (spike[b], kernel.SPIKE_GROWTH)):
-                if moments[0] <= 0:
+            lam_c = kernel.largest_rate(jac, minv_jac, inert[b]) if has_inert else 0.0
+            states = [(held[b], 1.0), (spike[b], kernel.SPIKE_GROWTH)] if spike[b, 0] > 0 else [(held[b], 1.0)]
+            for moments, growth in states:
+                if moments[0] <= 0 and lam_c <= 0:
                     continue
-                lam = kernel.largest_rate(jac, minv_jac, moments)
-                K, c = self._spring(lam)
+                lam = kernel.largest_rate(jac, minv_jac, moments) if moments[0] > 0 else 0.0
+                K, c = self._spring(lam, lam_c)
                 if kernel.step_growth(K, c, 1.0, dt) > growth * (1.0 + 1e-12):
-                    self._warn(data, int(b), dt, moments[0], damp[b], lam)
+                    self._warn(data, int(b), dt, moments[0], damp[b], lam, lam_c)
                     break
 
-    def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float) -> None:
+    def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float, lam_c: float = 0.0) -> None:
         self._warned.add(b)
         name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
-        K, c = self._spring(lam)
+        K, c = self._spring(lam, lam_c)
         what = (f"damping {s0:.3g} N s/m" if self.yield_displacement == 0 else
                 f"stiffness {s0:.3g} N/m, damping {damp:.3g} N s/m")
+        mode = f"effective mass {s0 / lam:.3g} kg in its stiffest mode" if lam > 0 else "no stiffness"
+        if lam_c > 0:
+            mode += f"; inertial-regime damping rate {lam_c:.3g} 1/s"
         warnings.warn(TerrainStabilityWarning(
             f"mjrft: timestep {dt:g} s exceeds the stability limit {kernel.max_stable_dt(K, c, 1.0):.3g} s of the "
-            f"granular stiffness on body '{name}' at t = {data.time:.4g} s ({what}, effective mass "
-            f"{s0 / lam:.3g} kg in its stiffest mode); reduce the timestep or increase yield_displacement"),
+            f"granular stiffness on body '{name}' at t = {data.time:.4g} s ({what}, {mode}); reduce the timestep "
+            "or increase yield_displacement" + (" (the inertial regime's limit is dt < 2 / its rate)" if lam_c > 0
+                                                 else "")),
             stacklevel=4)
 
     def _validity_init(self) -> None:
@@ -750,7 +788,7 @@ class GranularTerrain:
             for r, v in validity.check_static(str(reg.law), reg.medium):
                 self._validity_warn(str(reg.law), r, v, f" (medium '{reg.medium.name}')", stacklevel=4)
         self._val_dynamic = [(validity.group_mask(len(self.regions), ks), law, r) for law, ks in groups.items()
-                             for r in validity.dynamic_ranges(law)]
+                             for r in validity.dynamic_ranges(law, self.inertial)]
 
     def _validity_warn(self, law: str, r, value: float, where: str, stacklevel: int) -> None:
         if (law, r.quantity) in self._val_warned:
@@ -775,22 +813,25 @@ class GranularTerrain:
                 self._validity_warn(law, r, v, f" at t = {data.time:.4g} s", stacklevel=5)
         self._val_dynamic = [d for d in self._val_dynamic if (d[1], d[2].quantity) not in self._val_warned]
 
-    def _spring(self, lam: float) -> tuple[float, float]:
-        """(K, c) per unit mass of the stiffest mode, for kernel.stable_step / max_stable_dt with w = 1."""
-        return (0.0, lam) if self.yield_displacement == 0 else (lam, self.damping_time * lam)
+    def _spring(self, lam: float, lam_c: float = 0.0) -> tuple[float, float]:
+        """(K, c) per unit mass of the stiffest mode, for kernel.stable_step / max_stable_dt with w = 1; ``lam_c``
+        the inertial regime's largest damping rate (1/s), added to the damping (kernel module docstring)."""
+        return (0.0, lam + lam_c) if self.yield_displacement == 0 else (lam, self.damping_time * lam + lam_c)
 
     def stable_timestep(self, data: mujoco.MjData) -> np.ndarray:
         """Largest stable timestep (s) of each body for the granular stiffness of the last step, shape (nbody,).
 
-        The limit the stability check warns about (see :mod:`mjrft.kernel`), evaluated now; ``inf``
-        for bodies with nothing below the surface.
+        The limit the stability check warns about (see :mod:`mjrft.kernel`; with the inertial regime on,
+        its dampers included), evaluated now; ``inf`` for bodies with nothing below the surface.
         """
         if data is not self._data:
             raise ValueError("stable_timestep needs the MjData this terrain last stepped")
         out = np.full(self.model.nbody, np.inf)
         for b in self.body_ids:
-            if self._stiff[b, 0] > 0:
-                out[b] = kernel.max_stable_dt(*self._spring(self.critical_rate(data, int(b), self._stiff[b])), 1.0)
+            lam_c = self.critical_rate(data, int(b), self._inert[b]) if self.inertial and self._inert[b, 0] > 0 else 0.0
+            if self._stiff[b, 0] > 0 or lam_c > 0:
+                lam = self.critical_rate(data, int(b), self._stiff[b]) if self._stiff[b, 0] > 0 else 0.0
+                out[b] = kernel.max_stable_dt(*self._spring(lam, lam_c), 1.0)
         return out
 
     def critical_rate(self, data, body: int, moments) -> float:

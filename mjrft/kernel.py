@@ -36,6 +36,15 @@ The viscous mode (``c_i = |F_yield,i| / max(|v_i|, v_eps)``, moments of ``c_i``)
 memory's hysteresis dissipates): measured chatter starts at 1.2 to 1.7 times the limit it gives
 (tests/test_extremes.py).
 
+Inertial regime (:mod:`mjrft.laws.inertial`, when a scene turns it on): its pressure
+``C rho_bulk (u^2 - v_c^2)`` depends on the normal speed u, so each element with ``u > v_c`` is a
+damper along its normal, ``c_i = 2 w C rho_bulk A_i u_i``, which alone is stable iff
+``dt < 2 m / c`` (``m`` the effective mass), i.e. ``dt < m / (w C rho_bulk A u)``. The kernel sums the
+moments of the ``c_i`` about each body's CoM (``inert``); the check takes ``lambda_c``, the largest
+eigenvalue of ``W6 C6``, and adds it to the damping of the stiffest spring mode (``c = tau omega^2 +
+lambda_c``; viscous mode: ``lambda + lambda_c``), as if the stiffest and the most damped mode were one:
+a conservative bound, and exactly the damper's limit ``lambda_c dt < 2`` without stiffness.
+
 What the coupler warns about: beyond the limit the step multiplies a perturbation by
 :func:`step_growth` ``> 1`` each step. A state held for ``HELD_STEPS`` consecutive steps beyond the
 limit warns; a shorter spike (a leg's impact) warns only if one step more than doubles a
@@ -61,9 +70,11 @@ from numba import njit, types
 from numba.extending import intrinsic
 
 from .laws.dispatch import element_stress
+from .laws.inertial import inertial_force
 from .laws.rft import rft_stress_batch
 from .laws.registry import LAW_IDS
 from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
+from .media import P_INERTIA
 
 OK = 0
 BAD_FORCE = 1
@@ -308,31 +319,54 @@ def _add_to_body(wrench, stiff, b, fx, fy, fz, rx, ry, rz, kk):
         stiff[b, 9] += kk * rz * rz
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_moments(arr, b, rx, ry, rz, kk):
+    """Add the moments of a spring or damper ``kk`` at ``r`` from body ``b``'s CoM to ``arr[b]`` (10 sums)."""
+    arr[b, 0] += kk
+    arr[b, 1] += kk * rx
+    arr[b, 2] += kk * ry
+    arr[b, 3] += kk * rz
+    arr[b, 4] += kk * rx * rx
+    arr[b, 5] += kk * rx * ry
+    arr[b, 6] += kk * rx * rz
+    arr[b, 7] += kk * ry * ry
+    arr[b, 8] += kk * ry * rz
+    arr[b, 9] += kk * rz * rz
+
+
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def _element_force(law, p, rho_w, gravity, k, depth, nx, ny, nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta,
                    v_eps):
     """Force (N) of one region on one element of area ``k`` (area x the region's weight); see terrain_kernel.
 
-    Returns (fx, fy, fz, stiffness (damping in the viscous mode) of the sand part, water damping, finite).
+    Returns (fx, fy, fz, stiffness (damping in the viscous mode) of the sand part, water damping,
+    inertial damping (mjrft.laws.inertial), finite).
     """
-    fx, fy, fz, kk, cw = 0.0, 0.0, 0.0, 0.0, 0.0
+    fx, fy, fz, kk, cw, ci = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     if ml > 0.0 and law != LAW_WATER:  # the sand, through the rest regularisation
         iml = 1.0 / ml
         sx, sy, sz = element_stress(law, depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, p)
         fx, fy, fz = sx * k, sy * k, sz * k
         if not _isfinite3(fx, fy, fz):
-            return fx, fy, fz, kk, cw, False
+            return fx, fy, fz, kk, cw, ci, False
         kk = _linear_stiffness(fx, fy, fz, ml, delta, v_eps)
         fx *= mob
         fy *= mob
         fz *= mob
+    if p[P_INERTIA] > 0.0 and law != LAW_WATER:  # the inertial regime (on the real velocity, no memory)
+        gx, gy, gz, ci = inertial_force(p, depth, nx, ny, nz, vx, vy, vz, k)
+        if not _isfinite3(gx, gy, gz):
+            return gx, gy, gz, kk, cw, ci, False
+        fx += gx
+        fy += gy
+        fz += gz
     hw = p[P_WATER_DEPTH]
     if hw > 0.0 and speed > 0.0 and depth > -hw and depth < p[P_WATER_SKIN]:  # the water layer's drag
         iv = 1.0 / speed
         sx, sy, sz = water_stress(depth, nx, ny, nz, vx * iv, vy * iv, vz * iv, speed, p)
         gx, gy, gz = sx * k, sy * k, sz * k
         if not _isfinite3(gx, gy, gz):
-            return gx, gy, gz, kk, cw, False
+            return gx, gy, gz, kk, cw, ci, False
         cw = 2.0 * math.sqrt(gx * gx + gy * gy + gz * gz) * iv  # d|F|/d|v| of a v^2 drag
         fx += gx
         fy += gy
@@ -344,19 +378,19 @@ def _element_force(law, p, rho_w, gravity, k, depth, nx, ny, nz, mx, my, mz, ml,
             fx += kp * nx
             fy += kp * ny
             fz += kp * nz
-    return fx, fy, fz, kk, cw, True
+    return fx, fy, fz, kk, cw, ci, True
 
 
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth, nx, ny, nz, mx, my, mz, ml, mob,
                    vx, vy, vz, speed, delta, v_eps):
     """:func:`_element_force` summed over the regions ``regs`` with weights ``wts`` (same returns)."""
-    fx, fy, fz, kk, cw, ok = 0.0, 0.0, 0.0, 0.0, 0.0, True
+    fx, fy, fz, kk, cw, ci, ok = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, True
     for q in range(4):
         w = wts[q]
         if w > 0.0:
             reg = regs[q]
-            gx, gy, gz, kq, cq, okq = _element_force(reg_law[reg], reg_params[reg], reg_rho[reg], gravity, area * w,
+            gx, gy, gz, kq, cq, iq, okq = _element_force(reg_law[reg], reg_params[reg], reg_rho[reg], gravity, area * w,
                                                      depth, nx, ny, nz, mx, my, mz, ml, mob, vx, vy, vz, speed,
                                                      delta, v_eps)
             fx += gx
@@ -364,8 +398,9 @@ def _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth
             fz += gz
             kk += kq
             cw += cq
+            ci += iq
             ok = ok and okq
-    return fx, fy, fz, kk, cw, ok
+    return fx, fy, fz, kk, cw, ci, ok
 
 
 # contract (FMA), arcp (multiply by reciprocals), nsz: a few % faster; no nnan/ninf, so the finiteness
@@ -378,7 +413,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                    dt, delta, tau, v_eps,
                    u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                   wrench, stiff, damp, scr_f, scr_i):
+                   wrench, stiff, damp, inert, scr_f, scr_i):
     """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
 
     Elements come in cull groups (``g_*``: runs of up to ``coupler.CULL_GROUP`` elements of one geom).
@@ -412,15 +447,23 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
 
     ``stiff`` (nbody, 10) receives per body the moments of the element stiffness ``k_i`` (of the
     damping ``c_i`` in the viscous mode) about its CoM: ``sum k``, ``sum k r`` (x, y, z) and
-    ``sum k r r^T`` (xx, xy, xz, yy, yz, zz); ``damp`` (nbody,) the summed damping ``sum c_i``.
+    ``sum k r r^T`` (xx, xy, xz, yy, yz, zz); ``damp`` (nbody,) the summed damping ``sum c_i``;
+    ``inert`` (nbody, 10) the same moments of the inertial regime's dampers (:mod:`mjrft.laws.inertial`),
+    written only when a region has the regime on.
+
+    Inertial regime: when a region's ``p[P_INERTIA] > 0`` every buried element of it adds
+    :func:`mjrft.laws.inertial.inertial_force` on its real velocity (no rest memory: a rate-dependent
+    drag needs none). With the regime off in every region nothing of it runs (one flag per step).
     """
     nreg = reg_law.shape[0]
     nb = reg_bounds.shape[0]
     has_hf = hf_z.shape[0] > 0
     has_map = reg_map.shape[0] > 0
     wmax = 0.0  # the deepest water layer of any region
+    inertia = False  # the inertial regime on in some region
     for r in range(nreg):
         wmax = max(wmax, reg_params[r, P_WATER_DEPTH])
+        inertia = inertia or reg_params[r, P_INERTIA] > 0.0
     # the current single region's constants, switched only when an element lies in another region
     cur_reg = 0
     p = reg_params[0]
@@ -445,6 +488,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         for j in range(10):
             stiff[b, j] = 0.0
         damp[b] = 0.0
+        if inertia:
+            for j in range(10):
+                inert[b, j] = 0.0
     for g in range(g_geom.shape[0]):
         e0 = g_start[g]
         e1 = g_start[g + 1]
@@ -606,12 +652,22 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     fx *= mob
                     fy *= mob
                     fz *= mob
+                if inertia and p[P_INERTIA] > 0.0:
+                    gx, gy, gz, ci = inertial_force(p, depth, nx, ny, nz, vx, vy, vz, e_area[i])
+                    if not _isfinite3(gx, gy, gz):
+                        return BAD_FORCE, b
+                    fx += gx
+                    fy += gy
+                    fz += gz
+                    if ci > 0.0:
+                        damp[b] += ci
+                        _add_moments(inert, b, px - bx, py - by, pz - bz, ci)
             else:
                 if single:
-                    fx, fy, fz, kk, cw, ok = _element_force(law, p, reg_rho[reg], gravity, e_area[i], depth, nx, ny,
+                    fx, fy, fz, kk, cw, ci, ok = _element_force(law, p, reg_rho[reg], gravity, e_area[i], depth, nx, ny,
                                                             nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta, v_eps)
                 else:
-                    fx, fy, fz, kk, cw, ok = _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity,
+                    fx, fy, fz, kk, cw, ci, ok = _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity,
                                                             e_area[i], depth, nx, ny, nz, mx, my, mz, ml, mob, vx,
                                                             vy, vz, speed, delta, v_eps)
                 if not (ok and _isfinite3(fx, fy, fz)):
@@ -621,18 +677,26 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 else:
                     kk += cw
                     damp[b] += kk
+                if ci > 0.0:
+                    damp[b] += ci
+                    _add_moments(inert, b, px - bx, py - by, pz - bz, ci)
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
             _add_to_body(wrench, stiff, b, fx, fy, fz, px - bx, py - by, pz - bz, kk)
     if nbat > 0:
         rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
         return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
-                              wrench, stiff, damp)
+                              wrench, stiff, damp, pb if inertia and pb[P_INERTIA] > 0.0 else pb[:0], out_vel,
+                              out_nrm, inert)
     return OK, -1
 
 
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
-def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp):
+def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp,
+                   pin, out_vel, out_nrm, inert):
     """The batched elements' forces, wrench and stiffness moments (what the element loop does inline).
+
+    ``pin``: the batched region's parameter vector when its inertial regime is on (the inertial force is
+    added on the element's real velocity, its damping moments go to ``inert``), else an empty array.
 
     The elements arrive grouped by body (geom by geom), so each body's 17 sums are kept in local
     variables over its run of elements and added to ``wrench``/``stiff``/``damp`` once per run: a
@@ -644,6 +708,7 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         f0 = f1 = f2 = t0 = t1 = t2 = 0.0
         k0 = k1 = k2 = k3 = k4 = k5 = k6 = k7 = k8 = k9 = 0.0
         c = 0.0
+        cin = 0.0
         while j < nbat and scr_i[1, j] == b:
             i = scr_i[0, j]
             k = e_area[i]
@@ -656,8 +721,19 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             fx *= mob
             fy *= mob
             fz *= mob
-            out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
             rx, ry, rz = out_pos[i, 0] - bx, out_pos[i, 1] - by, out_pos[i, 2] - bz
+            if pin.shape[0] > 0:
+                gx, gy, gz, ci = inertial_force(pin, scr_f[6, j], out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2],
+                                                out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], k)
+                if not _isfinite3(gx, gy, gz):
+                    return BAD_FORCE, b
+                fx += gx
+                fy += gy
+                fz += gz
+                if ci > 0.0:
+                    cin += ci
+                    _add_moments(inert, b, rx, ry, rz, ci)
+            out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
             f0 += fx
             f1 += fy
             f2 += fz
@@ -691,19 +767,23 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         stiff[b, 7] += k7
         stiff[b, 8] += k8
         stiff[b, 9] += k9
-        damp[b] += c * tau if delta > 0.0 else c
+        damp[b] += (c * tau if delta > 0.0 else c) + cin
     return OK, -1
 
 
 @njit(cache=True, error_model="numpy")
-def track_stiffness(stiff, stiff_max, damp, damp_max):
+def track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max):
     """After a step, per body, from this step's stiffness moments ``stiff`` (nbody, 10): ``stiff_max``
     (nbody, HELD_STEPS + 1, 10) keeps in ``[:, 0]`` the stiffest state held for HELD_STEPS consecutive
     steps (the least stiff of the last HELD_STEPS steps), in ``[:, 1]`` the stiffest single step (both
     since the coupler last cleared them) and in ``[:, 2:]`` the previous steps; ``damp_max`` the largest
-    summed damping."""
+    summed damping; ``inert_max`` (nbody, 10) the inertial damping moments ``inert`` of the step with the
+    largest summed inertial damping (only when some body has any)."""
     n = stiff_max.shape[1]
     for b in range(stiff.shape[0]):
+        if inert[b, 0] > inert_max[b, 0]:
+            for j in range(10):
+                inert_max[b, j] = inert[b, j]
         if stiff[b, 0] > stiff_max[b, 1, 0]:
             for j in range(10):
                 stiff_max[b, 1, j] = stiff[b, j]
@@ -909,8 +989,8 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
               surface, top, reg_bounds, reg_law, reg_params,
               hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity, dt, delta, tau, v_eps,
-              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp, scr_f, scr_i,
-              stiff_max, damp_max):
+              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp, inert, scr_f,
+              scr_i, stiff_max, damp_max, inert_max):
     """``nstep`` x (mj_step1, terrain_kernel, xfrc += wrench, mj_step2, restore xfrc).
 
     Returns (status, body, steps completed); on a non-finite value it stops after mj_step1 of the
@@ -924,10 +1004,10 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                       hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                                       dt, delta, tau, v_eps,
                                       u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                                      wrench, stiff, damp, scr_f, scr_i)
+                                      wrench, stiff, damp, inert, scr_f, scr_i)
         if status != OK:
             return status, body, s
-        track_stiffness(stiff, stiff_max, damp, damp_max)
+        track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max)
         add_rows(xfrc, rows, wrench, saved)
         _call_mj(f_step2, m_addr, d_addr)
         restore_rows(xfrc, rows, saved)

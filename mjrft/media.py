@@ -55,7 +55,12 @@ P_AZ_DOWN = 12  # alpha_z(0, pi/2), N/m^3
 P_AZ_UP = 13  # |alpha_z(0, -pi/2)|, N/m^3
 P_AX_DRAG = 14  # alpha_x(pi/2, 0), N/m^3
 P_FIRST_FREE = 15  # laws added later store their constants from here on
-P_SIZE = 32
+# The inertial (speed-dependent) regime of the dry laws (mjrft.laws.inertial), filled by the coupler only
+# when a scene turns it on (0 here: off).
+P_INERTIA = 32  # C x rho_bulk (kg/m^3) of the inertial pressure; 0 = off
+P_INERTIA_VC2 = 33  # v_c^2 (m^2/s^2), the critical intrusion speed squared
+P_INERTIA_SKIN = 34  # m, depth over which the inertial pressure ramps in below the surface
+P_SIZE = 40
 
 
 def xi_n(rho_bulk: float, mu_int: float) -> float:
@@ -167,6 +172,14 @@ class Medium:
         if self.grain_density is None or self.volume_fraction is None:
             return None
         return self.grain_density * self.volume_fraction
+
+    @property
+    def critical_speed(self) -> float | None:
+        """v_c = sqrt(2 g d) (m/s) from the grain diameter (mean, else ``grain_diameter_max``), or None when
+        unknown: the intrusion speed above which grain inertia matters (Zhang et al., DynaRoACH paper,
+        sec. 3.2: 25 cm/s for 3 mm glass); see :mod:`mjrft.laws.inertial`."""
+        d = self.grain_diameter if self.grain_diameter is not None else self.get("grain_diameter_max")
+        return None if d is None else math.sqrt(2.0 * G * float(d))
 
     @property
     def xi_n(self) -> float:

@@ -9,6 +9,8 @@ the surface feel nothing), ``normal`` (n, 3) outward normals, ``velocity`` (n, 3
 ``area`` (n,) in m^2, all in the world frame with z up; it returns forces (n, 3) in N. The dry laws
 are rate-independent: only the direction of the velocity matters, and a zero velocity gives zero
 force (the coupler's rest regularisation, not the law, decides what a resting element feels).
+With ``inertial=True`` they add the dry inertial regime above the critical speed v_c
+(:mod:`mjrft.laws.inertial`, Zhang et al. DynaRoACH paper; off by default).
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ import numpy as np
 from ..errors import unknown
 from ..media import get_medium
 from .dispatch import as_elements, element_stress, evaluate
+from .inertial import DRY_LAWS, INERTIAL_DRAG, add_inertial, set_inertial
 from .registry import LAW_IDS
 from .rft3d import rft3d_generic
 
@@ -29,28 +32,39 @@ def law_id(name: str) -> int:
     raise unknown("law", name, LAW_IDS)
 
 
-def apply_law(name, depth, normal, velocity, area, medium="poppy_cp"):
-    """Evaluate the law called ``name`` on the given elements; see the module docstring."""
+def apply_law(name, depth, normal, velocity, area, medium="poppy_cp", *, inertial=False,
+              inertial_drag=INERTIAL_DRAG):
+    """Evaluate the law called ``name`` on the given elements; see the module docstring.
+
+    ``inertial=True`` (dry laws ``rft``, ``rft3d``, ``depth_only`` only) adds the inertial regime with
+    coefficient ``inertial_drag`` (:mod:`mjrft.laws.inertial`)."""
     lid = law_id(name)
     med = get_medium(medium)
+    if inertial and name not in DRY_LAWS:
+        raise ValueError(f"inertial=True is an option of the dry laws ({', '.join(DRY_LAWS)}), not of law {name!r}")
     depth, normal, velocity, area = as_elements(depth, normal, velocity, area)
     out = np.empty((depth.shape[0], 3))
-    return evaluate(lid, depth, normal, velocity, area, med.params(), out)
+    p = med.params()
+    evaluate(lid, depth, normal, velocity, area, p, out)
+    if inertial:
+        add_inertial(depth, normal, velocity, area, set_inertial(p, med, inertial_drag), out)
+    return out
 
 
-def rft(depth, normal, velocity, area, medium="poppy_cp"):
-    """Li 2013 RFT in each element's vertical plane of motion (:mod:`mjrft.laws.rft`)."""
-    return apply_law("rft", depth, normal, velocity, area, medium)
+def rft(depth, normal, velocity, area, medium="poppy_cp", *, inertial=False):
+    """Li 2013 RFT in each element's vertical plane of motion (:mod:`mjrft.laws.rft`); ``inertial``: add the
+    inertial regime (:mod:`mjrft.laws.inertial`)."""
+    return apply_law("rft", depth, normal, velocity, area, medium, inertial=inertial)
 
 
-def rft3d(depth, normal, velocity, area, medium="poppy_cp"):
-    """Agarwal 2023 3D-RFT (:mod:`mjrft.laws.rft3d`)."""
-    return apply_law("rft3d", depth, normal, velocity, area, medium)
+def rft3d(depth, normal, velocity, area, medium="poppy_cp", *, inertial=False):
+    """Agarwal 2023 3D-RFT (:mod:`mjrft.laws.rft3d`); ``inertial``: add the inertial regime."""
+    return apply_law("rft3d", depth, normal, velocity, area, medium, inertial=inertial)
 
 
-def depth_only(depth, normal, velocity, area, medium="poppy_cp"):
-    """Flat-plate baseline (:mod:`mjrft.laws.depth_only`)."""
-    return apply_law("depth_only", depth, normal, velocity, area, medium)
+def depth_only(depth, normal, velocity, area, medium="poppy_cp", *, inertial=False):
+    """Flat-plate baseline (:mod:`mjrft.laws.depth_only`); ``inertial``: add the inertial regime."""
+    return apply_law("depth_only", depth, normal, velocity, area, medium, inertial=inertial)
 
 
 def wet(depth, normal, velocity, area, medium="sea_sand_saturated"):

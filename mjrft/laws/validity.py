@@ -26,6 +26,11 @@ Ranges and their sources (``None``: no bound published):
   1.07. Choice: its generic response is a quasi-static fit like Li's, so the same 1 m/s bound
   applies to speed; no depth or grain-size range is published, so none is checked.
 
+With the inertial regime on (:mod:`mjrft.laws.inertial`), the dry laws' speed range is
+``INERTIAL_SPEED``: up to 1.5 m/s, the leg speeds of the DynaRoACH paper's DEM-validated runs (legs of
+1 cm radius, 2 cm from hip to tip, driven at up to 12 Hz: 2 pi x 12 Hz x 2 cm = 1.5 m/s; vertical
+penetration "nearly 1 m/s", fig. 4B), from which the regime's coefficient comes.
+
 Choice for every law: only the upper bound of speed is checked. Each stroke of a leg passes through
 zero speed at its turning points and a resting body sits still, so a lower bound (SGRFT's 10 mm/s)
 would warn in every scene and say nothing about the scene.
@@ -84,6 +89,9 @@ _LI_DEPTH = Range("depth", None, 0.0762 + 0.0381 / 2, "m",
 _LI_GRAIN = Range("grain_diameter", 0.1e-3, 3.2e-3, "m",
                   f"{_LI} sec. 3 scaling routine ~0.1 to ~1 mm, table S1 media up to 3.2 mm", 1e3, "mm")
 _SG = "SGRFT (MDPI 2022)"
+INERTIAL_SPEED = Range("speed", None, 2 * math.pi * 12.0 * 0.02, "m/s",
+                       "inertial regime: DynaRoACH paper, legs 2 cm hip to tip at up to 12 Hz, penetration up to ~1 m/s "
+                       "(fig. 4B)")
 RANGES: dict[str, tuple[Range, ...]] = {
     "rft": (_LI_SPEED, _LI_DEPTH, _LI_GRAIN),
     "depth_only": (_LI_SPEED, _LI_DEPTH, _LI_GRAIN),
@@ -128,8 +136,13 @@ def check_static(law: str, medium) -> list[tuple[Range, float]]:
     return out
 
 
-def dynamic_ranges(law: str) -> tuple[Range, ...]:
-    return tuple(r for r in RANGES.get(law, ()) if r.quantity in DYNAMIC)
+def dynamic_ranges(law: str, inertial: bool = False) -> tuple[Range, ...]:
+    """The depth and speed ranges of ``law``; with ``inertial`` (a dry law with the inertial regime on) the
+    speed range is :data:`INERTIAL_SPEED`."""
+    out = tuple(r for r in RANGES.get(law, ()) if r.quantity in DYNAMIC)
+    if inertial and law in ("rft", "rft3d", "depth_only"):
+        out = tuple(INERTIAL_SPEED if r.quantity == "speed" else r for r in out)
+    return out
 
 
 @njit(cache=True, error_model="numpy")
