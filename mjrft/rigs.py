@@ -324,7 +324,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
         label = f"semi-ellipse a {geo['a'] * 100:g} cm, b {geo['b'] * 100:.3g} cm"
     else:
         label = {"flat": "flat", "c": "C-leg", "reversed_c": "reversed C-leg", "v_section": "V-section leg",
-                 "triangle_section": "triangle-section leg"}[shape]
+                 "triangle_section": "triangle-section leg", "propeller": "propeller-leg"}[shape]
     return LegProfile(angle=angles, time=times, depth=depth, forward=force[:, 0].copy(), support=force[:, 2].copy(),
                       torque=0.0 - tau_axle[:, 1], settings=settings, label=label)
 

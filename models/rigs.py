@@ -41,6 +41,10 @@ is the one whose convex side leads):
 ``v_section``      straight leg (default hip to tip ``chord`` = 11 cm) with a V cross-section of two
                    plates 90 deg apart, open side leading (:func:`section_leg_mesh`): SGRFT's V-leg
 ``triangle_section`` the same with a solid equilateral-triangle cross-section, apex leading: SGRFT's T-leg
+``propeller``      SGRFT's propeller-leg (:func:`propeller_geometry`): ``blades`` (default 3) circular-arc
+                   blades evenly around the axle, each from the axle to a tip on the circle of radius
+                   ``chord`` (default 110 mm), subtending ``arc`` (default 0.5 rad) of its own circle,
+                   convex side leading like the C-leg
 =================  ===================================================================================
 
 Defaults: Li 2013's leg rotation rig for ``flat``/``c``/``reversed_c`` (legs 7.62 cm hip to tip,
@@ -82,10 +86,14 @@ LI_AXLE_HEIGHT = 0.02
 HYBRID_A = 0.045
 HYBRID_AXLE_HEIGHT = 0.05
 
-LEG_SHAPES = ("flat", "c", "reversed_c", "semi_ellipse", "v_section", "triangle_section")
+LEG_SHAPES = ("flat", "c", "reversed_c", "semi_ellipse", "v_section", "triangle_section", "propeller")
 # SGRFT's straight legs (Machines 2022, sec. 3.2): projection on the direction of motion 25 x 110 mm
 SGRFT_LEG_LENGTH = 0.110
 SECTION_SHAPES = ("v_section", "triangle_section")
+# SGRFT's propeller-leg (sec. 4, fig. 9 caption): three arc-shaped legs evenly on a 110 mm circle, arc 0.5 rad
+PROPELLER_RADIUS = 0.110
+PROPELLER_ARC = 0.5
+PROPELLER_BLADES = 3
 ALUMINIUM = 2700.0  # kg/m^3, only for the (unused) inertia of the kinematic bodies
 RIG_RESOLUTION = 0.005
 NO_CONTACT = 'contype="0" conaffinity="0"'
@@ -132,7 +140,8 @@ def plate_rig_xml(length: float = PLATE_LENGTH, width: float = PLATE_WIDTH, thic
 
 def leg_geometry(shape: str = "c", *, chord: float | None = None, curvature: float | None = None,
                  a: float | None = None, b: float | None = None, bulge: int = 1, width: float = LEG_WIDTH,
-                 thickness: float = LEG_THICKNESS, n_segments: int = 32) -> dict:
+                 thickness: float = LEG_THICKNESS, n_segments: int = 32, arc: float | None = None,
+                 blades: int | None = None) -> dict:
     """Checked leg parameters with the shape's defaults filled in, and the leg's surface.
 
     A flat leg is one box; curved legs are ONE closed mesh (:func:`mjrft.geometry.curved_leg.leg_mesh`
@@ -140,7 +149,9 @@ def leg_geometry(shape: str = "c", *, chord: float | None = None, curvature: flo
     act as extra plates across the leg. Returns ``shape``, ``length`` (hip to tip, m), ``width``,
     ``thickness``, the shape's own numbers (``chord``, ``curvature`` or ``a``, ``b``, ``bulge``),
     ``vertices`` (surface points in the leg body frame: the mesh vertices or the box corners) and
-    ``mesh`` (``(vertices, faces)``, None for the flat leg).
+    ``mesh`` (``(vertices, faces)``, None for the flat leg). The ``propeller`` also returns ``arc``,
+    ``blades`` and ``blade_angles`` (its mesh is one blade, repeated at each of those angles about y;
+    ``vertices`` holds every blade's).
     """
     if shape not in LEG_SHAPES:
         raise ValueError(f"unknown leg shape {shape!r}; valid choices: {', '.join(LEG_SHAPES)}")
@@ -160,6 +171,15 @@ def leg_geometry(shape: str = "c", *, chord: float | None = None, curvature: flo
         return out
     if a is not None or b is not None:
         raise ValueError(f"the semi-axes a and b apply to shape 'semi_ellipse' only, not {shape!r}")
+    if shape == "propeller":
+        if curvature is not None:
+            raise ValueError("shape 'propeller' takes the blade's arc angle (arc, rad), not curvature")
+        out.update(propeller_geometry(PROPELLER_RADIUS if chord is None else chord,
+                                      PROPELLER_ARC if arc is None else arc,
+                                      PROPELLER_BLADES if blades is None else blades, width, thickness, n_segments))
+        return out
+    if arc is not None or blades is not None:
+        raise ValueError(f"arc and blades apply to shape 'propeller' only, not {shape!r}")
     if shape in SECTION_SHAPES:
         if curvature not in (None, 0, 0.0):
             raise ValueError(f"shape {shape!r} is straight (no curvature), got {curvature!r}")
@@ -235,6 +255,39 @@ def section_leg_mesh(shape: str, length: float, width: float, thickness: float) 
     return verts, np.array(faces, dtype=int)
 
 
+def propeller_geometry(radius: float = PROPELLER_RADIUS, arc: float = PROPELLER_ARC, blades: int = PROPELLER_BLADES,
+                       width: float = LEG_WIDTH, thickness: float = LEG_THICKNESS, n_segments: int = 32) -> dict:
+    """SGRFT's propeller-leg (sec. 4, fig. 9): ``blades`` circular-arc blades evenly around the axle.
+
+    The paper's caption: "Three arc-shaped legs are evenly distributed on a circle with a radius of 110 mm,
+    and the arc is 0.5 rad" (sec. 4.1's text calls "the radian of the foot" 0.5 pi rad instead; the caption's
+    number is the default, ``arc`` takes either). mjrft's reading: each blade is a circular arc from the axle
+    (the hub) to a tip on the ``radius`` circle, subtending ``arc`` rad of its own circle (hip-to-tip chord =
+    ``radius``, curvature ``2 sin(arc / 2) / radius``), bowing like Li 2013's C-leg (convex side leading when
+    the propeller turns at omega > 0, :mod:`mjrft.geometry.curved_leg`); blade ``j`` hangs at leg angle
+    ``2 pi j / blades``. The hub and the blades' mounting are not described and are not modelled.
+
+    Returns ``chord`` (= radius), ``length``, ``curvature``, ``arc``, ``blades``, ``blade_angles`` (rad),
+    ``mesh`` (one blade, hip at the origin, tip at (0, 0, -radius)) and ``vertices`` (all blades).
+    """
+    radius = check_positive("propeller radius", radius)
+    arc = check_positive("propeller blade arc", arc)
+    if arc > math.pi:
+        raise ValueError(f"propeller blade arc {arc!r} rad out of range: valid (0, pi] (pi = a semicircular blade)")
+    if isinstance(blades, bool) or not isinstance(blades, (int, np.integer)) or blades < 1:
+        raise ValueError(f"propeller blades must be a positive integer, got {blades!r}")
+    k = min(2.0 * math.sin(arc / 2.0) / radius, 2.0 / radius)
+    mesh = curved_leg_mesh(radius, k, width, thickness, n_segments)
+    angles = [2.0 * math.pi * j / int(blades) for j in range(int(blades))]
+    verts = []
+    for phi in angles:  # the leg angle phi swings the tip toward -x: x' = x cos + z sin, z' = -x sin + z cos
+        c, s = math.cos(phi), math.sin(phi)
+        v = mesh[0]
+        verts.append(np.column_stack([c * v[:, 0] + s * v[:, 2], v[:, 1], -s * v[:, 0] + c * v[:, 2]]))
+    return {"chord": radius, "length": radius, "curvature": k, "arc": arc, "blades": int(blades),
+            "blade_angles": angles, "mesh": mesh, "vertices": np.concatenate(verts)}
+
+
 def default_axle_height(shape: str) -> float:
     """Axle height above the surface (m) when none is given: 2 cm (Li 2013) or 5 cm (``semi_ellipse``)."""
     return HYBRID_AXLE_HEIGHT if shape == "semi_ellipse" else LI_AXLE_HEIGHT
@@ -255,6 +308,11 @@ def leg_rig_xml(shape: str = "c", *, axle_height: float | None = None, medium: s
     else:
         verts, faces = geo["mesh"]
         legxml = f'        <geom name="leg" type="mesh" mesh="leg" mass="{fmt(mass)}" material="limb" {NO_CONTACT}/>'
+        if shape == "propeller":  # one geom per blade, the same mesh turned about y by the blade's leg angle
+            legxml = "\n".join(
+                f'        <geom name="{"leg" if j == 0 else f"leg_{j + 1}"}" type="mesh" mesh="leg" '
+                f'quat="{fmt(math.cos(phi / 2), 0, math.sin(phi / 2), 0)}" mass="{fmt(mass)}" material="limb" '
+                f'{NO_CONTACT}/>' for j, phi in enumerate(geo["blade_angles"]))
         assets = f'    <mesh name="leg" vertex="{fmt(verts)}" face="{" ".join(str(int(f)) for f in faces.ravel())}"/>'
     axle_r = 0.004
     half_w = geo["width"] / 2 + 0.01
@@ -271,7 +329,10 @@ def leg_rig_xml(shape: str = "c", *, axle_height: float | None = None, medium: s
         "      </body>",
         "    </body>",
     ])
-    if shape == "semi_ellipse":
+    if shape == "propeller":
+        what = (f"propeller-leg, {geo['blades']} arc blades (arc {geo['arc']:.6g} rad) on a "
+                f"{geo['chord'] * 100:g} cm circle, curvature {geo['curvature']:.6g} 1/m")
+    elif shape == "semi_ellipse":
         what = (f"semi-ellipse a = {geo['a'] * 100:g} cm, b = {geo['b'] * 100:g} cm, convex side "
                 f"{'leading' if geo['bulge'] == 1 else 'trailing'}")
     else:

@@ -1,0 +1,42 @@
+"""SGRFT sec. 4 validation cases (propeller-leg rig and robot): quick runs assert the published outcomes."""
+
+import math
+
+import pytest
+
+from mjrft.validation import published, run_case
+
+
+def outcomes(r):
+    q = [c for c in r.checks if c.qualitative]
+    assert q, f"{r.name} has no published outcome to assert"
+    failed = [(c.name, c.published, c.simulated) for c in q if not c.passed]
+    assert not failed, failed
+    return {c.name: c for c in r.checks}
+
+
+def test_sgrft_propeller_leg():
+    r = run_case("sgrft_propeller_leg", quick=True)
+    checks = outcomes(r)
+    change = next(c for n, c in checks.items() if n.startswith("thrust change 30 -> 40 rpm"))
+    # the same linear velocity coefficient as the R/V/T legs: the propeller's change is SGRFT's +30.33 %
+    assert change.value == pytest.approx(published("sgrft", "thrust_change_predicted").value, rel=0.02)
+    # the pi rad range and the shallow-depth shortfall are the documented disagreements (cause measured)
+    rng = next(c for n, c in checks.items() if n.startswith("effective propulsion range at"))
+    assert not rng.passed and 0 < rng.value < math.pi / 2
+    assert "backfill" in r.cause and "2 acos" in r.cause
+    for panel in r.panels:
+        for line in panel.lines:
+            assert all(math.isfinite(y) for y in line.y)
+
+
+@pytest.mark.xfail(strict=True, reason="the wet law's linear speed factor makes saturated sand 2-12x stronger than the "
+                                       "dry reference at the blades' 0.1-0.7 m/s, so the robot is already ~1.4x "
+                                       "faster on it below 60 rpm (measured: without the speed factor the speeds "
+                                       "match); the paper finds them similar there")
+def test_sgrft_robot():
+    r = run_case("sgrft_robot", quick=True)
+    v = [y for line in r.panels[0].lines for y in line.y]
+    assert v and all(math.isfinite(y) and y > 0 for y in v)  # the robot runs forward on both grounds
+    assert "speed factor" in r.cause
+    outcomes(r)
