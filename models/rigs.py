@@ -50,7 +50,9 @@ is the one whose convex side leads):
 Defaults: Li 2013's leg rotation rig for ``flat``/``c``/``reversed_c`` (legs 7.62 cm hip to tip,
 2.54 cm wide, 0.64 cm thick, axle 2 cm above the surface) and the hybrid paper's rig for
 ``semi_ellipse`` (a = b = 4.5 cm, axle 5 cm above the surface; width 2.54 cm and thickness 0.64 cm
-are our assumptions, the paper's reference values give neither).
+are our assumptions, the paper's reference values give neither); the ``propeller``'s axle is 8 cm above the
+surface (its 11 cm radius less the 30 mm sinkage of SGRFT's fast leg tests), its blades as wide and thick as
+the other legs unless given (SGRFT's validation case passes its 25 x 2 mm).
 
 Curved legs are one closed triangle mesh (geom ``leg``, mesh asset ``leg``, built by
 :func:`mjrft.geometry.curved_leg.leg_mesh`), not the chain of boxes the robots use: the boxes' end
@@ -94,6 +96,7 @@ SECTION_SHAPES = ("v_section", "triangle_section")
 PROPELLER_RADIUS = 0.110
 PROPELLER_ARC = 0.5
 PROPELLER_BLADES = 3
+PROPELLER_SINKAGE = 0.030  # default tip sinkage on the rig: SGRFT's 30 / 40 rpm leg tests (sec. 3.2)
 ALUMINIUM = 2700.0  # kg/m^3, only for the (unused) inertia of the kinematic bodies
 RIG_RESOLUTION = 0.005
 NO_CONTACT = 'contype="0" conaffinity="0"'
@@ -289,7 +292,10 @@ def propeller_geometry(radius: float = PROPELLER_RADIUS, arc: float = PROPELLER_
 
 
 def default_axle_height(shape: str) -> float:
-    """Axle height above the surface (m) when none is given: 2 cm (Li 2013) or 5 cm (``semi_ellipse``)."""
+    """Axle height above the surface (m) when none is given: 2 cm (Li 2013), 5 cm (``semi_ellipse``), or for the
+    ``propeller`` its radius less SGRFT's 30 mm sinkage of the fast leg tests (8 cm; sec. 3.2)."""
+    if shape == "propeller":
+        return PROPELLER_RADIUS - PROPELLER_SINKAGE
     return HYBRID_AXLE_HEIGHT if shape == "semi_ellipse" else LI_AXLE_HEIGHT
 
 

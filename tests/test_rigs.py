@@ -16,7 +16,7 @@ from mjrft.geometry.curved_leg import (arc_length, arc_points, curved_leg_boxes,
                                        semi_ellipse_mesh, semi_ellipse_points)
 from mjrft.laws.hybrid import LEG_A, LEG_FAMILY, G, HybridModel, rotating_leg_profile, semi_ellipse_leg
 from mjrft.models import MODEL_NAMES, model_path
-from mjrft.models.rigs import LEG_SHAPES, PLATE_LENGTH, PLATE_THICKNESS, PLATE_WIDTH, leg_rig_model
+from mjrft.models.rigs import LEG_SHAPES, default_axle_height, PLATE_LENGTH, PLATE_THICKNESS, PLATE_WIDTH, leg_rig_model
 
 COARSE = dict(resolution=0.005)
 LEG_FAST = dict(resolution=0.005, dtheta=0.03)
@@ -177,7 +177,7 @@ def test_every_leg_shape_runs_through_the_rig(shape):
     assert np.abs(p.support).max() > 0.5
     assert p.torque.max() > 0 and np.trapezoid(p.torque, p.angle) > 0  # work done on the grains
     h = p.settings["axle_height"]
-    assert h == (0.05 if shape == "semi_ellipse" else 0.02)
+    assert h == default_axle_height(shape)
     assert p.depth.max() >= p.settings["length"] - h  # the tip passes straight down
 
 

@@ -105,13 +105,16 @@ def propeller_leg(quick: bool) -> CaseResult:
     eff = np.array([rng[d][0] for d in depths])
     contact = np.array([rng[d][1] for d in depths])
     r30, r40 = RPM_RIG
+    d15 = _v("full_range_depth")
+    i15 = int(np.argmin(np.abs(np.asarray(depths) - d15)))
+    # sec. 4.1's other reading of the blade ("the radian of the foot is 0.5 pi rad"), at 15 mm
+    alt = None if quick else _ranges(_propeller(r30, depths[i15], quick, blades=1, arc=_v("propeller_arc_text"),
+                                                water=False))
     grow_depth = all(np.all(np.diff([peaks[(r, d)] for d in depths]) > 0) for r in RPM_RIG)
     grow_speed = all(peaks[(r40, d)] > peaks[(r30, d)] for d in depths)
     d_ref = _v("leg_fast", "sgrft")["sinkage"]
     d_ref = d_ref if d_ref in depths else depths[-1]
     change = peaks[(r40, d_ref)] / peaks[(r30, d_ref)] - 1
-    d15 = _v("full_range_depth")
-    i15 = int(np.argmin(np.abs(np.asarray(depths) - d15)))
     theo = _v("theoretical_propulsion_range")
     lim = _v("insensitive_change_max", "sgrft")
     shallow = [i for i, d in enumerate(depths) if d < d15]
@@ -179,7 +182,10 @@ def propeller_leg(quick: bool) -> CaseResult:
                  f"{2 * math.acos(1 - depths[i15] / radius):.2f} rad, plus the blade's own spread about the axle; pi rad "
                  "at 15 mm is reachable only with the axle at or below the surface (a straight blade from an axle on "
                  "the surface is buried over exactly pi), so the paper's 'depth' in fig. 10 is most likely not the tip "
-                 "sinkage (the lost figure would say). Shallow shortfall: mjrft's effective range is "
+                 "sinkage (the lost figure would say)" + ("" if alt is None else
+                 f"; sec. 4.1's 0.5 pi rad blade instead of the caption's 0.5 rad propels over {math.degrees(alt[0]):.0f} "
+                 f"deg ({alt[0]:.2f} rad, in the sand {math.degrees(alt[1]):.0f} deg) at the same depth")
+                 + ". Shallow shortfall: mjrft's effective range is "
                  + ", ".join(f"{frac[i] * 100:.0f} %" for i in shallow)
                  + " of the range in the sand at " + ", ".join(f"{depths[i] * 1000:g}" for i in shallow)
                  + f" mm and {frac[i15] * 100:.0f} % at {depths[i15] * 1000:g} mm (the 10 % threshold trims the entry and "
@@ -298,8 +304,10 @@ def robot(quick: bool) -> CaseResult:
     cause = ""
     if not all(c.passed for c in checks if c.qualitative):
         tip = {r: r * 2 * math.pi / 60 * radius for r in rpms}
-        cause = (f"Below {rpm60:g} rpm mjrft's robot is already {min(ratio[(1.0, r)] for r in below):.2f}-"
-                 f"{max(ratio[(1.0, r)] for r in below):.2f}x faster on saturated sand. The wet law multiplies the sand's "
+        lo, hi = min(ratio[(1.0, r)] for r in below), max(ratio[(1.0, r)] for r in below)
+        cause = (f"Below {rpm60:g} rpm mjrft's robot is already " + (f"{lo:.2f}-{hi:.2f}" if hi - lo >= 0.005 else
+                                                                        f"{lo:.2f}") + "x faster on saturated sand. "
+                 "The wet law multiplies the sand's "
                  "stress by the paper's linear speed factor 1 + 0.16 (v - 30 mm/s) / 10 mm/s, which equals the dry "
                  "reference only at 25 mm/s; the blades' tips move at " + ", ".join(
                      f"{tip[r]:.2f} m/s (factor {float(speed_factor(tip[r])):.1f})" for r in below)
@@ -309,7 +317,8 @@ def robot(quick: bool) -> CaseResult:
             fr = {r: flat[r] / v_dry[(1.0, r)] for r in rpms}
             cause += ("Measured: the same saturated sand without the speed factor (law rft, zeta 0.47 vs the dry 0.432 "
                       "N/cm^3) runs at " + ", ".join(f"{fr[r]:.2f}" for r in rpms) + " x the dry speed at "
-                      + ", ".join(f"{r:g}" for r in rpms) + " rpm, so the speed factor is the whole difference. ")
+                      + ", ".join(f"{r:g}" for r in rpms) + " rpm, so the speed factor makes nearly all of the "
+                      "difference (the rest is the stronger zeta). ")
         cause += ("The paper's 'similar below 60 rpm' needs a saturated-sand resistance that stays near the dry one up "
                   "to blade speeds of ~0.7 m/s, 14x beyond its plate tests' 50 mm/s; its linear eps_v, fitted at "
                   "10-50 mm/s and used by SGRFT unchanged at leg speeds (sec. 3.2), cannot give that.")
