@@ -4,7 +4,8 @@
 them with ``python -m mjrft.models.generate``); the parametric generators
 ``hexapod_xml/hexapod_model``, ``biped_xml/biped_model`` and
 ``humanoid_xml/humanoid_model``, the rigs' ``plate_rig_xml/leg_rig_xml`` and the shoal scene's
-``hexapod_shoal_xml/hexapod_shoal_model`` are re-exported here (imported lazily).
+``hexapod_shoal_xml/hexapod_shoal_model`` and SGRFT's propeller-leg robot
+``propeller_robot_xml/propeller_robot_model`` are re-exported here (imported lazily).
 """
 
 from __future__ import annotations
@@ -36,6 +37,7 @@ _LAZY = {
     "humanoid_xml": "humanoid", "humanoid_model": "humanoid",
     "plate_rig_xml": "rigs", "leg_rig_xml": "rigs",
     "hexapod_shoal_xml": "shoal", "hexapod_shoal_model": "shoal",
+    "propeller_robot_xml": "propeller_robot", "propeller_robot_model": "propeller_robot",
 }
 
 __all__ = ["MODEL_NAMES", "model_path", *_LAZY]
