@@ -47,8 +47,11 @@ Choices where the papers are silent
   RHex experiments. The legs always turn the forward-walking way (positive hip angle, the buried part
   sweeping backward), the rotation for which a positive ``curvature`` is Li 2013's C-leg leading with
   its convex side and a negative one the reversed C-leg (:mod:`mjrft.geometry.curved_leg`). Tripod A
-  (lf, rm, lr) has phase 0, tripod B phase ``offset`` (cycles, default 0.5); at ``t = 0`` tripod A is
-  mid-stance (legs down) and B catches up to its phase at full speed.
+  (lf, rm, lr) has phase ``phase`` at ``t = 0`` (cycles, default 0: mid-stance, legs down), tripod B
+  ``phase + offset`` (``offset`` default 0.5). The env starts with every leg down, so B (and A when
+  ``phase`` is not 0) catches up to its phase at full speed; :func:`tripod_angles` gives the gait's pose
+  at any time, to start a robot on it instead (as Li 2013's simulation started its trials, each at a
+  different phase).
   A spec whose stance or swing speed exceeds the env's ``max_hip_speed`` is rejected.
 * **rect.** The foot centre (the ankle axis: the round foot's axis) moves relative to the hip on a
   rectangle ``length`` x ``height`` whose bottom edge is ``depth`` below the hip, centred under the
@@ -209,6 +212,15 @@ def buehler_angle(x: float, duty: float, sweep: float) -> float:
     return 2.0 * math.pi * n + a
 
 
+def tripod_angles(env, t: float, f: float, duty: float = 0.5, sweep: float = math.pi, offset: float = 0.5,
+                  phase: float = 0.0) -> np.ndarray:
+    """Hip angles (rad, unwrapped, the hexapod env's actuator order) of the ``tripod`` gait at time ``t``:
+    tripod A at ``phase + f t`` cycles, tripod B (``env.TRIPOD_B_IDX``) ``offset`` cycles later."""
+    cycles = np.full(6, phase + f * t)
+    cycles[list(env.TRIPOD_B_IDX)] += offset
+    return np.array([buehler_angle(c, duty, sweep) for c in cycles])
+
+
 def _build_tripod(env, p: dict) -> Callable[[float], np.ndarray]:
     f, duty, sweep, offset = p["f"], p["duty"], p["sweep"], p["offset"]
     ms, dt = float(env._max_hip_speed), float(env.dt)
@@ -219,11 +231,8 @@ def _build_tripod(env, p: dict) -> Callable[[float], np.ndarray]:
         raise ValueError(f"gait 'tripod' f={f:g}, duty={duty:g}, sweep={sweep:g} needs a hip speed of "
                          f"{need:.2f} rad/s (stance {stance_speed:.2f}, swing {swing_speed:.2f}), above the env's "
                          f"max_hip_speed {ms:.2f} rad/s; lower f, or move duty toward sweep / (2 pi)")
-    phase = np.zeros(6)
-    phase[list(env.TRIPOD_B_IDX)] = offset
-
     def act(t: float) -> np.ndarray:
-        ref = np.array([buehler_angle(f * (t + dt) + ph, duty, sweep) for ph in phase])
+        ref = tripod_angles(env, t + dt, f, duty, sweep, offset, p["phase"])
         err = ref - env._target
         # whole turns do not matter: bring the error into [-pi/2, 3 pi/2) (catch up forward)
         err = np.mod(err + 0.5 * np.pi, 2.0 * np.pi) - 0.5 * np.pi
@@ -255,7 +264,8 @@ def biped_leg_ik(x: float, z: float, thigh: float, link: float, shank: float) ->
 
 def rect_path(s: float, length: float, height: float, duty: float, presentation: float,
               depth: float, x0: float = 0.0) -> tuple[float, float, float]:
-    """Foot centre (x, z) relative to the hip and foot pitch (rad) at cycle fraction ``s`` in [0, 1)."""
+    """Sole centre (x, z) relative to the hip and foot pitch (rad, positive toe-down) at cycle fraction
+    ``s`` in [0, 1) of the ``rect`` gait (see the module docstring; ``duty`` > 1/2)."""
     x, z, pitch = _rect_path(s, length, height, duty, presentation, depth)
     return x + x0, z, pitch
 
@@ -266,52 +276,62 @@ def _rect_path(s, length, height, duty, presentation, depth):
     per = swing / (2.0 * height + length)  # cycle fraction per metre of swing path
     t_up, t_top = height * per, length * per
     zb, zt = -depth, -depth + height
+    level = duty - 0.5  # the other foot lifts here (legs half a cycle apart): the foot is level again
+    turn = t_top + t_up  # top edge + intrusion: the toe turns at constant rate from 0 to the presentation angle
     if s < duty:  # stance: front to back along the bottom edge
-        u = s / duty
-        pitch = presentation * (1.0 - min(u / 0.25, 1.0))
-        return half - length * u, zb, pitch
+        return half - length * s / duty, zb, presentation * max(0.0, 1.0 - s / level)
     s -= duty
-    if s < t_up:  # lift along the rear edge
+    if s < t_up:  # lift along the rear edge, foot level
         return -half, zb + height * s / t_up, 0.0
     s -= t_up
-    if s < t_top:  # forward along the top edge, turning the toe to the presentation angle
-        u = s / t_top
-        return -half + length * u, zt, presentation * u
+    pitch = presentation * min(s / turn, 1.0)
+    if s < t_top:  # forward along the top edge
+        return -half + length * s / t_top, zt, pitch
     s -= t_top  # intrusion down the front edge
-    u = min(s / t_up, 1.0)
-    return half, zt - height * u, presentation
+    return half, zt - height * min(s / t_up, 1.0), pitch
 
 
 def _build_rect(env, p: dict) -> Callable[[float], np.ndarray]:
     from mjrft.models import biped as bm
 
     period, length, height, duty = p["period"], p["length"], p["height"], p["duty"]
-    angle, depth, x0 = math.radians(p["angle"]), p["depth"], p["x0"]
-    for x, z in ((x0 + length / 2, -depth), (x0 - length / 2, -depth), (x0, -depth + height),
-                 (x0 + length / 2, -depth + height), (x0 - length / 2, -depth + height)):
+    angle, depth, x0, start = math.radians(p["angle"]), p["depth"], p["x0"], p["start"]
+    m = env.model
+    # the ankle axis above the sole centre, in the foot frame (the model's <side>_sole site)
+    ankle = {side: -float(m.site_pos[m.site(f"{side}_sole").id][2]) for side in ("left", "right")}
+
+    def leg(side: str, s: float) -> tuple[float, float, float]:
+        x, z, pitch = rect_path(s, length, height, duty, angle, depth, x0)
+        a = ankle[side]
+        hip, knee = biped_leg_ik(x + a * math.sin(pitch), z + a * math.cos(pitch), bm.THIGH, bm.KNEE_LINK, bm.SHANK)
+        return hip, knee, pitch
+
+    for s in np.linspace(0.0, 1.0, 241):
         try:
-            biped_leg_ik(x, z, bm.THIGH, bm.KNEE_LINK, bm.SHANK)
+            leg("left", s % 1.0)
         except ValueError as exc:
-            raise ValueError(f"gait 'rect' length={length:g}, height={height:g}, depth={depth:g}: {exc}; "
-                             "use a shorter rectangle or a smaller depth") from None
+            raise ValueError(f"gait 'rect' length={length:g}, height={height:g}, depth={depth:g}, angle={p['angle']:g}: "
+                             f"{exc}; use a shorter rectangle, a smaller depth or angle") from None
     index = _actuator_index(env)
     lo, hi = bm.RANGES["knee_upper"]
-    if "rooty" in {env.model.joint(j).name for j in range(env.model.njnt)}:
+    q0 = env.action_to_ctrl(np.zeros(m.nu))  # the initial pose's joint targets
+    if "rooty" in {m.joint(j).name for j in range(m.njnt)}:
         warnings.warn("gait 'rect' drives a biped whose torso pitch is free; the reference gait study held "
                       "the pitch (make the env with pitch_free=False), open loop it tips over", GaitWarning,
                       stacklevel=4)
 
     def act(t: float) -> np.ndarray:
+        t = t + env.dt
+        w = _smooth(t / start) if start > 0 else 1.0
         targets = {}
         for side, ph in (("left", 0.0), ("right", 0.5)):
-            s = ((t + env.dt) / period + ph) % 1.0
-            x, z, pitch = rect_path(s, length, height, duty, angle, depth, x0)
-            hip, knee = biped_leg_ik(x, z, bm.THIGH, bm.KNEE_LINK, bm.SHANK)
+            hip, knee, pitch = leg(side, (t / period + ph) % 1.0)
             k = min(max(knee / 2.0, lo), hi)
-            targets[f"{side}_hip"] = hip
-            targets[f"{side}_knee_upper"] = k
-            targets[f"{side}_knee_lower"] = k
-            targets[f"{side}_ankle"] = pitch - (hip + 2.0 * k)  # foot pitch in the (upright) torso frame
+            joint = {"hip": hip, "knee_upper": k, "knee_lower": k,
+                     "ankle": pitch - (hip + 2.0 * k)}  # foot pitch in the (upright) torso frame
+            for j, v in joint.items():
+                name = f"{side}_{j}"
+                targets[name] = q0[index[name]] + w * (v - q0[index[name]])
         return _joint_targets_to_action(env, index, targets)
 
     return act
@@ -371,8 +391,18 @@ def _build_stand(env, p: dict) -> Callable[[float], np.ndarray]:
     return act
 
 
-# fractions of a step (the shift gait): lift, swing forward, intrusion, CoM shift; the rest is a hold
-LIFT, SWING, INTRUDE, SHIFT = 0.15, 0.20, 0.20, 0.30
+# fractions of a step (the shift gait): lift, swing forward, intrusion; the partial CoM shift that starts
+# during the intrusion and the double-support shift that completes it; the rest is a hold
+LIFT, SWING, INTRUDE, PARTIAL, DOUBLE = 0.15, 0.20, 0.20, 0.05, 0.25
+
+
+def shift_fraction(s: float, start: float, amount: float) -> float:
+    """How far (0..1) the pelvis has moved from over the stance foot toward the stepping foot at ``s``
+    (fraction of the step): ``amount`` of the way over ``PARTIAL`` from ``start`` of the intrusion, the rest
+    over ``DOUBLE`` once the intrusion and the partial shift are over (double support)."""
+    s0 = LIFT + SWING + start * INTRUDE
+    s1 = max(LIFT + SWING + INTRUDE, s0 + PARTIAL)
+    return amount * _smooth((s - s0) / PARTIAL) + (1.0 - amount) * _smooth((s - s1) / DOUBLE)
 
 
 def shift_pose(t: float, p: dict) -> tuple[dict[str, tuple[float, float, float]], float]:
@@ -394,30 +424,40 @@ def shift_pose(t: float, p: dict) -> tuple[dict[str, tuple[float, float, float]]
     k = int(k)
     swing_side, stance_side = ("left", "right") if k % 2 == 0 else ("right", "left")
     sign = 1.0 if swing_side == "left" else -1.0  # pelvis moves toward +y when the left foot steps
-    x0_swing = -step / 2.0 if k > 0 else 0.0
-    x0_stance = step / 2.0 if k > 0 else 0.0
-    # swing foot
+    # world x along the walk: the stance foot at k * step, the swing foot from one step behind it (alongside
+    # on the first step) to one step ahead; the pelvis from over the stance foot to over the new foothold
+    x_stance = k * step
+    x0_swing = x_stance - step if k > 0 else 0.0
     if s < LIFT:
         xs, zs = x0_swing, -h + lift * _smooth(s / LIFT)
     elif s < LIFT + SWING:
-        xs, zs = x0_swing + (step / 2.0 - x0_swing) * _smooth((s - LIFT) / SWING), -h + lift
+        xs, zs = x0_swing + (x_stance + step - x0_swing) * _smooth((s - LIFT) / SWING), -h + lift
     else:
-        xs = step / 2.0
+        xs = x_stance + step
         zs = -h + lift - (lift + depth) * _smooth((s - LIFT - SWING) / INTRUDE)
-    # stance foot slides back while the swing foot is in the air and intruding
-    xt = x0_stance + (-step / 2.0 - x0_stance) * _smooth(s / (LIFT + SWING + INTRUDE))
-    zt = -h
-    # pelvis: over the stance foot, then toward the stepping foot from `shift` of the intrusion
-    s0 = LIFT + SWING + p["shift"] * INTRUDE
-    y_p = sign * sway * (2.0 * _smooth((s - s0) / SHIFT) - 1.0)
-    feet = {swing_side: (xs, -y_p, zs), stance_side: (xt, -y_p, zt)}
+    frac = shift_fraction(s, p["start"], p["amount"])
+    x_p = x_stance + frac * step
+    y_p = sign * sway * (2.0 * frac - 1.0)
+    feet = {swing_side: (xs - x_p, -y_p, zs), stance_side: (x_stance - x_p, -y_p, -h)}
     return feet, y_p
+
+
+def shift_load(t: float, p: dict) -> tuple[str, float]:
+    """The stance foot of the ``shift`` gait at ``t`` and the weight (0..1) of its one-leg feed-forward:
+    it grows with the pelvis moving over the right foot in the first half step and with the swing foot's
+    lift, and falls as the pelvis moves over to the new foothold."""
+    T = p["period"]
+    if t < 0.5 * T:
+        return "right", _smooth(t / (0.5 * T))
+    k, s = divmod((t - 0.5 * T) / T, 1.0)
+    stance = "right" if int(k) % 2 == 0 else "left"
+    return stance, min(_smooth(s / LIFT) if k > 0 else 1.0, 1.0 - shift_fraction(s, p["start"], p["amount"]))
 
 
 def _build_shift(env, p: dict) -> Callable[[float], np.ndarray]:
     thigh, shank = _humanoid_dims()
     h = _leg_height(p["crouch"], thigh, shank)
-    reach = math.hypot(p["step"] / 2.0, math.hypot(h + p["depth"], p["sway"]))
+    reach = math.hypot(p["step"], math.hypot(h + p["depth"], p["sway"]))
     if reach > (thigh + shank) * 0.9995:
         raise ValueError(f"gait 'shift' step={p['step']:g}, depth={p['depth']:g}, sway={p['sway']:g} with "
                          f"crouch={p['crouch']:g} needs {reach:.3f} m of leg, more than {thigh + shank:.3f} m; "
@@ -430,6 +470,107 @@ def _build_shift(env, p: dict) -> Callable[[float], np.ndarray]:
         for side, (x, y, z) in feet.items():
             for j, v in humanoid_leg_ik(x, y, z, thigh, shank).items():
                 targets[f"{side}_{j}"] = v
+        stance, w = shift_load(t + env.dt, p)
+        if w > 0.0:  # the servos of the loaded leg aimed past the pose (humanoid_static_targets)
+            held = humanoid_static_targets(env.model, targets, stance)
+            targets = {k: targets.get(k, 0.0) + w * (v - targets.get(k, 0.0)) for k, v in held.items()}
+        return _joint_targets_to_action(env, index, targets)
+
+    return act
+
+
+# ----------------------------------------------------------------------------- one-leg stance (humanoid)
+
+#: seconds of the ``stance`` gait's phases: bend the knees, move the CoM over the right foot, lift the left
+STANCE_CROUCH, STANCE_SHIFT, STANCE_LIFT = 1.0, 2.0, 1.0
+
+
+def humanoid_com_sole(model, targets: dict[str, float], stance: str = "right") -> np.ndarray:
+    """Whole-body CoM minus the centre of the ``stance`` sole (x, y; m) for joint angles ``targets``
+    with the pelvis upright (the joints not named are at 0): :func:`mujoco.mj_kinematics` on a scratch
+    ``MjData``, so it uses the model's real masses and foot plates."""
+    import mujoco
+
+    d = mujoco.MjData(model)
+    for name, v in targets.items():
+        d.qpos[model.jnt_qposadr[model.joint(name).id]] = v
+    mujoco.mj_kinematics(model, d)
+    mujoco.mj_comPos(model, d)
+    root = model.body("pelvis").id
+    return d.subtree_com[root, :2] - d.site_xpos[model.site(f"{stance}_sole").id, :2]
+
+
+def humanoid_static_targets(model, targets: dict[str, float], stance: str = "right") -> dict[str, float]:
+    """Servo targets that hold the joint angles ``targets`` at rest with the ``stance`` foot carrying the
+    robot: each position servo (``kp``) is aimed past its angle by ``tau / kp``, ``tau`` the joint torque
+    of the static pose (:func:`mujoco.mj_inverse` with zero velocity and acceleration; the free joint's
+    force and torque are carried by a wrench on the stance foot, solved from the free joint's 6 rows).
+    Without it the 1500 N m/rad hip servos give way by ~0.03 rad under the one-leg load and put the CoM
+    ~4 cm outside the planned point (measured on ``HumanoidRigid-v0``)."""
+    import mujoco
+
+    d = mujoco.MjData(model)
+    for name, v in targets.items():
+        d.qpos[model.jnt_qposadr[model.joint(name).id]] = v
+    mujoco.mj_forward(model, d)
+    d.qacc[:] = 0.0
+    mujoco.mj_inverse(model, d)
+    foot = model.body(f"{stance}_foot").id
+    jp, jr = np.zeros((3, model.nv)), np.zeros((3, model.nv))
+    mujoco.mj_jacBody(model, d, jp, jr, foot)
+    jac = np.vstack([jp, jr])  # (6, nv): the foot wrench's generalised force is jac.T @ wrench
+    wrench = np.linalg.solve(jac[:, :6].T, d.qfrc_inverse[:6])
+    tau = d.qfrc_inverse - jac.T @ wrench
+    out = {}
+    for i in range(model.nu):
+        j = model.actuator_trnid[i, 0]
+        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, j)
+        q = targets.get(name, 0.0)
+        out[name] = q + tau[model.jnt_dofadr[j]] / model.actuator_gainprm[i, 0]
+    return out
+
+
+def stance_pose(model, p: dict) -> tuple[float, float]:
+    """Pelvis offset ``(x, y)`` from the stance (right) foot's hip-aligned position that puts the CoM
+    ``(com_x, com_y)`` from the centre of the right sole in the one-leg pose of ``p`` (left foot lifted
+    by ``lift``; both feet keep their places on the ground, the pelvis moves). Solved by fixed-point
+    iteration on :func:`humanoid_com_sole` to 0.1 mm."""
+    thigh, shank = _humanoid_dims()
+    h = _leg_height(p["crouch"], thigh, shank)
+    off = np.zeros(2)
+    want = np.array([p["com_x"], p["com_y"]])
+    for _ in range(60):
+        targets = {}
+        for side, dz in (("right", 0.0), ("left", p["lift"])):
+            for j, v in humanoid_leg_ik(-off[0], -off[1], -h + dz, thigh, shank).items():
+                targets[f"{side}_{j}"] = v
+        err = want - humanoid_com_sole(model, targets)
+        off += err
+        if np.all(np.abs(err) < 1e-4):
+            return float(off[0]), float(off[1])
+    raise ValueError(f"gait 'stance': no pelvis position puts the CoM at ({p['com_x']:g}, {p['com_y']:g}) m from "
+                     f"the right sole with crouch={p['crouch']:g}, lift={p['lift']:g} (last error {err} m)")
+
+
+def _build_stance(env, p: dict) -> Callable[[float], np.ndarray]:
+    thigh, shank = _humanoid_dims()
+    h = _leg_height(p["crouch"], thigh, shank)
+    ox, oy = stance_pose(env.model, p)
+    index = _actuator_index(env)
+
+    def act(t: float) -> np.ndarray:
+        t = t + env.dt
+        hc = _leg_height(p["crouch"] * _smooth(t / STANCE_CROUCH), thigh, shank)
+        u = _smooth((t - STANCE_CROUCH) / STANCE_SHIFT)
+        lift = p["lift"] * _smooth((t - STANCE_CROUCH - STANCE_SHIFT) / STANCE_LIFT)
+        targets = {}
+        for side, dz in (("right", 0.0), ("left", lift)):
+            for j, v in humanoid_leg_ik(-ox * u, -oy * u, -(hc if t < STANCE_CROUCH else h) + dz, thigh,
+                                        shank).items():
+                targets[f"{side}_{j}"] = v
+        if u > 0.0:  # the right foot takes the load as the CoM moves over it: aim the servos past the pose
+            held = humanoid_static_targets(env.model, targets)
+            targets = {k: targets.get(k, 0.0) + u * (v - targets.get(k, 0.0)) for k, v in held.items()}
         return _joint_targets_to_action(env, index, targets)
 
     return act
@@ -451,6 +592,7 @@ GAITS: dict[str, GaitDef] = {
                            True, True),
             "offset": Param(0.5, "cycles", "phase offset of tripod B (rf, lm, rr) after tripod A", 0.0, 1.0,
                             high_open=True),
+            "phase": Param(0.0, "cycles", "phase of tripod A at t = 0 (0: mid-stance)", 0.0, 1.0, high_open=True),
         },
         _build_tripod,
     ),
@@ -460,10 +602,14 @@ GAITS: dict[str, GaitDef] = {
             "period": Param(6.0, "s", "cycle period", 0.0, math.inf, low_open=True),
             "length": Param(0.16, "m", "rectangle length (stride)", 0.0, math.inf, low_open=True),
             "height": Param(0.03, "m", "rectangle height (foot lift)", 0.0, math.inf, low_open=True),
-            "duty": Param(5 / 8, "-", "fraction of the period on the bottom edge", 0.0, 1.0, True, True),
+            "duty": Param(5 / 8, "-", "fraction of the period on the bottom edge (> 1/2: a double support)",
+                          0.5, 1.0, True, True),
             "angle": Param(0.0, "deg", "presentation angle on intrusion, positive toe-down", -90.0, 90.0),
-            "depth": Param(0.14, "m", "bottom edge below the hip axis", 0.0, math.inf, low_open=True),
+            "depth": Param(0.14, "m", "bottom edge (sole centre) below the hip axis", 0.0, math.inf,
+                           low_open=True),
             "x0": Param(0.0, "m", "rectangle centre ahead of the hip axis", -0.2, 0.2),
+            "start": Param(1.0, "s", "joint targets blend from the initial pose into the gait over this time",
+                           0.0, math.inf),
         },
         _build_rect,
     ),
@@ -472,13 +618,25 @@ GAITS: dict[str, GaitDef] = {
         {"crouch": Param(0.0, "rad", "knee bend of the posture", 0.0, 2.0)},
         _build_stand,
     ),
+    "stance": GaitDef(
+        "stance", "humanoid", _HUMANOID, "one-leg stance: CoM over the right sole, left foot lifted (open loop)",
+        {
+            "crouch": Param(0.3, "rad", "knee bend of the posture", 0.0, 2.0),
+            "lift": Param(0.05, "m", "height the left foot is lifted to", 0.0, 0.3),
+            "com_x": Param(0.0, "m", "CoM target ahead of the right sole's centre", -0.2, 0.2),
+            "com_y": Param(0.0, "m", "CoM target left of the right sole's centre", -0.2, 0.2),
+        },
+        _build_stance,
+    ),
     "shift": GaitDef(
         "shift", "humanoid", _HUMANOID, "centre-of-mass shifting walk for the humanoid",
         {
-            "shift": Param(0.5, "-", "CoM shift start as a fraction of the stepping foot's intrusion phase",
-                           0.0, 1.0),
+            "start": Param(0.65, "-", "start of the partial CoM shift, as a fraction of the stepping foot's "
+                           "intrusion phase", 0.0, 1.0),
+            "amount": Param(0.3, "-", "partial CoM shift during the intrusion, as a fraction of the distance "
+                            "between the stance foot and the stepping foot (0: the hard-ground gait)", 0.0, 1.0),
             "period": Param(6.0, "s", "duration of one step", 0.0, math.inf, low_open=True),
-            "step": Param(0.05, "m", "step length (foot travel relative to the pelvis)", 0.0, 0.5),
+            "step": Param(0.05, "m", "step length (distance between consecutive footholds)", 0.0, 0.5),
             "lift": Param(0.03, "m", "swing foot lift", 0.0, 0.3),
             "sway": Param(0.10, "m", "sideways pelvis shift to either side of centre", 0.0, 0.25),
             "depth": Param(0.01, "m", "intrusion target below the standing sole level", 0.0, 0.1),

@@ -40,13 +40,13 @@ def run(env, gait, seconds):
 def test_parse_specs():
     assert parse_gait_spec("tripod") == ("tripod", {})
     assert parse_gait_spec("tripod:f=2.5, duty=0.6") == ("tripod", {"f": 2.5, "duty": 0.6})
-    assert parse_gait_spec(" shift:shift=0.25 ") == ("shift", {"shift": 0.25})
+    assert parse_gait_spec(" shift:start=0.25 ") == ("shift", {"start": 0.25})
     assert parse_gait_spec("rect:angle=-30") == ("rect", {"angle": -30.0})
-    assert set(GAITS) == {"tripod", "rect", "stand", "shift"}
+    assert set(GAITS) == {"tripod", "rect", "stand", "stance", "shift"}
 
 
 @pytest.mark.parametrize("spec, match", [
-    ("gallop", r"unknown gait 'gallop'; valid choices: rect, shift, stand, tripod"),
+    ("gallop", r"unknown gait 'gallop'; valid choices: rect, shift, stance, stand, tripod"),
     ("tripod:g=2", r"no parameter 'g'; valid parameters: f, duty, sweep, offset"),
     ("tripod:f=fast", r"f='fast' is not a number"),
     ("tripod:f", r"expected key=value.*valid parameters: f, duty"),
@@ -54,9 +54,9 @@ def test_parse_specs():
     ("tripod:duty=1", r"duty=1.0 out of range; valid: \(0, 1\)"),
     ("tripod:f=nan", r"out of range"),
     ("tripod:f=1,f=2", r"given twice"),
-    ("shift:shift=1.5", r"shift=1.5 out of range; valid: \[0, 1\]"),
+    ("shift:start=1.5", r"start=1.5 out of range; valid: \[0, 1\]"),
     ("rect:angle=120", r"angle=120.0 out of range"),
-    ("", r"valid gaits: rect, shift, stand, tripod"),
+    ("", r"valid gaits: rect, shift, stance, stand, tripod"),
 ])
 def test_bad_specs_name_the_valid_choices(spec, match):
     with pytest.raises(ValueError, match=match):
@@ -64,7 +64,7 @@ def test_bad_specs_name_the_valid_choices(spec, match):
 
 
 def test_is_gait_spec():
-    assert is_gait_spec("tripod") and is_gait_spec("tripod:f=2") and is_gait_spec("shift:shift=0.5")
+    assert is_gait_spec("tripod") and is_gait_spec("tripod:f=2") and is_gait_spec("shift:start=0.5")
     assert is_gait_spec("tripod:f=oops")  # a gait spec (that will fail to parse), not a path
     assert not is_gait_spec("runs/hex/model.zip")
     assert not is_gait_spec("tripod.zip")
@@ -134,7 +134,7 @@ def test_humanoid_ik_and_shift_timing():
     T = p["period"]
     # pelvis over the right foot before the first step, moving left only after `shift` of the intrusion
     for shift in (0.0, 0.5, 1.0):
-        p["shift"] = shift
+        p["start"] = shift
         start = T / 2 + T * (0.15 + 0.20 + shift * 0.20)
         assert shift_pose(start - 1e-6, p)[1] == pytest.approx(-p["sway"])
         assert shift_pose(start + 0.1, p)[1] > -p["sway"]
@@ -203,11 +203,11 @@ def test_stand_holds_the_humanoid_on_sand():
 def test_shift_walk_runs_on_the_humanoid():
     env = gymnasium.make("mjrft/HumanoidRigid-v0", max_episode_steps=10_000)
     gait = make_gait("shift", env)
-    u, terminated, _ = run(env, gait, 7.0)  # the first half step, a whole step and the CoM shift
+    u, terminated, _ = run(env, gait, 8.5)  # the first half step, a whole step and the CoM shift
     assert not terminated
     assert u.data.subtree_com[1, 1] > 0.03  # the CoM went over to the left (stepping) foot
     env.close()
     env = gymnasium.make("mjrft/HumanoidSand-v0", max_episode_steps=10_000)
-    u, terminated, info = run(env, make_gait("shift:shift=0.2", env), 1.0)
+    u, terminated, info = run(env, make_gait("shift:start=0.2", env), 1.0)
     assert info["sinkage"].min() > 0  # both feet in the sand, CoM moving over the right foot
     env.close()
