@@ -20,8 +20,9 @@ rect       biped (BipedSand/Rigid)     each foot centre traces a rectangle (16 x
                                        the bottom edge) with a toe presentation angle ``angle``
 stand      humanoid (HumanoidSand/     hold a (crouched) standing posture
            Rigid)
-shift      humanoid                    quasi-static walk that shifts the CoM toward the stepping
-                                       foot once ``shift`` of its intrusion phase has passed
+stance     humanoid                    one-foot stance: CoM over the right sole, left foot lifted
+shift      humanoid                    quasi-static walk that shifts the CoM ``amount`` toward the
+                                       stepping foot from ``start`` of its intrusion phase
 =========  ==========================  ============================================================
 
 ``mjrft.gaits.describe()`` lists every gait with its parameters, defaults and units.
@@ -62,19 +63,28 @@ Choices where the papers are silent
   equally. Foot pitch: flat in stance; turns linearly to the presentation ``angle`` (degrees,
   positive toe-down) along the top edge, holds it during the intrusion and returns to flat over the
   first quarter of the stance. Torso pitch is not compensated (open loop).
-* **stand / shift.** Joint targets come from leg inverse kinematics in the pelvis frame (feet flat,
-  pelvis assumed upright). ``crouch`` is the knee bend (rad) of the posture; ``stand`` bends the knees
-  from the straight initial pose over its first second (a sudden crouch throws the robot over).
-  ``shift``: the first half step bends the knees and moves the pelvis over the right foot; then each
-  step of ``period`` seconds lifts the swing foot by ``lift`` (15% of the step), carries it forward to
-  ``+step/2`` (20%), intrudes it down to ``depth`` below the standing sole level (20%: the intrusion
-  phase) while the stance foot slides back to ``-step/2``, and moves the pelvis sideways from over the
-  stance foot to over the stepping foot (``sway`` m to either side of centre, in 30% of the step),
-  starting at ``shift`` of the intrusion phase (0: as the intrusion starts; 1: once the foot is fully
-  down, the hard-ground gait); the rest of the step holds. The left foot steps first. Defaults are
-  slow (6 s steps) because the gait is quasi-static: measured in this session it walks 12 s on
-  ``HumanoidRigid-v0``; on ``HumanoidSand-v0`` (15.2 cm feet, poppy seeds) the loaded stance foot
-  yields and the robot tips over in its first single support, ~3 s in (no feedback balances it).
+* **stand / stance / shift.** Joint targets come from leg inverse kinematics in the pelvis frame (feet
+  flat, pelvis assumed upright). ``crouch`` is the knee bend (rad) of the posture; ``stand`` bends the
+  knees from the straight initial pose over its first second (a sudden crouch throws the robot over).
+  ``stance`` (the thesis's one-foot stance test; HUBO was placed and left standing, open loop): bends
+  the knees (1 s), moves the pelvis so that the whole-body CoM is ``(com_x, com_y)`` from the centre of
+  the right sole (2 s; the pelvis offset is solved once from the model's kinematics,
+  :func:`stance_pose`), lifts the left foot by ``lift`` (1 s) and holds. While the right foot takes the
+  load, each servo is aimed past its angle by its static joint torque over ``kp``
+  (:func:`humanoid_static_targets`): without it the hip servos sag ~0.03 rad and the CoM lands ~4 cm
+  outside the planned point. ``shift``: the first half step bends the knees and moves the pelvis over
+  the right foot; then each step of ``period`` seconds lifts the swing foot by ``lift`` (15% of the
+  step), carries it from one ``step`` behind the stance foot (alongside on the first step) to one
+  ``step`` ahead (20%), intrudes it down to ``depth`` below the standing sole level (20%: the intrusion
+  phase). The pelvis moves from over the stance foot (``sway`` m to its side of centre, and over it
+  along x) toward the new foothold in two parts (:func:`shift_fraction`, after the thesis's HUBO gait):
+  ``amount`` of the way over 5% of the step from ``start`` of the intrusion phase, the rest over 25% once
+  the intrusion and that partial shift are over (double support). ``amount = 0`` is the hard-ground
+  gait (the CoM stays over the stance foot until both feet are down); the thesis's HUBO used
+  ``amount = 0.3`` with starts 0.6-0.8. The loaded leg's static sag is fed forward as in ``stance``.
+  The left foot steps first. Measured on ``HumanoidRigid-v0`` (15.2 cm feet, sway 0.1 m): the
+  hard-ground and the default shifted gait walk 16 s, 10 cm (two 5 cm steps). On ``HumanoidSand-v0``
+  the 30.4 cm boards fall in the first half step (``thesis_hubo_gait`` in ``mjrft validate``).
 * **rect on a pitch-free torso.** The reference gait study held the biped's torso pitch (sagittal
   plane, fore-aft and vertical only; pitch was free only in the balance study), so ``rect`` is meant
   for ``BipedSand(pitch_free=False)``: there it walks ~4 cm/s. On the default pitch-free biped it still
