@@ -14,6 +14,10 @@ class BipedSand(GranularMujocoEnv):
 
     Model: :func:`mjrft.models.biped_xml` (``foot``, ``foot_size``, ``foot_width``, ``sand``, ...);
     granular bodies ``left_foot right_foot``. Physics step 1 ms, default ``frame_skip = 10``.
+    Feet (``foot``): ``"cone"`` (default; the thesis robot's conical foot, circular sole 8.5 cm across),
+    ``"wedge"`` (the thesis simulation's 8.5 x 8.5 x 7.5 cm wedge) or ``"roller"`` (a cylinder lying
+    across); ``foot_size`` is the sole's diameter or length (m). The planarised robot of the thesis'
+    gait study held the torso pitch: ``pitch_free=False``.
 
     ## Action space
 
@@ -50,8 +54,10 @@ class BipedSand(GranularMujocoEnv):
 
     ## Termination and truncation
 
-    Unhealthy: torso (hip axis) height outside ``healthy_z_range`` (default (0.12, 0.6) m; standing
-    it is 0.2075 m above the surface) or torso pitch magnitude above ``max_tilt`` (default 1.0 rad).
+    Unhealthy: torso (hip axis) height outside ``healthy_z_range`` (default (0.05, 0.6) m; standing
+    straight-legged it is 0.2075 m above the surface, walking the ``rect`` gait 0.14 m minus the
+    sinkage; below 0.05 m the legs have folded and the torso, whose bottom is 1.5 cm below the hip
+    axis, is 3.5 cm from the sand) or torso pitch magnitude above ``max_tilt`` (default 1.0 rad).
     Truncation: ``max_episode_steps`` of the registration (1000 steps = 10 s), ``episode_seconds``.
 
     ## Info
@@ -63,9 +69,9 @@ class BipedSand(GranularMujocoEnv):
     foot_names = ("left_foot", "right_foot")
     default_camera_config = {"trackbodyid": 1, "distance": 1.2, "elevation": -10.0}
 
-    defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.5, "healthy_z_range": (0.12, 0.6), "max_tilt": 1.0}
+    defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.5, "healthy_z_range": (0.05, 0.6), "max_tilt": 1.0}
 
-    def __init__(self, sand: bool = True, *, foot: str = "round", foot_size: float = 0.085,
+    def __init__(self, sand: bool = True, *, foot: str = "cone", foot_size: float = 0.085,
                  pitch_free: bool = True, **kwargs):
         """Own arguments: ``foot``, ``foot_size``, ``pitch_free`` (:func:`mjrft.models.biped_xml`); the common
         ones are in :mod:`mjrft.envs.base` (defaults here: ``defaults``); any other keyword goes to

@@ -16,7 +16,7 @@ name       robot (environments)        what it does
 tripod     hexapod (HexapodSand/Rigid) alternating tripod, Buehler clock: stride frequency ``f``,
                                        duty factor ``duty``, stance sweep ``sweep``, tripod phase
                                        offset ``offset`` (Li 2013, RHex)
-rect       biped (BipedSand/Rigid)     each foot centre traces a rectangle (16 x 3 cm, 6 s, 5/8 on
+rect       biped (BipedSand/Rigid)     each sole centre traces a rectangle (16 x 3 cm, 6 s, 5/8 on
                                        the bottom edge) with a toe presentation angle ``angle``
 stand      humanoid (HumanoidSand/     hold a (crouched) standing posture
            Rigid)
@@ -54,15 +54,26 @@ Choices where the papers are silent
   at any time, to start a robot on it instead (as Li 2013's simulation started its trials, each at a
   different phase).
   A spec whose stance or swing speed exceeds the env's ``max_hip_speed`` is rejected.
-* **rect.** The foot centre (the ankle axis: the round foot's axis) moves relative to the hip on a
-  rectangle ``length`` x ``height`` whose bottom edge is ``depth`` below the hip, centred under the
-  hip. Order: bottom edge front to back (stance, fraction ``duty`` of ``period``, uniform speed), up
-  the rear edge, forward along the top, down the front edge (intrusion); the swing (``1 - duty``) is
-  shared among the three swing edges in proportion to their lengths (uniform speed along the swing
-  path). Legs are half a period apart. Inverse kinematics: the two knee servos split the knee bend
-  equally. Foot pitch: flat in stance; turns linearly to the presentation ``angle`` (degrees,
-  positive toe-down) along the top edge, holds it during the intrusion and returns to flat over the
-  first quarter of the stance. Torso pitch is not compensated (open loop).
+* **rect** (robophysics thesis, section 2.3.3 and fig. 9). The foot centre moves relative to the hip
+  on a rectangle ``length`` x ``height`` whose bottom edge is ``depth`` below the hip, centred under
+  the hip. The foot centre is the centre of the sole (the model's ``<side>_sole`` site): the thesis
+  measures the presentation angle as the angle of the toe tip about the foot centre, zero with the
+  foot level, so the centre lies on the sole, and the foot turns about it. Order: bottom edge front to
+  back (stance, fraction ``duty`` of ``period``, uniform speed), up the rear edge, forward along the
+  top, down the front edge (intrusion); the swing (``1 - duty``) is shared among the three swing
+  edges in proportion to their lengths (uniform speed along the swing path, as the thesis states).
+  Legs are half a period apart. Foot pitch (positive toe-down): level from the end of stance until
+  the foot is at its highest (the end of the lift), then turning at constant angular velocity to the
+  presentation ``angle`` (degrees), reached as the foot is fully intruded (end of the front edge);
+  in stance it returns to level at constant angular velocity while the other foot is still down
+  (the double support, the first ``duty - 1/2`` of the cycle), so ``duty`` must exceed 1/2. The
+  thesis leaves the foot's pitch during the lift unstated; we keep it level there. Inverse
+  kinematics: the two knee servos split the knee bend equally; torso pitch is not compensated (open
+  loop). ``depth`` defaults to 0.14 m, the deepest posture at which the model's legs reach every
+  corner of the rectangle at presentation angles up to 57 deg (the thesis used up to 55 deg); the
+  leg dimensions are the model's (the thesis gives only the robot's 30.3 cm height). Start: the joint
+  targets blend from the env's initial (straight-legged) pose into the gait over ``start`` seconds
+  (cosine ease; the thesis does not describe how its robot started).
 * **stand / stance / shift.** Joint targets come from leg inverse kinematics in the pelvis frame (feet
   flat, pelvis assumed upright). ``crouch`` is the knee bend (rad) of the posture; ``stand`` bends the
   knees from the straight initial pose over its first second (a sudden crouch throws the robot over).
@@ -87,8 +98,9 @@ Choices where the papers are silent
   the 30.4 cm boards fall in the first half step (``thesis_hubo_gait`` in ``mjrft validate``).
 * **rect on a pitch-free torso.** The reference gait study held the biped's torso pitch (sagittal
   plane, fore-aft and vertical only; pitch was free only in the balance study), so ``rect`` is meant
-  for ``BipedSand(pitch_free=False)``: there it walks ~4 cm/s. On the default pitch-free biped it still
-  runs but tips over within ~2 s; :func:`make_gait` warns (``GaitWarning``) in that case.
+  for ``BipedSand(pitch_free=False)``: there (cone feet, closely packed poppy seeds, ``angle=0``) it
+  walks 4.6 cm/s (13.7 cm per 3 s step). On the default pitch-free biped it still runs but tips over
+  within ~2 s; :func:`make_gait` warns (``GaitWarning``) in that case.
 """
 
 from __future__ import annotations

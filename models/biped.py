@@ -18,36 +18,50 @@ hip angle swings the leg backward, positive knee angles flex the knee
 angle is directly the toe "presentation angle", positive toe-down).
 Joint ranges: hip +-2.0 rad, each knee joint [-0.3, 1.6] rad, ankle +-1.2 rad.
 
-Feet (``foot=``):
+Feet (``foot=``), each with its sole centre ``foot_size/2`` below the ankle axis:
 
-* ``"round"``: a cylinder of diameter ``foot_size`` (default 8.5 cm; the
-  thesis tested 7 to 10 cm) with its axis along y, ``foot_width`` long along y
-  (default = ``foot_size``), the ankle axis on the cylinder axis;
-* ``"wedge"``: a triangular-prism mesh, sole ``foot_size`` long (x) by
-  ``foot_width`` wide (y), apex line ``foot_size * 7.5/8.5`` above the sole
-  (the reference 8.5 x 8.5 x 7.5 cm wedge, flat sole down, apex up).
+* ``"cone"`` (default): the experiment's foot, a 3-D printed conical foot with a circular sole of
+  diameter ``foot_size`` (default 8.5 cm; the thesis also tested 7 to 10 cm, section 2.3.2), flat
+  sole down and apex up (a mesh of ~1 cm triangles whose rim polygon has the area of the circle). The thesis
+  gives no height for it; we give it the height of the simulation's wedge, ``foot_size * 7.5/8.5``,
+  because the thesis modelled the conical disks "as wedges of the same area" (section 3.3.1): the
+  wedge is this cone's side profile (an 8.5 cm base, 7.5 cm tall triangle) extruded across;
+* ``"wedge"``: the simulation's foot (thesis fig. 18: 8.5 cm long, 8.5 wide, 7.5 tall), a
+  triangular-prism mesh, sole ``foot_size`` long (x) by ``foot_width`` wide (y), apex line
+  ``foot_size * 7.5/8.5`` above the sole, flat sole down;
+* ``"roller"``: a cylinder of diameter ``foot_size`` with its axis along y (lying across the
+  robot), ``foot_width`` long (not a foot of the thesis; a rolling contact for comparison).
 
-In both cases the ankle axis is ``foot_size/2`` above the sole, so the default
-robot (either foot) is 30.3 cm from sole to torso top: ankle 4.25 cm + shank
-7 cm + knee link 2.5 cm + thigh 7 cm + torso top 9.55 cm above the hip.
-Other foot sizes change the height by the change in ``foot_size/2``.
-The legs sit at y = +-(foot_width/2 + 5 mm) so the feet do not overlap.
+``foot_width`` (y extent of the wedge and the roller, default ``foot_size``) does not apply to the
+circular cone. The name ``"round"`` is refused with the valid choices (a round foot is either the
+cone or the roller).
+
+The ankle axis is ``foot_size/2`` above the sole, so the default robot (every foot) is 30.3 cm
+from sole to torso top: ankle 4.25 cm + shank 7 cm + knee link 2.5 cm + thigh 7 cm + torso top
+9.55 cm above the hip. Other foot sizes change the height by the change in ``foot_size/2``.
+The site ``<side>_sole`` marks the sole centre (the point the ``rect`` gait moves on its
+rectangle, :mod:`mjrft.gaits`). The legs sit at y = +-(foot_width/2 + 5 mm) so the feet do not
+overlap.
 
 Masses (sum 1.6 kg): torso 0.56 kg (electronics, battery), per leg thigh
 0.14, knee link 0.08, shank 0.14, foot 0.16 kg (HSR-5980SG servos are 68 g
 each and sit in the links). Foot mass is kept at 0.16 kg for all foot sizes.
 
-Servos (HSR-5980SG class: about 30 kg cm = 2.9 N m stall at 7.4 V): MuJoCo
-``<position>`` actuators named after their joints, kp = 30 N m/rad,
-kv = 0.5 N m s/rad, torque limit (forcerange) +-2.5 N m, ctrlrange = joint
-range; joint armature 1e-3 kg m^2 (gear-train reflected inertia), damping
-0.05 N m s/rad.
+Servos: the thesis' simulation drove each joint with a PD controller whose torque saturates at
+the servos' limit (section 3.3.2, fig. 14B) and gives neither the gains ("tuned ... so the
+controller was stable and responsive") nor the limit in numbers. Here: MuJoCo ``<position>``
+actuators named after their joints, kp = 30 N m/rad, kv = 0.5 N m s/rad, torque limit
+(forcerange) +-2.5 N m (HSR-5980SG class: about 24 kg cm = 2.35 N m stall at 6 V and 30 kg cm =
+2.9 N m at 7.4 V by the maker's rating), ctrlrange = joint range; joint armature 1e-3 kg m^2
+(gear-train reflected inertia), damping 0.05 N m s/rad.
 
 Granular bodies: ``left_foot right_foot`` (plus the shanks with
 ``granular_shanks=True``); element size 1 cm.
 """
 
 from __future__ import annotations
+
+import math
 
 import mujoco
 import numpy as np
@@ -66,7 +80,8 @@ HEIGHT = 0.303
 TOTAL_MASS = 1.6
 DEFAULT_FOOT_SIZE = 0.085
 WEDGE_HEIGHT_RATIO = 7.5 / 8.5
-FOOT_TYPES = ("round", "wedge")
+FOOT_TYPES = ("cone", "wedge", "roller")
+CONE_EDGE = 0.01  # longest edge of the cone mesh's triangles (m): the model's element size
 THIGH = 0.07
 KNEE_LINK = 0.025
 SHANK = 0.07
@@ -95,8 +110,59 @@ def _wedge_vertices(length: float, width: float, size: float) -> np.ndarray:
     return np.array(verts)
 
 
+def _cone_mesh(diameter: float, size: float, edge: float = CONE_EDGE) -> tuple[np.ndarray, np.ndarray]:
+    """Cone in the foot (ankle) frame, circular sole of ``diameter`` at z = -size/2, apex
+    ``size * 7.5/8.5`` above it: (vertices (V, 3), outward counter-clockwise faces (F, 3)).
+
+    The surface is cut into small triangles (rings on the sole and on the side, about ``edge`` long:
+    the mjrft surface elements at the model's 1 cm resolution are these triangles, one each, with no
+    thin slivers). The rim is a regular polygon whose area equals the circle's (circumradius scaled
+    by sqrt(pi / (n/2 sin(2 pi/n)))), so the sole bears on the circular foot's area."""
+    h = size * WEDGE_HEIGHT_RATIO
+    zs = -size / 2.0
+    r0 = diameter / 2.0
+    n = max(12, math.ceil(2.0 * math.pi * r0 / (0.8 * edge)))  # sectors: rim chord ~0.8 edge
+    r = r0 * math.sqrt(math.pi / (0.5 * n * math.sin(2.0 * math.pi / n)))
+    nb = max(1, math.ceil(r / (0.6 * edge)))  # sole rings
+    ns = max(1, math.ceil(math.hypot(r, h) / (0.6 * edge)))  # side rings
+    a = 2.0 * math.pi * np.arange(n) / n
+    cs = np.column_stack([np.cos(a), np.sin(a)])
+    verts = [(0.0, 0.0, zs)]  # sole centre
+    sole_rings = []
+    for j in range(1, nb + 1):
+        sole_rings.append(len(verts) + np.arange(n))
+        verts += [(rr * c, rr * s_, zs) for c, s_ in cs for rr in (r * j / nb,)]
+    side_rings = [sole_rings[-1]]  # the rim is shared
+    for j in range(1, ns):
+        f = 1.0 - j / ns
+        side_rings.append(len(verts) + np.arange(n))
+        verts += [(r * f * c, r * f * s_, zs + h * (1.0 - f)) for c, s_ in cs]
+    apex = len(verts)
+    verts.append((0.0, 0.0, zs + h))
+    faces = []
+
+    def band(inner, outer, up):  # quads between two rings, two triangles each, outward
+        for i in range(n):
+            k = (i + 1) % n
+            if up:  # side: outward = away from the axis, counter-clockwise seen from outside
+                faces.extend([(outer[i], outer[k], inner[k]), (outer[i], inner[k], inner[i])])
+            else:  # sole: outward = down
+                faces.extend([(inner[i], inner[k], outer[k]), (inner[i], outer[k], outer[i])])
+
+    for i in range(n):  # sole centre fan (normal down)
+        faces.append((0, sole_rings[0][(i + 1) % n], sole_rings[0][i]))
+    for j in range(1, nb):
+        band(sole_rings[j - 1], sole_rings[j], up=False)
+    for j in range(1, ns):
+        band(side_rings[j], side_rings[j - 1], up=True)
+    top = side_rings[-1]
+    for i in range(n):  # apex fan (normal out and up)
+        faces.append((top[i], top[(i + 1) % n], apex))
+    return np.array(verts), np.array(faces, dtype=int)
+
+
 def biped_xml(
-    foot: str = "round",
+    foot: str = "cone",
     foot_size: float = DEFAULT_FOOT_SIZE,
     pitch_free: bool = True,
     sand: bool = True,
@@ -106,19 +172,26 @@ def biped_xml(
 
     Parameters
     ----------
-    foot: ``"round"`` (cylinder) or ``"wedge"``.
-    foot_size: cylinder diameter / wedge sole length in m (default 0.085).
+    foot: ``"cone"`` (the experiment's conical foot), ``"wedge"`` (the simulation's) or ``"roller"``
+        (a cylinder lying across).
+    foot_size: sole diameter (cone), sole length (wedge) or diameter (roller) in m (default 0.085).
     pitch_free: include the torso pitch joint ``rooty``.
     sand: granular bed (True) or rigid floor (False).
-    **kw: ``foot_width`` (m, default = foot_size), ``granular_shanks`` (bool),
+    **kw: ``foot_width`` (m, wedge and roller only, default = foot_size), ``granular_shanks`` (bool),
         ``kp``, ``kv``, ``torque_limit``, and the scene options of
         :func:`mjrft.models.scene.pop_scene_options` (``bed_depth``, ``medium``, ...).
     """
+    if foot == "round":
+        raise ValueError("biped foot 'round' is ambiguous: 'cone' is the thesis robot's circular (conical) foot, "
+                         f"'roller' a cylinder lying across; valid: {', '.join(FOOT_TYPES)}")
     if foot not in FOOT_TYPES:
         raise ValueError(f"unknown biped foot {foot!r}; valid: {', '.join(FOOT_TYPES)}")
     size = check_positive("foot_size", foot_size)
     kw = dict(kw)
     width = kw.pop("foot_width", None)
+    if foot == "cone" and width is not None:
+        raise ValueError(f"foot_width={width!r} does not apply to the circular 'cone' foot (its diameter is "
+                         "foot_size); foot_width is for the 'wedge' and 'roller' feet")
     width = size if width is None else check_positive("foot_width", width)
     granular_shanks = bool(kw.pop("granular_shanks", False))
     kp = check_positive("kp", kw.pop("kp", KP))
@@ -140,9 +213,15 @@ def biped_xml(
     assets = ""
     if foot == "wedge":
         assets = f'    <mesh name="wedge_foot" vertex="{fmt(_wedge_vertices(size, width, size))}"/>'
+    elif foot == "cone":
+        cv, cf = _cone_mesh(size, size)
+        assets = f'    <mesh name="cone_foot" vertex="{fmt(cv)}" face="{" ".join(map(str, cf.ravel()))}"/>'
 
     def foot_geom(side: str) -> str:
-        if foot == "round":
+        if foot == "cone":
+            return (f'<geom name="{side}_foot" type="mesh" mesh="cone_foot" mass="{fmt(MASS["foot"])}" '
+                    f'material="foot" {ROBOT_CONTACT}/>')
+        if foot == "roller":
             return (f'<geom name="{side}_foot" type="cylinder" size="{fmt(size / 2, width / 2)}" '
                     f'zaxis="0 1 0" mass="{fmt(MASS["foot"])}" material="foot" {ROBOT_CONTACT}/>')
         return (f'<geom name="{side}_foot" type="mesh" mesh="wedge_foot" mass="{fmt(MASS["foot"])}" '
@@ -223,7 +302,7 @@ def biped_xml(
     )
 
 
-def biped_model(foot: str = "round", foot_size: float = DEFAULT_FOOT_SIZE, pitch_free: bool = True,
+def biped_model(foot: str = "cone", foot_size: float = DEFAULT_FOOT_SIZE, pitch_free: bool = True,
                 sand: bool = True, **kw) -> mujoco.MjModel:
     """Compiled :class:`mujoco.MjModel` of :func:`biped_xml`."""
     return mujoco.MjModel.from_xml_string(

@@ -116,9 +116,12 @@ def test_biped_ik_reaches_the_rectangle():
     xs = [rect_path(s, 0.16, 0.03, 5 / 8, 0.0, 0.14)[:2] for s in (0.0, 5 / 16, 0.62)]
     assert xs[0] == pytest.approx((0.08, -0.14)) and xs[1] == pytest.approx((0.0, -0.14))
     assert xs[2][0] == pytest.approx(0.08 - 0.16 * 0.62 / 0.625)
-    # presentation angle held during the intrusion (front edge, going down), flat mid-stance
-    assert rect_path(0.99, 0.16, 0.03, 5 / 8, 0.5, 0.14)[2] == pytest.approx(0.5)
-    assert rect_path(0.3, 0.16, 0.03, 5 / 8, 0.5, 0.14)[2] == pytest.approx(0.0)
+    # presentation angle (thesis sec. 2.3.3): level at the top of the lift, turning at constant rate to the full
+    # angle as the foot is fully intruded, back to level at constant rate before the other foot lifts (s = 1/8)
+    t_up = 0.03 * (3 / 8) / 0.22
+    pitch = [rect_path(s, 0.16, 0.03, 5 / 8, 0.5, 0.14)[2] for s in (5 / 8 + t_up, 0.5 * (5 / 8 + t_up + 1), 1 - 1e-12,
+                                                                     0.0, 1 / 16, 1 / 8, 0.3)]
+    assert pitch == pytest.approx([0.0, 0.25, 0.5, 0.5, 0.25, 0.0, 0.0])
 
 
 def test_humanoid_ik_and_shift_timing():

@@ -311,7 +311,7 @@ def test_hexapod_invalid():
 # ----------------------------------------------------------------- biped
 
 
-@pytest.mark.parametrize("foot", ["round", "wedge"])
+@pytest.mark.parametrize("foot", ["cone", "wedge", "roller"])
 @pytest.mark.parametrize("size", [0.07, 0.085, 0.10])
 @pytest.mark.parametrize("pitch_free", [True, False])
 def test_biped_variants(foot, size, pitch_free):
@@ -335,12 +335,32 @@ def test_biped_variants(foot, size, pitch_free):
 
 
 def test_biped_height_and_foot_dims():
-    for foot in ("round", "wedge"):
+    for foot in ("cone", "wedge", "roller"):
         m = biped_model(foot=foot)
         lo, hi = _z_extent(m)
         assert hi - lo == pytest.approx(0.303, abs=1e-3)
-    m = biped_model(foot="round")
+    m = biped_model(foot="roller")
     assert 2 * m.geom("left_foot").size[0] == pytest.approx(0.085)
+    # the cone: circular sole of 8.5 cm (area pi 4.25^2 cm^2), 7.5 cm tall, sole centre 4.25 cm below the ankle
+    m = biped_model(foot="cone")
+    mid = m.geom_dataid[m.geom("left_foot").id]
+    v = m.mesh_vert[m.mesh_vertadr[mid]: m.mesh_vertadr[mid] + m.mesh_vertnum[mid]]
+    f = m.mesh_face[m.mesh_faceadr[mid]: m.mesh_faceadr[mid] + m.mesh_facenum[mid]]
+    gid = m.geom("left_foot").id
+    rot = np.empty(9)
+    mujoco.mju_quat2Mat(rot, m.geom_quat[gid])
+    v = v @ rot.reshape(3, 3).T + m.geom_pos[gid]  # mesh frame (MuJoCo's principal axes) -> foot frame
+    z = v[:, 2]
+    assert z.min() == pytest.approx(-0.0425, abs=1e-7) and z.max() - z.min() == pytest.approx(0.075, abs=1e-7)
+    tri = v[f]
+    cross = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
+    sole = np.abs(cross[:, 2]) > 0.999 * np.linalg.norm(cross, axis=1)  # faces facing straight down
+    assert 0.5 * np.linalg.norm(cross[sole], axis=1).sum() == pytest.approx(np.pi * 0.0425**2, rel=1e-6)  # float32 mesh
+    assert m.site_pos[m.site("left_sole").id][2] == pytest.approx(-0.0425)
+    with pytest.raises(ValueError, match="ambiguous.*cone.*roller"):
+        biped_xml(foot="round")
+    with pytest.raises(ValueError, match="foot_width"):
+        biped_xml(foot="cone", foot_width=0.1)
     m = biped_model(foot="wedge")
     aabb = m.geom_aabb[m.geom("left_foot").id, 3:] * 2  # mesh box in its principal frame; check the extents
     assert sorted(aabb) == pytest.approx(sorted([0.085, 0.085, 0.075]), abs=1e-6)
