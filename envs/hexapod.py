@@ -46,7 +46,10 @@ class HexapodSand(GranularMujocoEnv):
     | 23-28  | hip angular velocities                                   | rad/s         |
     | 29-34  | servo target minus hip angle                             | rad           |
 
-    The x, y position is excluded (as in gymnasium's locomotion tasks).
+    The x, y position is excluded (as in gymnasium's locomotion tasks). With ``planar=True`` (the torso
+    held in the sagittal x-z plane, :func:`mjrft.models.hexapod_xml`) the layout is the same: 0-4 are the
+    torso's world height and orientation (a pure pitch), 17-19 its velocity ``(v_x, 0, v_z)`` and 20-22
+    ``(0, pitch rate, 0)``.
 
     ## Rewards
 
@@ -78,16 +81,18 @@ class HexapodSand(GranularMujocoEnv):
     defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.1, "healthy_z_range": (-0.05, 0.5), "max_tilt": 1.2}
 
     def __init__(self, sand: bool = True, *, variant: str = "rhex", curvature: float | None = None,
-                 max_hip_speed: float = 6 * np.pi, max_lag: float = 1.0, **kwargs):
-        """Own arguments: ``variant``, ``curvature`` (:func:`mjrft.models.hexapod_xml`), ``max_hip_speed``,
+                 max_hip_speed: float = 6 * np.pi, max_lag: float = 1.0, planar: bool = False, **kwargs):
+        """Own arguments: ``variant``, ``curvature``, ``planar`` (:func:`mjrft.models.hexapod_xml`; ``planar``
+        holds the torso in the sagittal plane as Li 2013's robot simulation did), ``max_hip_speed``,
         ``max_lag`` (the action space above); the common ones are in :mod:`mjrft.envs.base` (defaults
         here: ``defaults``); any other keyword goes to :func:`~mjrft.models.hexapod_xml`."""
         pickle_kwargs = dict(sand=sand, variant=variant, curvature=curvature, max_hip_speed=max_hip_speed,
-                             max_lag=max_lag, **kwargs)
+                             max_lag=max_lag, planar=planar, **kwargs)
         self._max_hip_speed = check_positive("max_hip_speed", max_hip_speed)
         self._max_lag = check_positive("max_lag", max_lag)
+        self.planar = bool(planar)
         env_kw, model_kw = split_env_kwargs(kwargs)
-        xml = hexapod_xml(curvature, variant=variant, sand=sand, **model_kw)
+        xml = hexapod_xml(curvature, variant=variant, sand=sand, planar=planar, **model_kw)
         super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 
     # ------------------------------------------------------------------ actions
@@ -113,7 +118,13 @@ class HexapodSand(GranularMujocoEnv):
     def _get_obs(self) -> np.ndarray:
         qpos, qvel = self.data.qpos, self.data.qvel
         hips = qpos[self._hip_qadr]
-        return np.concatenate([qpos[2:7], np.sin(hips), np.cos(hips), qvel[:6], qvel[self._hip_dadr],
+        if self.planar:  # rootx, rootz, rooty: the free-joint layout rebuilt from the joints
+            half = 0.5 * qpos[2]
+            pose = np.array([self.model.body_pos[self._torso_id, 2] + qpos[1], np.cos(half), 0.0, np.sin(half), 0.0])
+            twist = np.array([qvel[0], 0.0, qvel[1], 0.0, qvel[2], 0.0])
+        else:
+            pose, twist = qpos[2:7], qvel[:6]
+        return np.concatenate([pose, np.sin(hips), np.cos(hips), twist, qvel[self._hip_dadr],
                                self._target - hips]).astype(np.float64)
 
 

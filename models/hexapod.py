@@ -44,6 +44,15 @@ inertia); servos kp = 0.2 N m/rad, kv = 1e-3, limit +-0.05 N m, armature 1e-6.
 
 The torso starts so that the lowest leg point is 0.5 mm above z = 0 (the
 sand surface or the rigid floor), i.e. the belly is about one leg chord up.
+
+Root joint: a free joint ``root`` (default), or with ``planar=True`` the body
+held in the sagittal (x-z) plane as Li 2013's robot simulation held it
+(suppl., "Robot simulation": fore-aft and dorso-ventral translation and
+pitch): slide ``rootx`` (x), slide ``rootz`` (z, measured from the initial
+height), hinge ``rooty`` (pitch about y, positive nose down), in that qpos
+order; the legs' hips stay hinges about y, so every leg moves in a plane
+parallel to x-z. Left and right legs keep their lateral offsets (their
+granular forces' roll and yaw moments are taken by the constraint).
 """
 
 from __future__ import annotations
@@ -159,7 +168,7 @@ def _leg_kind(k: float) -> str:
     return "reversed C-leg, concave side leading in stance" if k < 0 else "flat leg"
 
 
-def _build(v, variant, curvature, n_segments, opts, torso_inertia, kp, kv, torque_limit) -> str:
+def _build(v, variant, curvature, n_segments, opts, torso_inertia, kp, kv, torque_limit, planar=False) -> str:
     k = curvature
     leg_z_min = _lowest_leg_point(v.leg_chord, k, v.leg_width, v.leg_thickness, n_segments)
     z0 = v.body_height / 2.0 - leg_z_min + CLEARANCE + opts.surface
@@ -169,7 +178,10 @@ def _build(v, variant, curvature, n_segments, opts, torso_inertia, kp, kv, torqu
     ind = "    "
     lines = [
         f'{ind}<body name="torso" pos="{fmt(0, 0, z0)}">',
-        f'{ind}  <freejoint name="root"/>',
+        *([f'{ind}  <joint name="rootx" type="slide" axis="1 0 0"/>',
+           f'{ind}  <joint name="rootz" type="slide" axis="0 0 1"/>',
+           f'{ind}  <joint name="rooty" type="hinge" axis="0 1 0"/>'] if planar
+          else [f'{ind}  <freejoint name="root"/>']),
         f'{ind}  <camera name="track" mode="trackcom" pos="{fmt(cam_pos)}" xyaxes="{look_at(cam_pos)}"/>',
         f'{ind}  <camera name="side" mode="trackcom" pos="{fmt(0, -4 * v.body_length, 0)}" xyaxes="1 0 0 0 0 1"/>',
         f'{ind}  <light name="spot" mode="trackcom" pos="{fmt(0, 0, 8 * v.body_length)}" dir="0 0 -1" diffuse="0.5 0.5 0.5"/>',
@@ -214,9 +226,10 @@ def _build(v, variant, curvature, n_segments, opts, torso_inertia, kp, kv, torqu
         f"curvature {k:.6g} 1/m ({_leg_kind(k)}; R' = {v.leg_chord * 50:g} cm, range +-{2 / v.leg_chord:.6g}).\n"
         f"Hip position servos: kp {kp:g} N m/rad, kv {kv:g} N m s/rad, torque limit +-{torque_limit:g} N m.\n"
         "Tripod A = leg_lf leg_rm leg_lr, tripod B = leg_rf leg_lm leg_rr. See mjrft/models/hexapod.py."
+        + ("\nPlanar: torso held in the x-z plane (rootx, rootz slides, rooty pitch hinge)." if planar else "")
     )
     return assemble(
-        model=f"hexapod_{variant}" + ("" if opts.sand else "_rigid"),
+        model=f"hexapod_{variant}" + ("" if opts.sand else "_rigid") + ("_planar" if planar else ""),
         comment=comment,
         opts=opts,
         robot=robot,
@@ -243,7 +256,9 @@ def hexapod_xml(curvature: float | None = None, variant: str = "rhex", sand: boo
         Granular bed scene (True) or rigid floor (False); see :mod:`.scene`.
     **kw:
         ``n_segments`` (leg boxes, default 8), ``kp``, ``kv``, ``torque_limit``
-        (override the servo values), scene options ``bed_depth``, ``bed_length``,
+        (override the servo values), ``planar`` (default False: a free joint;
+        True: the torso held in the sagittal x-z plane, joints ``rootx``,
+        ``rootz``, ``rooty``, see the module docstring), scene options ``bed_depth``, ``bed_length``,
         ``bed_width``, ``medium``, ``law``, ``resolution``, ``surface``,
         ``granular_bodies``.
     """
@@ -263,6 +278,9 @@ def hexapod_xml(curvature: float | None = None, variant: str = "rhex", sand: boo
     kp = check_positive("kp", kw.pop("kp", v.kp))
     kv = check_positive("kv", kw.pop("kv", v.kv))
     torque_limit = check_positive("torque_limit", kw.pop("torque_limit", v.torque_limit))
+    planar = kw.pop("planar", False)
+    if not isinstance(planar, (bool, np.bool_)):
+        raise ValueError(f"planar must be True or False, got {planar!r}")
     opts = pop_scene_options(
         kw, resolution=v.resolution, bed_length=2.0, bed_width=1.0,
         granular_bodies=["torso"] + [f"leg_{n}" for n in LEG_NAMES], sand=sand,
@@ -274,13 +292,13 @@ def hexapod_xml(curvature: float | None = None, variant: str = "rhex", sand: boo
     args = (v, variant, k, n_segments, opts)
     if v.pitch_inertia is not None:
         # Solve the torso's iyy so the whole robot has the reference pitch inertia.
-        xml = _build(*args, inertia, kp, kv, torque_limit)
+        xml = _build(*args, inertia, kp, kv, torque_limit, planar)
         total = pitch_inertia(mujoco.MjModel.from_xml_string(xml))
         iyy = inertia[1] + (v.pitch_inertia - total)
         if iyy <= 0:
             raise ValueError("pitch inertia target too small for the leg masses")
         inertia = np.array([inertia[0], iyy, min(inertia[2], inertia[0] + iyy)])
-    return _build(*args, inertia, kp, kv, torque_limit)
+    return _build(*args, inertia, kp, kv, torque_limit, planar)
 
 
 def hexapod_model(curvature: float | None = None, variant: str = "rhex", sand: bool = True, **kw) -> mujoco.MjModel:
