@@ -37,7 +37,7 @@ import numpy as np
 from . import kernel
 from .errors import (NonFiniteError, TerrainStabilityWarning, UnknownNameError, ValidityRangeWarning, check_finite,
                      check_positive, unknown)
-from .geometry import Elements, discretize_geom, exposed_elements, to_geom_frame
+from .geometry import Elements, discretize_geom, estimate_elements, exposed_elements, to_geom_frame
 from .laws import LAW_IDS, law_id
 from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
 from .laws import validity
@@ -66,6 +66,9 @@ _SUPPORTED_GEOMS = {
     int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID), int(mujoco.mjtGeom.mjGEOM_MESH),
 }
 STABILITY_CHECK_EVERY = 50
+#: largest element count a terrain builds unless told otherwise (``max_elements``): about 15 s and 0.4 GB
+#: to build on this project's machines, and far past where a finer resolution changes a robot's forces
+MAX_ELEMENTS = 1_000_000
 CULL_GROUP = 32  # elements per cull box (the kernel skips a box lying wholly above the surface)
 CULL_PAD = 1e-9  # m, added to each cull box's half sizes: rounding never culls an element at the surface
 _STEP_FUNCTIONS = kernel.mujoco_step_functions()  # None -> the plain Python stepping loop is used
@@ -311,6 +314,9 @@ class GranularTerrain:
             nothing. The medium needs a grain diameter and a bulk density.
         inertial_drag: its coefficient ``C`` (default ``mjrft.laws.inertial.INERTIAL_DRAG`` = 2.20, derived
             from the DynaRoACH paper's numbers; the same for every medium).
+        max_elements: the most elements the terrain may build (default ``MAX_ELEMENTS`` = 1,000,000). The
+            count is estimated from the geoms' surface areas before anything is built, and a finer
+            ``resolution`` raises a ``ValueError`` naming the count and the setting to change.
 
     Water layer. Where a region has ``water_depth`` ``h_w > 0``, an element between the sand surface
     and the water surface (``-h_w < depth <= 0``) feels the SGRFT water drag ``C rho_w v^2 S`` on its
@@ -369,7 +375,7 @@ class GranularTerrain:
     def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, surface=None,
                  resolution=None, yield_displacement=None, damping_time=None, v_eps=None, water_depth=None,
                  regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
-                 water_density=None, inertial=None, inertial_drag=None):
+                 water_density=None, inertial=None, inertial_drag=None, max_elements=None):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         self.model = model
@@ -485,6 +491,7 @@ class GranularTerrain:
 
         # --- geoms ---
         geom_ids = self._select_geoms(pick("bodies", bodies), pick("geoms", geoms))
+        self._check_element_count(geom_ids, max_elements)
         parts = [discretize_geom(model, gid, self.resolution) for gid in geom_ids]
         # only the exposed surface of each body's union of geoms meets grains (see geometry.exposed_elements)
         groups = list(zip(geom_ids, exposed_elements(model, geom_ids, parts, self.resolution)))
@@ -551,6 +558,18 @@ class GranularTerrain:
                           "applies one wrench per step (use Euler or implicitfast)", stacklevel=2)
 
     # ------------------------------------------------------------------ set-up helpers
+    def _check_element_count(self, geom_ids, max_elements) -> None:
+        """Refuse, before building anything, a resolution that would make more than ``max_elements`` elements."""
+        limit = MAX_ELEMENTS if max_elements is None else int(check_positive("max_elements", max_elements))
+        n = estimate_elements(self.model, geom_ids, self.resolution)
+        if n > limit:
+            area = n * self.resolution**2
+            suggest = math.sqrt(area / 1e5)
+            raise ValueError(f"resolution {self.resolution:g} m would cut the {len(geom_ids)} selected geoms into about "
+                             f"{n:,} elements, more than max_elements = {limit:,} (minutes and gigabytes to build); "
+                             f"use a coarser resolution (about {suggest:.2g} m gives 100,000 elements) or pass "
+                             "max_elements=... if you mean it")
+
     def _select_geoms(self, bodies, geoms) -> list[int]:
         m = self.model
         if isinstance(bodies, str):

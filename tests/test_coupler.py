@@ -383,3 +383,25 @@ def test_empty_body_or_geom_selection_is_an_error():
     for kw in ({"bodies": []}, {"geoms": ()}):
         with pytest.raises(ValueError, match=r"=\[\] selects nothing"):
             mjrft.GranularTerrain(m, **kw)
+
+
+def test_a_resolution_that_would_build_too_many_elements_is_refused_up_front():
+    import time
+
+    from mjrft.geometry import estimate_elements
+    from mjrft.models import hexapod_model
+
+    m = hexapod_model()
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=r"resolution 1e-05 m would cut the \d+ selected geoms into about "
+                                         r"[\d,]+ elements, more than max_elements = 1,000,000 .* coarser resolution"):
+        mjrft.GranularTerrain(m, resolution=1e-5)
+    assert time.perf_counter() - t0 < 5
+    t = mjrft.GranularTerrain(m, resolution=0.01)
+    est = estimate_elements(m, t.geom_ids, 0.01)
+    assert 0.5 * t.n_elements < est < 3 * t.n_elements  # an estimate of the right size (before clipping)
+    with pytest.raises(ValueError, match="max_elements = 10 "):
+        mjrft.GranularTerrain(m, resolution=0.01, max_elements=10)
+    assert mjrft.GranularTerrain(m, resolution=0.01, max_elements=est).n_elements == t.n_elements
+    with pytest.raises(ValueError, match="max_elements must be finite and > 0"):
+        mjrft.GranularTerrain(m, max_elements=0)

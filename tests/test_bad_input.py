@@ -1,0 +1,99 @@
+"""Every command and public constructor against bad values: one clear error naming the value and the choices.
+
+A table per surface: the command line (exit status 2 and a single ``mjrft <command>: error: ...`` line, no
+traceback, before any long work) and the public constructors (a ``ValueError``/``TypeError`` whose message
+names the bad value). Module-specific edge cases live beside their modules; this suite keeps the whole
+surface covered in one place.
+"""
+
+from __future__ import annotations
+
+import shlex
+
+import mujoco
+import pytest
+
+import mjrft
+from mjrft import cli
+
+ENV = "mjrft/HexapodSand-v0"
+CLI = [
+    ("demo --gait nosuch", "policy 'nosuch' is neither a file nor a gait spec"),
+    ("demo --seconds -1", "seconds must be finite and > 0, got -1"),
+    ("demo --medium mud", "unknown medium 'mud'; valid choices: generic"),
+    ("demo --log-every 0", "log_every must be an integer >= 1, got 0"),
+    ("settle --medium mud", "unknown medium 'mud'; valid choices"),
+    ("rig plate --beta abc", "argument --beta: invalid float value: 'abc'"),
+    ("rig plate --depth -1", "depth must be finite and > 0, got -1"),
+    ("rig plate --law nope", "unknown law 'nope'; valid choices: depth_only"),
+    ("rig plate --speed 0", "speed must be finite and > 0, got 0"),
+    ("rig leg --shape blob", "unknown leg shape 'blob'; valid choices: c, family, flat"),
+    ("rig leg --omega 0", "omega must be non-zero"),
+    ("rig leg --dtheta 0", "dtheta must be finite and > 0"),
+    ("rig nosuchrig", "invalid choice: 'nosuchrig'"),
+    ("train --env nosuch/Env-v0", "unknown env id 'nosuch/Env-v0'; valid choices: mjrft/"),
+    (f"train --algo dqn --env {ENV}", "unknown algorithm 'dqn'; valid choices: ppo, sac"),
+    (f"train --timesteps 0 --env {ENV}", "timesteps must be an integer >= 1, got 0"),
+    (f"train --n-envs 0 --env {ENV}", "n_envs must be an integer >= 1, got 0"),
+    (f"train --env {ENV} --hp learning_rate=abc", "hyper-parameter learning_rate takes a number, got 'abc'"),
+    (f"train --env {ENV} bogus=1", "unexpected keyword argument(s): bogus"),
+    (f"eval --policy nosuch.zip --env {ENV}", "policy 'nosuch.zip' is neither a file nor a gait spec"),
+    (f"eval --policy tripod:f=abc --env {ENV}", "parameter f='abc' is not a number"),
+    (f"eval --policy tripod --env {ENV} --episodes 0", "episodes must be an integer >= 1, got 0"),
+    (f"eval --policy tripod --env {ENV} medium=mud", "unknown medium 'mud'"),
+    (f"rollout --env {ENV} --policy tripod --seconds 0", "seconds must be finite and > 0, got 0"),
+    ("rollout --env nope --policy tripod", "unknown env id 'nope'; valid choices"),
+    ("bench --scenarios nosuch", "unknown scenario 'nosuch'; valid choices: cleg"),
+    ("bench --repeats 0", "repeats must be finite and > 0, got 0"),
+    ("sweep --grid f=", "grid axis must be NAME=V1,V2,..."),
+    ("validate --case nosuch", "unknown validation case 'nosuch'; valid choices"),
+]
+
+
+@pytest.mark.parametrize("argv,message", CLI, ids=[c[0] for c in CLI])
+def test_every_command_rejects_bad_input_with_one_line_and_status_2(argv, message, tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # any output a command would write lands here (none should)
+    with pytest.raises(SystemExit) as e:
+        cli.main(shlex.split(argv))
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert message in err, err
+    assert "Traceback" not in err and err.strip().splitlines()[-1].startswith("mjrft")
+
+
+def _hexapod():
+    from mjrft.models import hexapod_model
+
+    return hexapod_model()
+
+
+CONSTRUCTORS = [
+    ("GranularTerrain medium", lambda: mjrft.GranularTerrain(_hexapod(), "mud"), "unknown medium 'mud'"),
+    ("GranularTerrain law", lambda: mjrft.GranularTerrain(_hexapod(), law="nope"), "unknown law 'nope'"),
+    ("GranularTerrain resolution", lambda: mjrft.GranularTerrain(_hexapod(), resolution=-1),
+     "resolution must be finite and > 0, got -1"),
+    ("GranularTerrain body", lambda: mjrft.GranularTerrain(_hexapod(), bodies=["nobody"]), "unknown body 'nobody'"),
+    ("GranularTerrain empty bodies", lambda: mjrft.GranularTerrain(_hexapod(), bodies=[]), "bodies=[] selects nothing"),
+    ("GranularTerrain fine resolution", lambda: mjrft.GranularTerrain(_hexapod(), resolution=1e-5),
+     "more than max_elements"),
+    ("GranularTerrain model type", lambda: mjrft.GranularTerrain("hexapod.xml"), "model must be a mujoco.MjModel"),
+    ("medium_3d", lambda: mjrft.medium_3d("x", -1.0, 0.5, 0.3), "must be finite and > 0"),
+    ("calibrate", lambda: mjrft.calibrate([0.01, 0.02], [1.0]), "depth and stress must have the same length, got 2 and 1"),
+    ("plate_intrusion", lambda: mjrft.rigs.plate_intrusion(depth=0), "depth must be finite and > 0, got 0"),
+    ("rotating_leg", lambda: mjrft.rigs.rotating_leg("blob"), "unknown leg shape 'blob'"),
+    ("env kwarg value", lambda: __import__("gymnasium").make(ENV, medium="mud"), "unknown medium 'mud'"),
+    ("env kwarg name", lambda: __import__("gymnasium").make(ENV, bogus=1), "unexpected keyword argument(s): bogus"),
+    ("gait spec", lambda: mjrft.gaits.parse_gait_spec("tripod:f=-1"), "parameter f=-1.0 out of range; valid: (0, inf]"),
+    ("published datum", lambda: mjrft.validation.published("li2013", "nosuch"), "valid choices"),
+]
+
+
+@pytest.mark.parametrize("name,make,message", CONSTRUCTORS, ids=[c[0] for c in CONSTRUCTORS])
+def test_public_constructors_name_the_bad_value(name, make, message):
+    import mjrft.gaits  # noqa: F401
+    import mjrft.rigs  # noqa: F401
+    import mjrft.validation  # noqa: F401
+
+    with pytest.raises((ValueError, TypeError)) as e:
+        make()
+    assert message in str(e.value), str(e.value)
