@@ -115,8 +115,10 @@ def propeller_robot_xml(*, mass: float | None = None, arc: float = PROPELLER_ARC
         return out
 
     def wheel(side: str, y: float) -> list[str]:
-        return [f'{ind}  <body name="wheel_{side}" pos="{fmt(-L / 2, y, float(opts.surface) + wheel_radius + CLEARANCE - hub_z)}">',
-                f'{ind}    <joint name="wheel_{side}" type="hinge" axis="0 1 0" damping="{fmt(WHEEL_DAMPING)}" armature="{fmt(WHEEL_ARMATURE)}"/>',
+        z = float(opts.surface) + wheel_radius + CLEARANCE - hub_z  # lowest point CLEARANCE above the surface
+        return [f'{ind}  <body name="wheel_{side}" pos="{fmt(-L / 2, y, z)}">',
+                f'{ind}    <joint name="wheel_{side}" type="hinge" axis="0 1 0" damping="{fmt(WHEEL_DAMPING)}" '
+                f'armature="{fmt(WHEEL_ARMATURE)}"/>',
                 f'{ind}    <geom name="wheel_{side}" type="cylinder" size="{fmt(wheel_radius, wheel_width / 2)}" '
                 f'quat="{fmt(math.sqrt(0.5), math.sqrt(0.5), 0, 0)}" mass="{fmt(WHEEL_MASS)}" material="foot" '
                 f'{ROBOT_CONTACT}/>',
@@ -127,7 +129,8 @@ def propeller_robot_xml(*, mass: float | None = None, arc: float = PROPELLER_ARC
         f'{ind}  <freejoint name="root"/>',
         f'{ind}  <camera name="track" mode="trackcom" pos="{fmt(cam)}" xyaxes="{look_at(cam)}"/>',
         f'{ind}  <camera name="side" mode="trackcom" pos="{fmt(0, -1.5, 0)}" xyaxes="1 0 0 0 0 1"/>',
-        f'{ind}  <inertial pos="0 0 0" mass="{fmt(body_mass)}" diaginertia="{fmt(box_inertia(body_mass, (L / 2, W / 2, H / 2)))}"/>',
+        f'{ind}  <inertial pos="0 0 0" mass="{fmt(body_mass)}" '
+        f'diaginertia="{fmt(box_inertia(body_mass, (L / 2, W / 2, H / 2)))}"/>',
         f'{ind}  <geom name="body" type="box" size="{fmt(L / 2, W / 2, H / 2)}" material="body" {ROBOT_CONTACT}/>',
         f'{ind}  <site name="marker" pos="0 0 {fmt(H / 2)}" size="0.01" rgba="1 0 0 1"/>',
         *propeller("l", y_prop), *propeller("r", -y_prop),
