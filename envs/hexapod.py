@@ -19,7 +19,9 @@ class HexapodSand(GranularMujocoEnv):
     Model: :func:`mjrft.models.hexapod_xml` (``variant``, ``curvature``, ``sand``; ``curvature`` is the
     signed leg curvature 1/r in 1/m, default 1/R': positive = Li 2013's C-leg, convex side leading in
     stance, negative = reversed C-leg, convention in :mod:`mjrft.geometry.curved_leg`); granular bodies
-    torso + six legs. Physics step 1 ms, default ``frame_skip = 10`` (``dt = 0.01`` s).
+    torso + six legs. Physics step 1 ms, default ``frame_skip = 10`` (``dt = 0.01`` s). With
+    ``variant="small"`` (25 g, DynaRoACH-sized) the sand scene turns on the dry laws' inertial regime
+    (:mod:`mjrft.laws.inertial`; ``inertial=False`` turns it off), the RHex-class robot leaves it off.
 
     ## Action space
 

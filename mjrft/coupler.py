@@ -420,6 +420,7 @@ class GranularTerrain:
         # --- regions: strips along x or a map; water layer, buoyancy ---
         self.transition = check_positive("transition", pick("transition", transition), allow_zero=True)
         self.buoyancy = bool(pick("buoyancy", buoyancy))
+        inertial_given = inertial is not None
         inertial = pick("inertial", inertial)
         if not isinstance(inertial, (bool, np.bool_)) and inertial not in (0, 1):
             raise ValueError(f"inertial must be True/False (mjrft:inertial 0 or 1), got {inertial!r}")
@@ -484,8 +485,11 @@ class GranularTerrain:
         if region_map is not None:
             self._reg_map, self._reg_map_frame = _region_map(region_map, len(entries), self.transition)
         if self.inertial and not any(str(r.law) in DRY_LAWS for r in self.regions):
-            raise ValueError(f"inertial=True needs a region with a dry law ({', '.join(DRY_LAWS)}); the terrain's laws "
-                             f"are {', '.join(sorted({str(r.law) for r in self.regions}))}")
+            if not inertial_given:  # a scene file's mjrft:inertial applies to its dry regions; here there are none
+                self.inertial = False
+            else:
+                raise ValueError(f"inertial=True needs a region with a dry law ({', '.join(DRY_LAWS)}); the terrain's "
+                                 f"laws are {', '.join(sorted({str(r.law) for r in self.regions}))}")
         self.water_depth = float(self._reg_params[:, P_WATER_DEPTH].max())  # deepest water anywhere
         self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
 

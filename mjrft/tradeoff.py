@@ -27,6 +27,10 @@ Scenarios (:data:`SCENARIOS`)
 ``plate``     Li 2013's plate (3.81 x 2.54 x 0.64 cm, :func:`mjrft.models.rigs.plate_rig_xml`) at attack
               angle beta = 30 deg, driven at 4 cm/s along intrusion angle gamma = 60 deg from 1 cm above
               the surface to 5.6 cm centre depth, 2 s.
+``hexapod_small`` The DynaRoACH-sized hexapod (:func:`mjrft.models.hexapod_model` ``variant="small"``, 25 g,
+              C-legs of 1 cm radius) on 3 mm glass (``glass3_cp``, the DynaRoACH paper's medium) with its
+              scene's dry inertial regime on (:mod:`mjrft.laws.inertial`), open-loop alternating tripod at
+              10 Hz (the paper's fluid-like running range), 1 s. Granular bodies: torso + six legs.
 ``cleg``      Li 2013's leg-rotation rig (:func:`mjrft.models.rigs.leg_rig_xml`, C-leg: one closed mesh, a
               semicircle of 7.62 cm chord, 2.54 cm wide, 0.64 cm thick, axle 2 cm above the surface) turning at
               pi/2 rad/s from leg angle -pi/2 to +pi/2, 2 s (Li's 0.2 rad/s would take 16 s; the dry
@@ -47,7 +51,10 @@ medium's own Li fit, 1 ms x 10 steps per control period):
   ``wet`` (SGRFT speed factor on the medium's own fit; on the rigs: the plate's 40 mm/s lies inside
   its 10-50 mm/s calibration, the C-leg's elements move up to 12 cm/s, where the factor is held at its
   50 mm/s value) and ``hybrid`` (curved-leg model, with the leg's width and maximum depth as
-  :mod:`mjrft.rigs` gives them; C-leg rig only). Rows of ``wet`` and ``hybrid`` measure a different
+  :mod:`mjrft.rigs` gives them; C-leg rig only); ``rft_inertial`` (the medium's own fit plus the dry
+  inertial regime, :mod:`mjrft.laws.inertial`; RHex-class hexapod: its legs pass poppy seeds' critical
+  speed sqrt(2 g d) = 11.7 cm/s) and ``rft_quasistatic`` (the small hexapod's scene with the regime
+  off). Rows of ``wet``, ``hybrid``, ``rft_inertial`` and ``rft_quasistatic`` measure a different
   physics, not a discretisation error;
 * timestep: 2, 1, 0.5 ms at a fixed control period of 10 ms (frame skip 5, 10, 20);
 * frame skip at 1 ms: 1, 5, 10, 20 (the control period changes with it);
@@ -117,9 +124,13 @@ LAW_VARIANTS = {
     "rft3d": "rft3d",
     "wet": "wet",
     "hybrid": "hybrid",
+    "rft_inertial": "rft",  # with the dry inertial regime on
+    "rft_quasistatic": "rft",  # with the dry inertial regime off (a scene that turns it on)
 }
+#: the inertial regime each variant forces on (True) or off (False); others follow the scene's mjrft:inertial
+INERTIAL_VARIANTS = {"rft_inertial": True, "rft_quasistatic": False}
 #: variants that model a different physics; their errors are model differences, not accuracy
-MODEL_DIFFERENCE_LAWS = ("wet", "hybrid")
+MODEL_DIFFERENCE_LAWS = ("wet", "hybrid", "rft_inertial", "rft_quasistatic")
 REFERENCE_LAW = "rft"
 QUICK_DURATION = 0.5  # --quick runs every scenario for this fraction of its duration
 MIN_TIMED = 2.0  # s of wall time with terrain after which the timing repeats stop early
@@ -175,18 +186,33 @@ def _hexapod_model(sand: bool = True) -> mujoco.MjModel:
     return hexapod_model(sand=sand)
 
 
-def _hexapod_controller(model, data):
-    """Open-loop alternating tripod at 2 Hz: every hip target advances at 4 pi rad/s, tripod B + pi."""
+def _hexapod_controller(model, data, freq: float = 2.0):
+    """Open-loop alternating tripod at ``freq`` Hz: every hip target advances at 2 pi freq rad/s, tripod B + pi."""
     tripod_a = {"leg_lf", "leg_rm", "leg_lr"}
     offset = np.array([
         0.0 if mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, model.jnt_bodyid[model.actuator_trnid[i, 0]])
         in tripod_a else math.pi for i in range(model.nu)])
-    omega = 2 * math.pi * 2.0
+    omega = 2 * math.pi * freq
 
     def control():
         data.ctrl[:] = omega * data.time + offset
 
     return control
+
+
+# --- the small (DynaRoACH-sized) hexapod -----------------------------------------------------------
+SMALL_MEDIUM = "glass3_cp"  # the DynaRoACH paper's 3 mm glass
+SMALL_FREQ = 10.0  # Hz, above the paper's ~6 Hz walk-to-run transition
+
+
+def _small_hexapod_model(sand: bool = True) -> mujoco.MjModel:
+    from .models import hexapod_model
+
+    return hexapod_model(variant="small", sand=sand, medium=SMALL_MEDIUM)
+
+
+def _small_hexapod_controller(model, data):
+    return _hexapod_controller(model, data, SMALL_FREQ)
 
 
 # --- humanoid on one foot -------------------------------------------------------------------------
@@ -313,7 +339,11 @@ SCENARIOS: dict[str, Scenario] = {
         Scenario("hexapod", "RHex-class hexapod, open-loop tripod at 2 Hz", 2.0,
                  _hexapod_model, _hexapod_controller,
                  ("torso", "leg_lf", "leg_lm", "leg_lr", "leg_rf", "leg_rm", "leg_rr"), "torso",
-                 build_bare=lambda: _hexapod_model(sand=False)),
+                 DRY_LAWS + ("rft_inertial",), build_bare=lambda: _hexapod_model(sand=False)),
+        Scenario("hexapod_small", "DynaRoACH-sized hexapod on 3 mm glass, inertial regime on, tripod at 10 Hz", 1.0,
+                 _small_hexapod_model, _small_hexapod_controller,
+                 ("torso", "leg_lf", "leg_lm", "leg_lr", "leg_rf", "leg_rm", "leg_rr"), "torso",
+                 DRY_LAWS + ("rft_quasistatic",), build_bare=lambda: _small_hexapod_model(sand=False)),
         Scenario("humanoid", "HUBO-class humanoid standing on its right foot (30.4 cm boards)", 2.5,
                  _humanoid_model, _humanoid_controller, ("left_foot", "right_foot"), "pelvis",
                  build_bare=lambda: _humanoid_model(sand=False)),
@@ -423,8 +453,9 @@ def law_and_medium(variant: str, medium):
     if variant not in LAW_VARIANTS:
         raise unknown("law variant", variant, LAW_VARIANTS)
     med = get_medium(medium)
-    if variant == "rft_generic":
-        med = generic.scaled(med.zeta, name=f"generic*zeta({med.name})")
+    if variant == "rft_generic":  # the generic profile of the same grains (their size and density kept)
+        med = replace(generic.scaled(med.zeta, name=f"generic*zeta({med.name})"), grain_diameter=med.grain_diameter,
+                      grain_density=med.grain_density, volume_fraction=med.volume_fraction)
     return LAW_VARIANTS[variant], med
 
 
@@ -438,7 +469,8 @@ def make_terrain(scenario: Scenario, model: mujoco.MjModel, config: Config) -> G
     law, medium = law_and_medium(config.law, _custom(model).get("medium", DEFAULTS["medium"]))
     if config.law == "hybrid" and scenario.hybrid_extra is not None:
         medium = medium.with_extra(**scenario.hybrid_extra())
-    return GranularTerrain(model, medium, law, resolution=model_resolution(model) * config.resolution_scale)
+    return GranularTerrain(model, medium, law, resolution=model_resolution(model) * config.resolution_scale,
+                           inertial=INERTIAL_VARIANTS.get(config.law))
 
 
 def _simulate(model, data, terrain, control, duration, frame_skip, sample_every=0, on_sample=None):

@@ -41,6 +41,10 @@ x = +4, 0, -4 cm, y = +-2.8 cm; C-legs of radius 1 cm (chord 2 cm, k = 1/0.01
 semicircle; curvature range [-100, 100] 1/m), width 0.7 cm, thickness 0.2 cm,
 0.4 g each; total 25 g; torso inertia of a uniform box (no reference pitch
 inertia); servos kp = 0.2 N m/rad, kv = 1e-3, limit +-0.05 N m, armature 1e-6.
+Its sand scene turns on the dry laws' inertial regime (``mjrft:inertial``,
+:mod:`mjrft.laws.inertial`): a 25 g robot striding at up to 12 Hz drives its
+legs into the grains above the critical speed (Zhang et al., DynaRoACH paper);
+``inertial=False`` turns it off. The RHex-class variant leaves it off.
 
 The torso starts so that the lowest leg point is 0.5 mm above z = 0 (the
 sand surface or the rigid floor), i.e. the belly is about one leg chord up.
@@ -274,6 +278,7 @@ def hexapod_xml(curvature: float | None = None, variant: str = "rhex", sand: boo
         )
     k = max(-kmax, min(kmax, k))
     kw = dict(kw)
+    kw.setdefault("inertial", variant == "small")  # the small robot's scene models the inertial regime
     n_segments = kw.pop("n_segments", 8)
     kp = check_positive("kp", kw.pop("kp", v.kp))
     kv = check_positive("kv", kw.pop("kv", v.kv))

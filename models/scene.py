@@ -109,6 +109,7 @@ class SceneOptions:
     water_depth: float = 0.0  # standing water over the base medium (m)
     transition: float | None = None  # region blend width (m); None: mjrft's default
     buoyancy: bool = False
+    inertial: bool = False  # the dry laws' inertial regime (mjrft:inertial; mjrft.laws.inertial)
 
     def validate(self) -> None:
         check_positive("bed_depth", self.bed_depth)
@@ -160,13 +161,14 @@ def pop_scene_options(kw: dict, *, resolution: float, bed_length: float, bed_wid
         water_depth=kw.pop("water_depth", 0.0),
         transition=kw.pop("transition", None),
         buoyancy=bool(kw.pop("buoyancy", False)),
+        inertial=bool(kw.pop("inertial", False)),
     )
     opts.validate()
     return opts
 
 
 SCENE_OPTIONS = ("bed_depth", "bed_length", "bed_width", "medium", "law", "resolution", "surface", "granular_bodies",
-                 "regions", "water_depth", "transition", "buoyancy")
+                 "regions", "water_depth", "transition", "buoyancy", "inertial")
 
 
 def reject_unknown(kw: dict, func: str) -> None:
@@ -232,6 +234,8 @@ def _custom_xml(opts: SceneOptions, extra: str = "") -> str:
             lines.append(f'    <numeric name="mjrft:transition" data="{fmt(opts.transition)}"/>')
         if opts.buoyancy:
             lines.append('    <numeric name="mjrft:buoyancy" data="1"/>')
+        if opts.inertial:
+            lines.append('    <numeric name="mjrft:inertial" data="1"/>')
     if extra:
         lines.append(extra.rstrip("\n"))
     if not lines:

@@ -193,3 +193,15 @@ def test_speed_range_extends_with_the_option():
         data.qpos[2] = -0.003
         data.qvel[2] = -1.2
         mujoco.mj_forward(model, data)
+
+
+def test_small_hexapod_scene_turns_it_on():
+    from mjrft.models.hexapod import hexapod_xml
+
+    small = mujoco.MjModel.from_xml_string(hexapod_xml(variant="small", medium="glass3_cp"))
+    assert mjrft.GranularTerrain(small).inertial
+    assert not mjrft.GranularTerrain(mujoco.MjModel.from_xml_string(hexapod_xml())).inertial
+    assert not mjrft.GranularTerrain(mujoco.MjModel.from_xml_string(
+        hexapod_xml(variant="small", inertial=False))).inertial
+    # the scene's setting applies to its dry regions; with a wet law there is none, so nothing to turn on
+    assert not mjrft.GranularTerrain(small, "sea_sand_saturated", "wet").inertial

@@ -196,7 +196,7 @@ def test_recommend_skips_unconverged_scenarios_for_accurate():
 def test_parse_scenarios():
     assert T.parse_scenarios("all") == list(T.SCENARIOS)
     assert T.parse_scenarios("hexapod, plate,hexapod") == ["hexapod", "plate"]
-    with pytest.raises(ValueError, match="nope.*valid choices: cleg, hexapod, humanoid, plate"):
+    with pytest.raises(ValueError, match="nope.*valid choices: cleg, hexapod, hexapod_small, humanoid, plate"):
         T.parse_scenarios("hexapod,nope")
 
 
