@@ -22,6 +22,10 @@ Choices: the signs are smoothed over 0.05 of the unit motion (about 3 degrees) s
 continuous when a velocity component changes sign (eq. S7's sgn jumps there); only leading
 elements count (same smoothed rule as the other laws), so a thin plate's two faces add up to one
 plate.
+
+Speed: rate-independent by default. The dry inertial regime (:mod:`mjrft.laws.inertial`, an option that
+is off unless a scene turns it on) adds ``C rho_bulk (u^2 - v_c^2)`` on leading faces above the critical
+speed ``v_c = sqrt(2 g d)``.
 """
 
 from __future__ import annotations

@@ -18,6 +18,10 @@ Choice where the paper is silent (its fit is planar): a normal with a component 
 motion is projected onto the plane, and the stress is weighted by the projected length w, so an
 element sliding edge-on (normal perpendicular to the plane) feels nothing from this law. Use
 ``rft3d`` for motion where such elements matter.
+
+Speed: rate-independent by default. The dry inertial regime (:mod:`mjrft.laws.inertial`, an option that
+is off unless a scene turns it on) adds ``C rho_bulk (u^2 - v_c^2)`` on leading faces above the critical
+speed ``v_c = sqrt(2 g d)``.
 """
 
 from __future__ import annotations

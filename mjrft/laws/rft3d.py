@@ -36,6 +36,10 @@ Choices where the reference is ambiguous (documented and tested):
   1.3 of its 3.2 N. Clamping keeps the force continuous (it is zero where the normal part changes
   sign) and leaves every leading face whose normal part is compressive, the whole reference table
   included, unchanged.
+
+Speed: rate-independent by default. The dry inertial regime (:mod:`mjrft.laws.inertial`, an option that
+is off unless a scene turns it on) adds ``C rho_bulk (u^2 - v_c^2)`` on leading faces above the critical
+speed ``v_c = sqrt(2 g d)``.
 """
 
 from __future__ import annotations
