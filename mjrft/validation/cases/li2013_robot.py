@@ -358,5 +358,7 @@ def run_robot(quick: bool) -> CaseResult:
                f"source texts: no simulated speed is compared with a measured one; the medium's fit stands in for "
                f"the measurement where the text compares with it. Li checked that the legs' speed averaged over a "
                f"stance stays below 1 m/s at 5 Hz; the leg tips pass it (2 pi f x 4.1 cm = 1.29 m/s at 5 Hz), hence "
-               f"the validity warnings of the fit's calibrated speed range below."),
+               f"the validity warnings of the fit's calibrated speed range below. Between |R'/r| = 0.92 and 1 the "
+               f"speed changes steeply because the legs' arc angle 2 asin(R'/r) does (134 deg at 0.92, 180 deg at "
+               f"1: the tip turns 23 deg)."),
     )
