@@ -317,7 +317,7 @@ def test_hexapod_invalid():
 def test_biped_variants(foot, size, pitch_free):
     m = biped_model(foot=foot, foot_size=size, pitch_free=pitch_free, sand=True)
     _assert_common(m)
-    _assert_sand_scene(m, 0.01)
+    _assert_sand_scene(m, 0.02)  # models.biped.RESOLUTION
     assert _custom(m)[0]["mjrft:bodies"].split() == ["left_foot", "right_foot"]
     assert _robot_mass(m) == pytest.approx(1.6, rel=0.02)
     assert m.nu == 8
