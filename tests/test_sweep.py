@@ -164,7 +164,7 @@ def test_grid_parsing_and_points():
     ({"grid": {"env.f": [1]}}, r"HexapodSand-v0 has no keyword argument 'f'; valid: .*curvature"),
     ({"grid": {"x.f": [1]}}, r"prefix must be gait\. or env\."),
     ({"grid": {"f": [1]}, "env": "mjrft/Nope-v0"}, r"unknown env id 'mjrft/Nope-v0'; valid choices: .*HexapodSand"),
-    ({"grid": {"f": [1]}, "gait": "hop"}, r"neither a gait \(rect, shift, stand, tripod\) nor a model zip"),
+    ({"grid": {"f": [1]}, "gait": "hop"}, r"neither a gait \(rect, shift, stance, stand, tripod\) nor a model zip"),
     ({"grid": {"f": [1]}, "gait": None}, "needs a gait"),
     ({"grid": {"f": [1]}, "seconds": -1}, "seconds must be finite and > 0"),
     ({"grid": {"f": [1]}, "env_kwargs": {"episode_seconds": 3}}, "set by the sweep's seconds"),
