@@ -36,7 +36,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args) -> int:
-    from mjrft.errors import TerrainStabilityWarning
+    from mjrft.errors import TerrainStabilityWarning, ValidityRangeWarning
     from mjrft.train.rollout import format_summary, open_hint, rollout
 
     from mjrft.outputs import output_file
@@ -48,17 +48,20 @@ def main(args) -> int:
         check_viewer_display()
     print(f"mjrft demo: RHex-class hexapod, gait {args.gait}, on {args.medium}, {args.seconds:g} s simulated "
           "(the first run compiles the terrain kernels, up to a minute)", flush=True)
+    terrain_warnings = (TerrainStabilityWarning, ValidityRangeWarning)
     with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", TerrainStabilityWarning)
+        for category in terrain_warnings:
+            warnings.simplefilter("always", category)
         summary = rollout(ENV_ID, args.gait, seconds=args.seconds, rrd_path=out, log_every=args.log_every,
                           seed=args.seed, env_kwargs={"medium": args.medium}, spawn_viewer=args.spawn_viewer)
     print(format_summary(summary))
-    stab = [w for w in caught if issubclass(w.category, TerrainStabilityWarning)]
-    for w in caught:
-        if w not in stab:
+    for w in caught:  # the terrain's own warnings become notes under the summary; others are shown as usual
+        if not issubclass(w.category, terrain_warnings):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    if stab:
-        print(f"  note: {len(stab)} terrain stability warning(s), first: {str(stab[0].message).removeprefix('mjrft: ')}")
+    for category, what in ((TerrainStabilityWarning, "terrain stability"), (ValidityRangeWarning, "validity range")):
+        mine = [w for w in caught if issubclass(w.category, category)]
+        if mine:
+            print(f"  note: {len(mine)} {what} warning(s), first: {str(mine[0].message).removeprefix('mjrft: ')}")
     print(f"wrote {out} ({summary['frames']} frames: robot, sand, contact stresses, forces, per-leg lift/thrust/sinkage)")
     print(open_hint(out))
     return 0
