@@ -22,6 +22,12 @@ Headless rendering (``render_mode="rgb_array"``) needs ``MUJOCO_GL=egl`` or ``MU
 
 from __future__ import annotations
 
+import sys as _sys
+
+if getattr(_sys.modules.get("mjrft"), "__file__", None) is None:  # a clone folder named mjrft, found first
+    raise ImportError(f"{__name__} was imported from a folder named 'mjrft' that holds the mjrft repository, not from "
+                      "the installed package: run the script from another folder (or inside the repository)")
+
 ENV_IDS = {
     "mjrft/HexapodSand-v0": "mjrft.envs.hexapod:HexapodSand",
     "mjrft/HexapodRigid-v0": "mjrft.envs.hexapod:HexapodRigid",

@@ -10,6 +10,12 @@ them with ``python -m mjrft.models.generate``); the parametric generators
 
 from __future__ import annotations
 
+import sys as _sys
+
+if getattr(_sys.modules.get("mjrft"), "__file__", None) is None:  # a clone folder named mjrft, found first
+    raise ImportError(f"{__name__} was imported from a folder named 'mjrft' that holds the mjrft repository, not from "
+                      "the installed package: run the script from another folder (or inside the repository)")
+
 import os
 
 _DIR = os.path.dirname(os.path.abspath(__file__))

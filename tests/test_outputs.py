@@ -81,3 +81,20 @@ def test_rig_prints_no_round_off(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "drag 0 N" in out and "e-1" not in out, out
 
+
+
+def test_a_clone_named_mjrft_found_first_says_what_happened(tmp_path):
+    """A script run from the folder that holds a clone named ``mjrft`` finds the clone as an empty namespace
+    package; importing its environments, models or training then says so instead of a confusing error."""
+    import subprocess
+    import sys
+
+    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    os.symlink(repo, tmp_path / "mjrft")
+    for stmt in ("import mjrft.envs", "import mjrft.models", "import mjrft.train",
+                 "import gymnasium; gymnasium.make('mjrft.envs:mjrft/HexapodSand-v0')"):
+        run = subprocess.run([sys.executable, "-c", stmt], cwd=tmp_path, capture_output=True, text=True)
+        assert run.returncode != 0 and "holds the mjrft repository, not from the installed package" in run.stderr, stmt
+    ok = subprocess.run([sys.executable, "-c", "import mjrft.envs, mjrft.models, mjrft.train"], cwd=repo,
+                        capture_output=True, text=True)
+    assert ok.returncode == 0, ok.stderr
