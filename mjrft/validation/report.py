@@ -189,7 +189,8 @@ def _csv_rows(results):
             for line in p.lines:
                 kind = "paper" if line.is_paper else "mjrft"
                 for x, y in zip(line.x, line.y):
-                    yield (r.name, kind, p.title, line.label, float(x), float(y), "", line.source or "", "")
+                    yield (r.name, kind, p.title, line.label, f"{float(x):.6g}", f"{float(y):.6g}", "",
+                           line.source or "", "")
 
 
 def write_report(results, out: str, quick: bool = False) -> dict:
