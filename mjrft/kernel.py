@@ -297,29 +297,6 @@ def _linear_stiffness(fx, fy, fz, ml, delta, v_eps):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _add_to_body(wrench, stiff, b, fx, fy, fz, rx, ry, rz, kk):
-    """Add an element's force (at ``r`` from body ``b``'s CoM) to its wrench, and the moments of its
-    stiffness ``kk`` about the CoM (``sum k``, ``sum k r``, ``sum k r r^T``) to ``stiff``."""
-    wrench[b, 0] += fx
-    wrench[b, 1] += fy
-    wrench[b, 2] += fz
-    wrench[b, 3] += ry * fz - rz * fy
-    wrench[b, 4] += rz * fx - rx * fz
-    wrench[b, 5] += rx * fy - ry * fx
-    if kk > 0.0:
-        stiff[b, 0] += kk
-        stiff[b, 1] += kk * rx
-        stiff[b, 2] += kk * ry
-        stiff[b, 3] += kk * rz
-        stiff[b, 4] += kk * rx * rx
-        stiff[b, 5] += kk * rx * ry
-        stiff[b, 6] += kk * rx * rz
-        stiff[b, 7] += kk * ry * ry
-        stiff[b, 8] += kk * ry * rz
-        stiff[b, 9] += kk * rz * rz
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def _add_moments(arr, b, rx, ry, rz, kk):
     """Add the moments of a spring or damper ``kk`` at ``r`` from body ``b``'s CoM to ``arr[b]`` (10 sums)."""
     arr[b, 0] += kk
@@ -332,6 +309,20 @@ def _add_moments(arr, b, rx, ry, rz, kk):
     arr[b, 7] += kk * ry * ry
     arr[b, 8] += kk * ry * rz
     arr[b, 9] += kk * rz * rz
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_to_body(wrench, stiff, b, fx, fy, fz, rx, ry, rz, kk):
+    """Add an element's force (at ``r`` from body ``b``'s CoM) to its wrench, and the moments of its
+    stiffness ``kk`` about the CoM (``sum k``, ``sum k r``, ``sum k r r^T``) to ``stiff``."""
+    wrench[b, 0] += fx
+    wrench[b, 1] += fy
+    wrench[b, 2] += fz
+    wrench[b, 3] += ry * fz - rz * fy
+    wrench[b, 4] += rz * fx - rx * fz
+    wrench[b, 5] += rx * fy - ry * fx
+    if kk > 0.0:
+        _add_moments(stiff, b, rx, ry, rz, kk)
 
 
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})

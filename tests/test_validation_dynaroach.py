@@ -9,11 +9,8 @@ from mjrft.validation import published, run_case
 
 
 def outcomes(r):
-    q = [c for c in r.checks if c.qualitative]
-    assert q, f"{r.name} has no published outcome to assert"
-    failed = [(c.name, c.published, c.simulated) for c in q if not c.passed]
-    assert not failed, failed
-    return {c.name: c for c in r.checks}
+    assert r.outcomes and not r.failed_outcomes, (r.name, r.failed_outcomes)
+    return r.by_name
 
 
 def test_dynaroach_intrusion():

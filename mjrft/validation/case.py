@@ -139,6 +139,20 @@ class CaseResult:
         return all(c.passed for c in self.checks)
 
     @property
+    def outcomes(self) -> list[Check]:
+        """The published outcomes (``qualitative`` checks): what the case's fast test asserts."""
+        return [c for c in self.checks if c.qualitative]
+
+    @property
+    def failed_outcomes(self) -> list[tuple[str, str, str]]:
+        """(name, published, simulated) of each published outcome that did not pass."""
+        return [(c.name, c.published, c.simulated) for c in self.outcomes if not c.passed]
+
+    @property
+    def by_name(self) -> dict[str, Check]:
+        return {c.name: c for c in self.checks}
+
+    @property
     def verdict(self) -> str:
         n = sum(c.passed for c in self.checks)
         return "pass" if n == len(self.checks) else f"FAIL ({len(self.checks) - n} of {len(self.checks)} checks)"
