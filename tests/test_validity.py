@@ -78,9 +78,9 @@ def test_every_law_has_ranges_and_the_tables_media_are_inside_li_grain_range():
     assert check_static("wet", MEDIA["sea_sand_saturated"]) == []
 
 
-@pytest.mark.xfail(strict=True, reason="measured: the tripod's buried leg elements reach 1.04 m/s (t = 1.65 s), "
-                   "beyond the 1 m/s up to which Li 2013 found the force speed-independent")
-def test_hexapod_default_scene_does_not_warn_under_its_tripod():
+def test_hexapod_default_scene_warns_only_that_its_legs_pass_li_speed_bound():
+    """Under its 2 Hz tripod the default hexapod's fastest buried leg element briefly passes Li 2013's 1 m/s
+    (measured 1.04 m/s); nothing else leaves a range."""
     import gymnasium
 
     from mjrft.gaits import make_gait
@@ -93,4 +93,7 @@ def test_hexapod_default_scene_does_not_warn_under_its_tripod():
         while env.unwrapped.data.time < 2.0:
             obs, *_ = env.step(pol.predict(obs)[0])
         env.close()
-    assert [str(w.message) for w in rec if issubclass(w.category, mjrft.ValidityRangeWarning)] == []
+    msgs = [str(w.message) for w in rec if issubclass(w.category, mjrft.ValidityRangeWarning)]
+    assert len(msgs) <= 1, msgs
+    for m in msgs:
+        assert "law 'rft': speed 1.0" in m and "<= 1 m/s" in m, m
