@@ -285,3 +285,10 @@ def test_env_unknown_preset_lists_valid_names(gymnasium):
         gymnasium.make("mjrft/HexapodSand-v0", preset="turbo")
     with pytest.raises(ValueError, match="timestep"):
         gymnasium.make("mjrft/BipedSand-v0", timestep=-0.001)
+
+
+def test_scenarios_registered_without_presets_do_not_choose_them():
+    assert not T.SCENARIOS["hexapod_small"].presets and T.SCENARIOS["hexapod"].presets
+    rows = [_synthetic(sc, "x4", 4, 1e-3, 10, 1.5, rms) for sc, rms in (("a", 0.15), ("hexapod_small", 0.5))]
+    assert T.recommend_presets(rows)["fast"]["config"].label == "x4"  # the small hexapod's 50 % is not counted
+    assert "hexapod_small reported but not used" in T.recommendation_text(rows)
