@@ -38,11 +38,27 @@ ENV_IDS = {
     "mjrft/HexapodShoal-v0": "mjrft.envs.hexapod:HexapodShoal",
 }
 MAX_EPISODE_STEPS = 1000
+#: gymnasium's MuJoCo robots on sand: mjrft id -> gymnasium id (:mod:`mjrft.envs.wrapper`)
+GYM_SAND_IDS = {
+    "mjrft/AntSand-v5": "Ant-v5",
+    "mjrft/HalfCheetahSand-v5": "HalfCheetah-v5",
+    "mjrft/HopperSand-v5": "Hopper-v5",
+    "mjrft/Walker2dSand-v5": "Walker2d-v5",
+    "mjrft/GymHumanoidSand-v5": "Humanoid-v5",
+}
 #: ``vector_entry_point`` of each id (``gymnasium.make_vec(id, num_envs)``): a batched ``GranularVectorEnv``
 VECTOR_ENTRY_POINTS = {env_id: "mjrft.envs.vector:" + env_id.split("/")[1].split("-")[0] + "Vector"
                        for env_id in ENV_IDS}
 
-__all__ = ["ENV_IDS", "VECTOR_ENTRY_POINTS", "make_vector", "register_envs"]
+__all__ = ["ENV_IDS", "GYM_SAND_IDS", "GranularWrapper", "VECTOR_ENTRY_POINTS", "make_vector", "register_envs"]
+
+
+def __getattr__(name):
+    if name == "GranularWrapper":  # imported on first use (it imports gymnasium's MuJoCo envs)
+        from .wrapper import GranularWrapper
+
+        return GranularWrapper
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def make_vector(env_id: str, num_envs: int = 1, **kwargs):
@@ -55,7 +71,8 @@ def make_vector(env_id: str, num_envs: int = 1, **kwargs):
 
 
 def register_envs() -> list[str]:
-    """Register the mjrft environments with gymnasium (ids already registered are left alone)."""
+    """Register the mjrft environments and the sand variants of gymnasium's robots with gymnasium (ids already
+    registered are left alone); returns the registered ids."""
     try:
         import gymnasium
     except ImportError:  # gymnasium is optional for mjrft
@@ -64,7 +81,11 @@ def register_envs() -> list[str]:
         if env_id not in gymnasium.registry:
             gymnasium.register(id=env_id, entry_point=entry_point, max_episode_steps=MAX_EPISODE_STEPS,
                                vector_entry_point=VECTOR_ENTRY_POINTS[env_id])
-    return list(ENV_IDS)
+    for env_id, gym_id in GYM_SAND_IDS.items():
+        if env_id not in gymnasium.registry and gym_id in gymnasium.registry:
+            gymnasium.register(id=env_id, entry_point="mjrft.envs.wrapper:make_sand_env", kwargs={"gym_id": gym_id},
+                               max_episode_steps=gymnasium.registry[gym_id].max_episode_steps)
+    return list(ENV_IDS) + [i for i in GYM_SAND_IDS if i in gymnasium.registry]
 
 
 register_envs()

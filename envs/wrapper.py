@@ -1,0 +1,321 @@
+"""Any gymnasium MuJoCo environment on sand: :class:`GranularWrapper`.
+
+>>> import gymnasium, mjrft
+>>> env = mjrft.envs.GranularWrapper(gymnasium.make("Ant-v5"), medium="poppy_lp")
+>>> env = gymnasium.make("mjrft/AntSand-v5", medium="poppy_lp")        # the same, registered
+
+The env's own code is not changed. The wrapper
+
+* builds a :class:`mjrft.GranularTerrain` on the env's loaded model with ``floor="auto"`` (the world's
+  plane, box or height-field floor becomes the sand surface at its height and its rigid contacts are
+  removed in the loaded model, never in the file) and ``resolution="auto"``; ``medium``, ``law`` and
+  every other keyword argument of :class:`~mjrft.GranularTerrain` (``bodies``, ``geoms``, ``resolution``,
+  ...) are passed on;
+* replaces the physics of the unwrapped env (its ``_step_mujoco_simulation``, which gymnasium's
+  ``MujocoEnv.do_simulation`` calls) on this instance only, by ``terrain.step`` over the same simulated
+  time, then MuJoCo's ``mj_rnePostConstraint`` (as gymnasium does) and the sand's wrench added to
+  ``data.cfrc_ext`` (below): no process-wide MuJoCo callback, so any number of sand envs and plain envs
+  live side by side;
+* sub-steps (below), so that ``env.dt``, ``frame_skip`` and the control period are the env's own;
+* reports ``info["sinkage"]`` (m, deepest element below the surface) and ``info["granular_force"]``
+  (N, world frame) of each selected body (order :attr:`GranularWrapper.body_names`) and
+  ``info["substeps"]`` (physics steps per model step used in this env step);
+* ends the episode when the simulation diverges (:class:`mjrft.NonFiniteError`: a non-finite granular
+  force or state, or MuJoCo resetting a state it found non-finite or huge): that step returns
+  ``terminated=True``, reward 0 and ``info["diverged"]`` with the error message (body and time); the
+  physics stays stopped until ``reset()``, so an episode never goes on from MuJoCo's reset state;
+* renders the sand: the floor geom (now the sand surface) is drawn in ``sand_rgba``, translucent by
+  default so buried parts of the robot stay visible (``sand_rgba=None`` keeps the env's own colour).
+
+Integrators. ``terrain.step`` is MuJoCo's ``mj_step1`` / granular wrench / ``mj_step2``, which cannot
+split an RK4 step (MuJoCo integrates it with Euler). An RK4 model (four of gymnasium's five robots) is
+therefore switched to MuJoCo's semi-implicit Euler in the loaded model and sub-stepped like any other;
+``implicit`` and ``implicitfast`` models keep their integrator. :attr:`GranularWrapper.integrator` names
+what runs.
+
+Sub-stepping rule (``substeps="auto"``). Each env step the model's timestep ``h`` is split into
+``k = ceil(h / (SAFETY dt_s))`` equal internal steps (``1 <= k <= max_substeps``), ``SAFETY = 0.5``:
+``dt_s`` is the smaller of :func:`static_timestep_limit` (the limit when any one selected body carries
+the robot's whole weight at yield, in the env's initial pose: a load any foot may meet at the next
+step) and the terrain's stable timestep at the end of the previous env step
+(:meth:`mjrft.GranularTerrain.stable_timestep`, the explicit limit of the granular stiffness of every
+buried body, see :mod:`mjrft.kernel`; after a reset only the first). The env step then runs
+``frame_skip x k`` physics steps of ``h / k``; ``model.opt.timestep`` is ``h`` again between steps. The
+rule depends only on the state, so a seeded episode is reproducible. ``substeps=k`` fixes ``k``.
+When even ``max_substeps`` is not enough the terrain's :class:`~mjrft.TerrainStabilityWarning` says so.
+
+``cfrc_ext``. MuJoCo's ``cfrc_ext`` of a body is its external spatial force (torque first, then force)
+about the centre of mass of the body's kinematic tree (``subtree_com`` of its root), world frame, as
+``mj_rnePostConstraint`` computes it from contacts and ``xfrc_applied``. The wrapper adds the sand's
+wrench of the step's last physics step to it in the same convention (torque ``t + (xipos - c) x f``),
+so observations and costs built from ``cfrc_ext`` (Ant's, Humanoid's) see the sand.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+
+import gymnasium
+import mujoco
+import numpy as np
+from gymnasium.envs.mujoco import MujocoEnv
+
+from mjrft import kernel
+from mjrft.coupler import GranularTerrain
+from mjrft.errors import NonFiniteError, check_positive, unknown
+
+__all__ = ["GranularWrapper", "SAND_RGBA", "SAFETY", "static_timestep_limit", "terrain_option_names"]
+
+#: colour of the sand surface as rendered (the floor geom's rgba; translucent, so buried parts show)
+SAND_RGBA = (0.76, 0.64, 0.42, 0.6)
+#: fraction of the stable timestep the automatic sub-step uses (the module docstring's rule)
+SAFETY = 0.5
+MAX_SUBSTEPS = 64
+WRAPPER_OPTIONS = ("substeps", "max_substeps", "sand_rgba")
+
+
+def terrain_option_names() -> list[str]:
+    """The keyword arguments of :class:`mjrft.GranularTerrain` that :class:`GranularWrapper` passes on."""
+    params = inspect.signature(GranularTerrain.__init__).parameters
+    return [n for n, p in params.items() if p.kind is p.KEYWORD_ONLY]
+
+
+def static_timestep_limit(terrain: GranularTerrain, data: mujoco.MjData) -> float:
+    """Largest stable timestep (s) when any one selected body carries the robot's whole weight at yield.
+
+    For body ``b``: stiffness ``K = M g / delta`` (``M`` the model's total mass, ``delta`` the yield
+    displacement), damper ``tau K`` (the terrain's ``damping_time``) and inverse mass ``w`` the largest
+    eigenvalue of the translational mobility of ``b``'s centre of mass in ``data``'s pose
+    (:meth:`GranularTerrain.inverse_mass`); the limit is :func:`mjrft.kernel.max_stable_dt` of the stiffest
+    body. With ``yield_displacement = 0`` the viscous mode ``c = M g / v_eps`` is used instead. ``data`` is
+    forwarded (``mj_forward``) first: pass a scratch ``MjData`` holding the pose to judge."""
+    m = terrain.model
+    weight = float(m.body_subtreemass[0]) * max(0.0, -float(m.opt.gravity[2]))
+    if weight <= 0.0:
+        return math.inf
+    out = math.inf
+    mujoco.mj_forward(m, data)
+    for b in terrain.body_ids:
+        w = terrain.inverse_mass(data, int(b))
+        if not w > 0.0:  # a body that cannot move (welded to the world) has no limit
+            continue
+        if terrain.yield_displacement > 0:
+            K = weight / terrain.yield_displacement
+            out = min(out, kernel.max_stable_dt(K, terrain.damping_time * K, w))
+        else:
+            out = min(out, kernel.max_stable_dt(0.0, weight / terrain.v_eps, w))
+    return out
+
+
+def _floor_geoms(model: mujoco.MjModel) -> list[int]:
+    """World-body plane / box / hfield geoms that collide (the candidates for the floor)."""
+    kinds = (mujoco.mjtGeom.mjGEOM_PLANE, mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_HFIELD)
+    return [g for g in range(model.ngeom) if model.geom_bodyid[g] == 0 and model.geom_type[g] in kinds
+            and (model.geom_contype[g] or model.geom_conaffinity[g])]
+
+
+def _build_terrain(model: mujoco.MjModel, medium, law, options: dict) -> tuple[GranularTerrain, list[int]]:
+    """The terrain on ``model`` (``floor="auto"``, ``resolution="auto"`` unless given) and the floor geoms."""
+    options = dict(options)
+    options.setdefault("floor", "auto")
+    options.setdefault("resolution", "auto")
+    terrain = GranularTerrain(model, medium, law, **options)
+    floor = getattr(terrain, "floor", None)
+    return terrain, ([int(floor)] if floor is not None else [])
+
+
+class GranularWrapper(gymnasium.Wrapper):
+    """A gymnasium ``MujocoEnv`` on granular terrain (see the module docstring).
+
+    Args:
+        env: a gymnasium env whose ``unwrapped`` is a ``gymnasium.envs.mujoco.MujocoEnv`` (not already on
+            sand, not one of mjrft's own envs, which have their terrain built in).
+        medium, law: the terrain's medium and law (:class:`mjrft.GranularTerrain`).
+        substeps: ``"auto"`` (the module's rule) or a fixed integer ``k >= 1`` of physics steps per model step.
+        max_substeps: the largest ``k`` the automatic rule uses (default 64).
+        sand_rgba: colour of the floor geom that is the sand surface (4 numbers in [0, 1]); ``None`` keeps it.
+        **terrain_options: keyword arguments of :class:`mjrft.GranularTerrain` (``bodies``, ``geoms``,
+            ``floor``, ``resolution``, ``surface``, ``yield_displacement``, ...).
+    """
+
+    def __init__(self, env: gymnasium.Env, medium=None, law=None, *, substeps="auto", max_substeps: int = MAX_SUBSTEPS,
+                 sand_rgba=SAND_RGBA, **terrain_options):
+        if not isinstance(env, gymnasium.Env):
+            raise TypeError(f"GranularWrapper wraps a gymnasium.Env, got {type(env).__name__}")
+        u = env.unwrapped
+        if not isinstance(u, MujocoEnv):
+            raise TypeError(f"GranularWrapper needs a gymnasium MuJoCo environment (gymnasium.envs.mujoco.MujocoEnv); "
+                            f"{type(u).__name__} is not one")
+        if getattr(u, "terrain", None) is not None or type(u).__module__.startswith("mjrft."):
+            raise ValueError(f"{type(u).__name__} is one of mjrft's own environments with its terrain built in; "
+                             "use it directly (its sand= / medium= / law= arguments)")
+        if "_step_mujoco_simulation" in vars(u):
+            raise ValueError(f"this {type(u).__name__} is already on sand (wrapped by a GranularWrapper) or its physics "
+                             "was replaced by other code; wrap the env only once")
+        valid = terrain_option_names() + ["floor"]
+        for name in terrain_options:
+            if name not in valid:
+                raise unknown("GranularWrapper option", name, valid + list(WRAPPER_OPTIONS) + ["medium", "law"])
+        if substeps != "auto" and (isinstance(substeps, bool) or not isinstance(substeps, (int, np.integer))
+                                   or substeps < 1):
+            raise ValueError(f"substeps must be 'auto' or an integer >= 1, got {substeps!r}")
+        if isinstance(max_substeps, bool) or not isinstance(max_substeps, (int, np.integer)) or max_substeps < 1:
+            raise ValueError(f"max_substeps must be an integer >= 1, got {max_substeps!r}")
+        if sand_rgba is not None:
+            rgba = np.asarray(sand_rgba, dtype=float) if np.ndim(sand_rgba) == 1 else None
+            if rgba is None or rgba.shape != (4,) or not np.all((rgba >= 0) & (rgba <= 1)):
+                raise ValueError(f"sand_rgba must be 4 numbers in [0, 1] (red, green, blue, alpha) or None, "
+                                 f"got {sand_rgba!r}")
+        super().__init__(env)
+        model, data = u.model, u.data
+        self.integrator = mujoco.mjtIntegrator(model.opt.integrator).name
+        if model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4:
+            model.opt.integrator = mujoco.mjtIntegrator.mjINT_EULER  # what mj_step1/mj_step2 run; now explicit
+            self.integrator = f"mjINT_EULER (the model's {self.integrator} cannot be split by mj_step1/mj_step2)"
+        self.terrain, self.floor_geoms = _build_terrain(model, medium, law, terrain_options)
+        if sand_rgba is not None:
+            for g in self.floor_geoms:
+                model.geom_rgba[g] = sand_rgba
+        self.substeps = substeps if substeps == "auto" else int(substeps)
+        self.max_substeps = int(max_substeps)
+        self.body_ids = np.asarray(self.terrain.body_ids, dtype=np.int64)
+        self.body_names = tuple(mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
+                                for b in self.body_ids)
+        self._root = np.asarray(model.body_rootid[self.body_ids], dtype=np.int64)
+        self.model_timestep = float(model.opt.timestep)
+        self.diverged: str | None = None
+        self.last_substeps = 1
+        scratch = mujoco.MjData(model)
+        scratch.qpos[:], scratch.qvel[:] = u.init_qpos, 0.0
+        self._static_limit = static_timestep_limit(self.terrain, scratch)
+        self._limit = self._static_limit
+        u._step_mujoco_simulation = self._physics  # this instance only (see the module docstring)
+
+    # ------------------------------------------------------------------ physics
+    def _next_substeps(self) -> int:
+        if self.substeps != "auto":
+            return self.substeps
+        return int(min(self.max_substeps, max(1, math.ceil(self.model_timestep / (SAFETY * self._limit) - 1e-9))))
+
+    def _physics(self, ctrl, n_frames) -> None:
+        """The env's ``_step_mujoco_simulation``: ``n_frames`` model steps on sand, sub-stepped."""
+        u = self.env.unwrapped
+        model, data = u.model, u.data
+        data.ctrl[:] = ctrl
+        if self.diverged is not None:  # stopped until reset(): never go on from MuJoCo's reset state
+            return
+        k = self._next_substeps()
+        self.last_substeps = k
+        try:
+            model.opt.timestep = self.model_timestep / k
+            self.terrain.step(data, int(n_frames) * k)
+        except NonFiniteError as exc:
+            self.diverged = str(exc)
+        finally:
+            model.opt.timestep = self.model_timestep
+        mujoco.mj_rnePostConstraint(model, data)
+        if self.diverged is None:
+            self._add_cfrc_ext(data)
+            self._update_limit(data)
+
+    def _update_limit(self, data) -> None:
+        if self.substeps == "auto":
+            lim = float(np.min(self.terrain.stable_timestep(data)[self.body_ids]))
+            self._limit = min(lim, self._static_limit)
+
+    def _add_cfrc_ext(self, data) -> None:
+        """Add the sand's wrench (force, torque about each body's CoM) to ``cfrc_ext`` in MuJoCo's convention."""
+        b = self.body_ids
+        w = self.terrain.wrench[b]
+        r = data.xipos[b] - data.subtree_com[self._root]
+        data.cfrc_ext[b, :3] += w[:, 3:] + np.cross(r, w[:, :3])
+        data.cfrc_ext[b, 3:] += w[:, :3]
+
+    # ------------------------------------------------------------------ measurements
+    def sinkage(self) -> np.ndarray:
+        """Deepest element depth (m, >= 0) of each selected body (order :attr:`body_names`)."""
+        return self.terrain.sinkage()[self.body_ids].copy()
+
+    def granular_force(self) -> np.ndarray:
+        """Net granular force (N, world frame) on each selected body, shape (n_bodies, 3)."""
+        return self.terrain.wrench[self.body_ids, :3].copy()
+
+    def _sand_info(self, info: dict) -> dict:
+        info["sinkage"] = self.sinkage()
+        info["granular_force"] = self.granular_force()
+        info["substeps"] = self.last_substeps
+        return info
+
+    # ------------------------------------------------------------------ gym API
+    def reset(self, *, seed=None, options=None):
+        self.diverged = None
+        obs, info = self.env.reset(seed=seed, options=options)
+        u = self.env.unwrapped
+        self.terrain.reset()
+        self.terrain.compute(u.data, 0.0)  # the reset state's sinkage and force (memory empty, not advanced)
+        self._limit = self._static_limit
+        self.last_substeps = self._next_substeps()
+        return obs, self._sand_info(dict(info))
+
+    def step(self, action):
+        obs, reward, terminated, truncated, info = self.env.step(action)
+        info = self._sand_info(dict(info))
+        if self.diverged is not None:
+            obs = np.asarray(obs)
+            if not np.all(np.isfinite(obs)):
+                obs = np.zeros_like(obs)
+            reward, terminated = 0.0, True
+            info["diverged"] = self.diverged
+            info["sinkage"] = np.zeros(len(self.body_ids))
+            info["granular_force"] = np.zeros((len(self.body_ids), 3))
+        return obs, reward, terminated, truncated, info
+
+
+# ---------------------------------------------------------------------------------------------- registered ids
+def wrapper_option_names() -> list[str]:
+    """Keyword arguments of a registered sand variant that go to :class:`GranularWrapper` (the rest go to the env)."""
+    return ["medium", "law", *WRAPPER_OPTIONS, "floor", *terrain_option_names()]
+
+
+def _env_creator(gym_id: str):
+    spec = gymnasium.spec(gym_id)
+    creator = spec.entry_point
+    if isinstance(creator, str):
+        from gymnasium.envs.registration import load_env_creator
+
+        creator = load_env_creator(creator)
+    return spec, creator
+
+
+def env_option_names(gym_id: str) -> list[str]:
+    """Keyword arguments the gymnasium env ``gym_id`` accepts (its class and ``MujocoEnv``'s)."""
+    _, creator = _env_creator(gym_id)
+    names = set()
+    for fn in (getattr(creator, "__init__", creator), MujocoEnv.__init__):
+        names.update(n for n, p in inspect.signature(fn).parameters.items()
+                     if n != "self" and p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL))
+    return sorted(names - {"model_path", "observation_space"})
+
+
+def make_sand_env(gym_id: str, **kwargs) -> GranularWrapper:
+    """``GranularWrapper(<gymnasium env gym_id>)``: the entry point of the registered sand variants
+    (``mjrft.envs.GYM_SAND_IDS``). Keyword arguments named in :func:`wrapper_option_names` go to the wrapper
+    (and the terrain), the others to the env (``frame_skip``, ``reset_noise_scale``, ``render_mode``, ...)."""
+    spec, creator = _env_creator(gym_id)
+    wrapper_names = set(wrapper_option_names())
+    env_names = env_option_names(gym_id)
+    wrapper_kw = {k: v for k, v in kwargs.items() if k in wrapper_names}
+    env_kw = {k: v for k, v in kwargs.items() if k not in wrapper_names}
+    for name in env_kw:
+        if name not in env_names:
+            raise unknown(f"keyword argument of {gym_id} on sand", name, sorted(wrapper_names | set(env_names)))
+    env = creator(**{**spec.kwargs, **env_kw})
+    try:
+        return GranularWrapper(env, **wrapper_kw)
+    except Exception:
+        env.close()
+        raise
+
+
+make_sand_env.valid_kwargs = lambda gym_id, **_: sorted(set(wrapper_option_names()) | set(env_option_names(gym_id)))
