@@ -18,6 +18,7 @@ carry its terrain::
       <text name="mjrft:bodies" data="leg1 leg2"/>     <text name="mjrft:geoms" data="foot_geom"/>
       <numeric name="mjrft:surface" data="0"/>          <numeric name="mjrft:resolution" data="0.005"/>
       <numeric name="mjrft:yield_displacement" data="0.001"/>
+      <text name="mjrft:floor" data="auto"/>            <text name="mjrft:resolution" data="auto"/>
     </custom>
 
 and otherwise from the defaults below. One terrain serves one ``MjData`` at a time: stepping a
@@ -48,7 +49,7 @@ DEFAULTS = {
     "medium": "poppy_cp",
     "law": "rft",
     "surface": 0.0,
-    "resolution": 0.005,
+    "resolution": "auto",
     "yield_displacement": 1e-3,
     "v_eps": 1e-3,
     "transition": 0.01,
@@ -58,13 +59,19 @@ DEFAULTS = {
 }
 CUSTOM_PREFIX = "mjrft:"
 #: the ``mjrft:*`` keys a model's <custom> section may hold (any other one is warned about as a misspelling)
-CUSTOM_KEYS = ("medium", "law", "bodies", "geoms", "surface", "surface_hfield", "resolution", "yield_displacement",
+CUSTOM_KEYS = ("medium", "law", "bodies", "geoms", "floor", "surface", "surface_hfield", "resolution", "yield_displacement",
                "damping_time", "v_eps", "water_depth", "regions", "region_map", "transition", "buoyancy",
                "drag_coefficient", "water_density", "inertial", "inertial_drag")
 _SUPPORTED_GEOMS = {
     int(mujoco.mjtGeom.mjGEOM_BOX), int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER),
     int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID), int(mujoco.mjtGeom.mjGEOM_MESH),
 }
+_FLOOR_TYPES = {int(mujoco.mjtGeom.mjGEOM_PLANE): "plane", int(mujoco.mjtGeom.mjGEOM_BOX): "box",
+                int(mujoco.mjtGeom.mjGEOM_HFIELD): "hfield"}
+#: ``resolution="auto"``: the element count the automatic element size aims at (the selected geoms' surface
+#: area / resolution^2), and the finest size it picks (a small robot keeps this size and fewer elements)
+AUTO_ELEMENTS = 4000
+AUTO_MIN_RESOLUTION = 0.005
 STABILITY_CHECK_EVERY = 50
 #: largest element count a terrain builds unless told otherwise (``max_elements``): about 15 s and 0.4 GB
 #: to build on this project's machines, and far past where a finer resolution changes a robot's forces
@@ -100,6 +107,166 @@ def mujoco_reset_error(model: mujoco.MjModel, data: mujoco.MjData, since: str) -
     return NonFiniteError(f"the simulation diverged: MuJoCo found a non-finite or huge {what} on body '{name}' "
                           f"{since} and reset the state (its time is now {data.time:.6g} s); the diverged state is "
                           "lost. Reduce the timestep, or check the model and the forces applied to it")
+
+
+def _collides(model: mujoco.MjModel, g: int) -> bool:
+    """Whether geom ``g`` takes part in collisions (contype or conaffinity non-zero): not visual-only."""
+    return bool(model.geom_contype[g] or model.geom_conaffinity[g])
+
+
+def _geom_label(model: mujoco.MjModel, g: int) -> str:
+    return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or f"#{g}"
+
+
+def _floor_top(model: mujoco.MjModel, d: mujoco.MjData, g: int, xy: np.ndarray):
+    """(top height under ``xy`` or None, why not a floor or None) of a plane / box / hfield geom of the world."""
+    kind = _FLOOR_TYPES.get(int(model.geom_type[g]))
+    if kind is None:
+        return None, f"a {mujoco.mjtGeom(model.geom_type[g]).name[len('mjGEOM_'):].lower()}, not a plane, box or hfield"
+    if model.body_weldid[model.geom_bodyid[g]] != 0:
+        return None, "on a moving body"
+    R = d.geom_xmat[g].reshape(3, 3)
+    p = d.geom_xpos[g]
+    if kind == "box":
+        vertical = np.flatnonzero(np.abs(np.abs(R[2]) - 1.0) <= 1e-9)
+        if not len(vertical):
+            return None, "tilted (no face is horizontal)"
+        i = int(vertical[0])
+        local = R.T @ np.array([xy[0] - p[0], xy[1] - p[1], 0.0])
+        under = all(abs(local[j]) <= model.geom_size[g, j] for j in range(3) if j != i)
+        return p[2] + model.geom_size[g, i], (None if under else "not under the robot")
+    if abs(R[2, 2] - 1.0) > 1e-9:
+        return None, "tilted (its z axis is not vertical up)"
+    if kind == "plane":
+        return float(p[2]), None
+    h = model.geom_dataid[g]
+    rx, ry = model.hfield_size[h, :2]
+    local = R.T @ np.array([xy[0] - p[0], xy[1] - p[1], 0.0])
+    if abs(local[0]) > rx or abs(local[1]) > ry:
+        return None, "not under the robot"
+    _, z, frame = _hfield_surface(model, _geom_label(model, g))
+    out = np.empty(1)
+    kernel.surface_heights(np.array([xy[0]]), np.array([xy[1]]), 0.0, z, frame, out)
+    return float(out[0]), None
+
+
+def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object]:
+    """(geom id, surface: its top height, or its name for an hfield) of ``floor`` (a geom name/id or
+    ``"auto"``), judged at the model's initial pose under the centre of the selected geoms."""
+    d = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, d)
+    xy = d.geom_xpos[np.asarray(geom_ids, dtype=np.int64), :2].mean(axis=0)
+    world = [g for g in range(model.ngeom) if model.body_weldid[model.geom_bodyid[g]] == 0
+             and int(model.geom_type[g]) in _FLOOR_TYPES]
+    if isinstance(floor, str) and floor.strip().lower() == "auto":
+        tops, rejected = [], []
+        for g in world:
+            top, why = _floor_top(model, d, g, xy)
+            if why is None and not _collides(model, g):
+                why = "visual-only (contype = conaffinity = 0)"
+            (rejected if why else tops).append((g, top, why))
+        listing = "; ".join(f"'{_geom_label(model, g)}' ({_FLOOR_TYPES[int(model.geom_type[g])]}, "
+                            + (f"top {t:.6g} m" if w is None else w) + ")" for g, t, w in tops + rejected)
+        where = f"under the selected geoms' centre (x, y) = ({xy[0]:.4g}, {xy[1]:.4g}) m at the initial pose"
+        if not tops:
+            raise ValueError(f"floor='auto' found no collision plane, box or hfield of the world with a horizontal "
+                             f"top {where}; candidates: {listing or '(none)'}; name the floor (floor='<geom>') or "
+                             "give the sand's height (surface=<m>)")
+        low = min(t for _, t, _ in tops)
+        lowest = [g for g, t, _ in tops if t <= low + 1e-9]
+        if len(lowest) > 1:
+            raise ValueError(f"floor='auto' is ambiguous: {len(lowest)} geoms have the lowest top {low:.6g} m {where}: "
+                             f"{', '.join(repr(_geom_label(model, g)) for g in lowest)}; candidates: {listing}; "
+                             "name the floor (floor='<geom>')")
+        g = lowest[0]
+    else:
+        names = [_geom_label(model, g) for g in world]
+        try:
+            g = _ids(model, mujoco.mjtObj.mjOBJ_GEOM, floor, "floor geom", model.ngeom)[0]
+        except UnknownNameError:
+            raise unknown("floor geom", floor, ["auto", *names]) from None
+        top, why = _floor_top(model, d, g, xy)
+        if why is not None and why != "not under the robot":
+            raise ValueError(f"floor geom {_geom_label(model, g)!r} cannot be the sand surface: it is {why}; "
+                             f"world planes, boxes and hfields: {', '.join(names) or '(none)'}")
+    if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_HFIELD:
+        return g, _geom_label(model, g)
+    return g, float(top)
+
+
+FLOOR_PAIR_MARGIN = -1e10  # m: an explicit <pair> with the floor gets this margin (no contact within reach)
+
+
+def _remove_contacts(model: mujoco.MjModel, g: int) -> tuple[int, int]:
+    """Take geom ``g`` out of MuJoCo's collisions in the loaded model (contype = conaffinity = 0, explicit
+    pairs with it out of reach); returns its former (contype, conaffinity)."""
+    before = (int(model.geom_contype[g]), int(model.geom_conaffinity[g]))
+    model.geom_contype[g] = 0
+    model.geom_conaffinity[g] = 0
+    for p in range(model.npair):
+        if g in (model.pair_geom1[p], model.pair_geom2[p]):
+            model.pair_margin[p] = FLOOR_PAIR_MARGIN
+    return before
+
+
+def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS,
+                    finest: float = AUTO_MIN_RESOLUTION) -> float:
+    """The element size of ``resolution="auto"`` for these geoms: ``sqrt(area / target)`` for their total
+    surface area, not finer than ``finest``, then coarsened until :func:`~mjrft.geometry.estimate_elements`
+    (which counts a mesh's elements exactly, merged triangles included) is at most 10 % above ``target``.
+    The count before :func:`~mjrft.geometry.exposed_elements` drops the faces hidden inside neighbouring geoms."""
+    from .geometry.discretize import _mesh_arrays, surface_area
+    area = 0.0
+    for g in geom_ids:
+        g = int(g)
+        if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH:
+            area += surface_area(int(model.geom_type[g]), None, *_mesh_arrays(model, int(model.geom_dataid[g])))
+        else:
+            area += surface_area(int(model.geom_type[g]), model.geom_size[g])
+    res = max(float(finest), math.sqrt(area / target))
+    for _ in range(8):
+        n = estimate_elements(model, geom_ids, res)
+        if n <= 1.1 * target:
+            break
+        res *= math.sqrt(n / target)
+    return res
+
+
+def select_geoms(model: mujoco.MjModel, bodies, geoms) -> list[int]:
+    """Geom ids a terrain with these ``bodies`` / ``geoms`` selects (see :class:`GranularTerrain`)."""
+    m = model
+    if isinstance(bodies, str):
+        bodies = bodies.split()
+    if isinstance(geoms, str):
+        geoms = geoms.split()
+    selected: list[int] = []
+    if bodies:
+        for b in dict.fromkeys(_ids(m, mujoco.mjtObj.mjOBJ_BODY, bodies, "body", m.nbody)):
+            own = [g for g in range(m.ngeom) if m.geom_bodyid[g] == b and m.geom_type[g] in _SUPPORTED_GEOMS]
+            colliding = [g for g in own if _collides(m, g)]
+            selected += colliding or own  # a body with visual geoms only: they are all it has
+    if geoms:
+        for g in _ids(m, mujoco.mjtObj.mjOBJ_GEOM, geoms, "geom", m.ngeom):
+            if m.geom_type[g] not in _SUPPORTED_GEOMS:
+                name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
+                raise ValueError(f"geom {name or g!r} has type {mujoco.mjtGeom(m.geom_type[g]).name}; "
+                                 "supported: box, capsule, cylinder, sphere, ellipsoid, mesh")
+            if g not in selected:
+                selected.append(g)
+    if not bodies and not geoms:
+        selected = [g for g in range(m.ngeom)
+                    if m.geom_bodyid[g] != 0 and m.geom_type[g] in _SUPPORTED_GEOMS and _collides(m, g)]
+    return sorted(set(selected))
+
+
+def default_resolution(model: mujoco.MjModel) -> float:
+    """The element size a :class:`GranularTerrain` on ``model`` with no resolution argument uses: the model's
+    ``mjrft:resolution`` if it is a number, else :func:`auto_resolution` of the geoms the terrain selects."""
+    cfg = _custom(model)
+    value = cfg.get("resolution", DEFAULTS["resolution"])
+    if not isinstance(value, str):
+        return float(value)
+    return auto_resolution(model, select_geoms(model, cfg.get("bodies"), cfg.get("geoms")))
 
 
 def check_custom_keys(cfg: dict, stacklevel: int = 3) -> None:
@@ -282,12 +449,28 @@ class GranularTerrain:
         model: the ``MjModel``.
         medium: a :class:`~mjrft.media.Medium` or catalogue name (``mjrft.media.MEDIA``).
         law: ``"rft"``, ``"rft3d"`` or ``"depth_only"`` (``mjrft.laws.LAW_IDS``).
-        bodies: body names/ids whose geoms feel the grains (all their supported geoms).
-        geoms: geom names/ids (added to those of ``bodies``). With neither (and nothing in the MJCF),
-            every supported geom of every non-world body.
+        bodies: body names/ids whose geoms feel the grains: their supported collision geoms (contype or
+            conaffinity non-zero); a named body with no collision geom contributes its visual-only ones
+            (contype = conaffinity = 0), which are then all it has (mjrft's kinematic rigs).
+        geoms: geom names/ids (added to those of ``bodies``), taken as named, visual-only ones included.
+            With neither (and nothing in the MJCF), every supported collision geom of every non-world
+            body: a third-party model's visual meshes do not feel the grains.
+        floor: ``None`` (default), the name of a geom of the world (a plane, box or hfield with a
+            horizontal top; a geom on a body welded to the world counts), or ``"auto"``: the world's
+            collision plane / box / hfield whose top is lowest under the selected bodies (an error lists
+            the candidates when there is none or when two share that height). Its top becomes the sand
+            surface (an hfield floor: the height-field surface, as ``surface="<geom>"`` does) and its
+            contacts are removed from the LOADED ``model`` (never the file): its ``geom_contype`` and
+            ``geom_conaffinity`` are set to 0 and an explicit ``<pair>`` with it gets a margin of
+            ``-1e10`` (never within reach), so NOTHING rests on that floor any more, robot or not (a
+            body the terrain does not select falls through it). The values it had are kept in
+            ``floor_contacts``. Exclusive with ``surface``. See "Your own robot" below.
         surface: height of the flat free surface (m), or the name of an ``hfield`` geom whose height
             field is the free surface (bilinear between its samples; see "Height-field surface" below).
-        resolution: target element edge length (m), the one discretisation knob.
+        resolution: target element edge length (m), the one discretisation knob, or ``"auto"`` (the
+            default when neither the argument nor the MJCF's ``mjrft:resolution`` gives one): the size
+            that cuts the selected geoms into about ``AUTO_ELEMENTS`` = 4,000 elements (surface area /
+            size^2), but not finer than ``AUTO_MIN_RESOLUTION`` = 5 mm (see :func:`auto_resolution`).
         yield_displacement: ``delta`` of the rest regularisation (m); 0 switches it to a viscous ramp.
         damping_time: ``tau`` (s) of the Kelvin-Voigt damping below yield; default ``0.5 sqrt(delta/g)``
             (5 ms for delta = 1 mm): critical damping at omega = 2 / tau = 400 rad/s, which keeps the
@@ -364,7 +547,16 @@ class GranularTerrain:
     and for the deepest and the fastest buried element of the last step every
     ``STABILITY_CHECK_EVERY`` steps, alongside the stability check.
 
-    MJCF ``<custom>`` keys for all of this: text ``mjrft:surface_hfield`` (geom name), text
+    Your own robot. A third-party model goes on sand unchanged with
+    ``GranularTerrain(model, floor="auto")``: collision geoms only, the floor's top as the surface (its
+    contacts removed in the loaded model), an element size from the robot's size. Elements come from
+    every selected geom that can move; a mesh's small triangles are merged into elements of about the
+    resolution (:mod:`mjrft.geometry.discretize`), so a detailed mesh does not cost one element per
+    triangle. The terrain's force is explicit (computed from the state at the start of each step), so
+    its stability limit is the explicit one whatever the integrator; :meth:`step` refuses RK4 (see there).
+
+    MJCF ``<custom>`` keys for all of this: text ``mjrft:floor`` (geom name or ``auto``), text
+    ``mjrft:resolution`` ``auto``, text ``mjrft:surface_hfield`` (geom name), text
     ``mjrft:regions`` (``"x_min medium law [water_depth]; ..."``, or ``"medium law [water_depth]; ..."``
     with a map), numeric ``mjrft:region_map`` (``x_min y_min cell_x cell_y nx ny`` then the nx x ny
     ids row by row, rows along y), numeric ``mjrft:water_depth``, ``mjrft:transition``,
@@ -372,7 +564,7 @@ class GranularTerrain:
     ``mjrft:inertial_drag``.
     """
 
-    def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, surface=None,
+    def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, floor=None, surface=None,
                  resolution=None, yield_displacement=None, damping_time=None, v_eps=None, water_depth=None,
                  regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
                  water_density=None, inertial=None, inertial_drag=None, max_elements=None):
@@ -395,11 +587,25 @@ class GranularTerrain:
         self.medium = get_medium(pick("medium", medium))
         self.law = str(pick("law", law))
         lid = law_id(self.law)
-        if surface is None and "surface_hfield" in cfg:
-            surface = cfg["surface_hfield"]
-        surface = pick("surface", surface)
+        if floor is not None and surface is not None:
+            raise ValueError(f"floor={floor!r} and surface={surface!r} both give the sand surface; pass one of them")
+        if floor is None and surface is None:
+            floor = cfg.get("floor")
+            if floor is not None and ("surface" in cfg or "surface_hfield" in cfg):
+                raise ValueError("the model's <custom> gives both mjrft:floor and mjrft:surface"
+                                 f"{'_hfield' if 'surface_hfield' in cfg else ''}; keep one of them")
+        self.floor = None  # geom id of the floor that became the surface
+        self.floor_contacts = None  # its (contype, conaffinity) before the terrain removed its contacts
         self.surface_hfield = None  # geom id of the hfield surface
         self._hf_z, self._hf_frame = np.zeros((0, 0)), np.zeros(8)
+        geom_ids = select_geoms(model, pick("bodies", bodies), pick("geoms", geoms))
+        if not geom_ids:
+            raise ValueError("no geoms selected for the granular terrain")
+        if floor is not None:
+            self.floor, surface = _find_floor(model, floor, geom_ids)
+        elif surface is None and "surface_hfield" in cfg:
+            surface = cfg["surface_hfield"]
+        surface = pick("surface", surface)
         if isinstance(surface, str):
             try:
                 surface = float(surface)
@@ -407,7 +613,13 @@ class GranularTerrain:
                 self.surface_hfield, self._hf_z, self._hf_frame = _hfield_surface(model, surface)
                 surface = float(self._hf_z.mean())
         self.surface = check_finite("surface", surface)
-        self.resolution = check_positive("resolution", pick("resolution", resolution))
+        resolution = pick("resolution", resolution)
+        self.resolution_auto = isinstance(resolution, str) and resolution.strip().lower() == "auto"
+        if self.resolution_auto:
+            resolution = auto_resolution(model, geom_ids)
+        elif isinstance(resolution, str):
+            raise ValueError(f"resolution must be a length in m or 'auto', got {resolution!r}")
+        self.resolution = check_positive("resolution", resolution)
         self.yield_displacement = check_positive("yield_displacement",
                                                  pick("yield_displacement", yield_displacement), allow_zero=True)
         self.v_eps = check_positive("v_eps", pick("v_eps", v_eps), allow_zero=True)
@@ -494,7 +706,6 @@ class GranularTerrain:
         self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
 
         # --- geoms ---
-        geom_ids = self._select_geoms(pick("bodies", bodies), pick("geoms", geoms))
         self._check_element_count(geom_ids, max_elements)
         parts = [discretize_geom(model, gid, self.resolution) for gid in geom_ids]
         # only the exposed surface of each body's union of geoms meets grains (see geometry.exposed_elements)
@@ -557,9 +768,8 @@ class GranularTerrain:
         self._warned: set[int] = set()
         self._cb_prev = None
         self._validity_init()
-        if model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4:
-            warnings.warn("mjrft: the RK4 integrator evaluates forces at intermediate stages; GranularTerrain "
-                          "applies one wrench per step (use Euler or implicitfast)", stacklevel=2)
+        if self.floor is not None:  # last: a constructor that raises leaves the model as it was
+            self.floor_contacts = _remove_contacts(model, self.floor)
 
     # ------------------------------------------------------------------ set-up helpers
     def _check_element_count(self, geom_ids, max_elements) -> None:
@@ -573,28 +783,6 @@ class GranularTerrain:
                              f"{n:,} elements, more than max_elements = {limit:,} (minutes and gigabytes to build); "
                              f"use a coarser resolution (about {suggest:.2g} m gives 100,000 elements) or pass "
                              "max_elements=... if you mean it")
-
-    def _select_geoms(self, bodies, geoms) -> list[int]:
-        m = self.model
-        if isinstance(bodies, str):
-            bodies = bodies.split()
-        if isinstance(geoms, str):
-            geoms = geoms.split()
-        selected: list[int] = []
-        if bodies:
-            bids = set(_ids(m, mujoco.mjtObj.mjOBJ_BODY, bodies, "body", m.nbody))
-            selected += [g for g in range(m.ngeom) if m.geom_bodyid[g] in bids and m.geom_type[g] in _SUPPORTED_GEOMS]
-        if geoms:
-            for g in _ids(m, mujoco.mjtObj.mjOBJ_GEOM, geoms, "geom", m.ngeom):
-                if m.geom_type[g] not in _SUPPORTED_GEOMS:
-                    name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
-                    raise ValueError(f"geom {name or g!r} has type {mujoco.mjtGeom(m.geom_type[g]).name}; "
-                                     "supported: box, capsule, cylinder, sphere, ellipsoid, mesh")
-                if g not in selected:
-                    selected.append(g)
-        if not bodies and not geoms:
-            selected = [g for g in range(m.ngeom) if m.geom_bodyid[g] != 0 and m.geom_type[g] in _SUPPORTED_GEOMS]
-        return sorted(selected)
 
     def _bind(self, data: mujoco.MjData) -> None:
         if data is self._data:
@@ -691,7 +879,16 @@ class GranularTerrain:
                 self._check_validity(data)
 
     def step(self, data: mujoco.MjData, nstep: int = 1) -> None:
-        """``nstep`` times: ``mj_step1``, add the granular wrench to ``xfrc_applied``, ``mj_step2``."""
+        """``nstep`` times: ``mj_step1``, add the granular wrench to ``xfrc_applied``, ``mj_step2``.
+
+        Integrators: Euler, implicit and implicitfast step as usual; the granular wrench is explicit (a
+        constant external force over the step, computed from the state after ``mj_step1``): the implicit
+        integrators treat the model's own damping and actuator derivatives implicitly, not the grains'
+        stiffness, so the stability limit the terrain warns about is the same for all three. RK4 is
+        refused: MuJoCo's ``mj_step1``/``mj_step2`` split integrates an RK4 model with Euler, which
+        would silently change the model's integrator.
+        """
+        self._check_integrator("step")
         nstep = int(nstep)
         if nstep < 0:
             raise ValueError(f"nstep must be >= 0, got {nstep}")
@@ -714,6 +911,16 @@ class GranularTerrain:
             finally:
                 kernel.restore_rows(xfrc, rows, self._saved)
 
+    def _check_integrator(self, what: str) -> None:
+        if self.model.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4:
+            why = ("MuJoCo's mj_step1/mj_step2 split (which applies the granular wrench between them) integrates an "
+                   "RK4 model with semi-implicit Euler" if what == "step" else
+                   "the passive callback runs at each of RK4's four stages and would advance the elements' "
+                   "memory four times per step")
+            raise ValueError(f"GranularTerrain.{what} does not support the RK4 integrator: {why}. Set "
+                             "model.opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST (or EULER / IMPLICIT; "
+                             "the granular wrench is explicit in all of them)")
+
     # ------------------------------------------------------------------ callback mode
     def install(self) -> "GranularTerrain":
         """Register a MuJoCo passive-force callback so that plain ``mj_step`` / the viewer feel the terrain.
@@ -723,6 +930,7 @@ class GranularTerrain:
         only one terrain can be installed at a time, and it serves only its own model. Calls at an
         unchanged ``data.time`` (e.g. ``mj_forward``) recompute the force without advancing memory.
         """
+        self._check_integrator("install")
         current = mujoco.get_mjcb_passive()
         if current is not None and current != self._callback:
             raise RuntimeError("another MuJoCo passive callback is installed; call its uninstall first")

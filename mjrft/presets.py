@@ -59,7 +59,7 @@ from __future__ import annotations
 
 import mujoco
 
-from .coupler import CUSTOM_PREFIX, DEFAULTS
+from .coupler import CUSTOM_PREFIX, default_resolution
 from .errors import unknown
 
 PRESETS: dict[str, dict] = {
@@ -77,10 +77,10 @@ def get_preset(name: str) -> dict:
 
 
 def model_resolution(model: mujoco.MjModel) -> float:
-    """The model's own element size: its ``<custom>`` ``mjrft:resolution``, else the coupler default."""
+    """The model's own element size: its ``<custom>`` ``mjrft:resolution``, else the coupler's automatic one."""
     i = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, CUSTOM_PREFIX + "resolution")
     if i < 0:
-        return float(DEFAULTS["resolution"])
+        return default_resolution(model)
     return float(model.numeric_data[model.numeric_adr[i]])
 
 

@@ -2,4 +2,5 @@
 
 from .curved_leg import add_curved_leg, arc_length, curved_leg_boxes, curved_leg_xml
 from .discretize import (GEOM_TYPES, Elements, discretize_geom, estimate_elements, exposed, exposed_elements,
-                         geom_elements, inside_geom, surface_area, to_geom_frame)
+                         geom_elements, inside_geom, mesh_element_count, surface_area,
+                         to_geom_frame)

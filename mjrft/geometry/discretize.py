@@ -2,8 +2,11 @@
 
 ``resolution`` is the target element edge length in metres: every face or patch is cut into
 ``max(1, ceil(extent / resolution))`` cells per direction (with small per-shape minimums), so even a
-tiny geom gets at least one element per face.  Element areas sum to :func:`surface_area` exactly for
-box, sphere, capsule, cylinder and mesh, and to within ~1e-3 for ellipsoids.
+tiny primitive gets at least one element per face. A mesh's triangles larger than half the resolution
+are cut the same way; smaller ones are merged into elements of about the resolution (see
+:func:`_mesh`), so a detailed mesh costs what its size calls for, not what its triangle count does.
+Element areas sum to :func:`surface_area` exactly for box, sphere, capsule, cylinder and mesh, and to
+within ~1e-3 for ellipsoids.
 """
 
 from __future__ import annotations
@@ -17,7 +20,7 @@ import numpy as np
 
 from ..errors import UnknownNameError, check_positive, unknown
 
-__all__ = ["Elements", "GEOM_TYPES", "discretize_geom", "geom_elements", "surface_area"]
+__all__ = ["Elements", "GEOM_TYPES", "discretize_geom", "geom_elements", "mesh_element_count", "surface_area"]
 
 GEOM_TYPES = ("box", "capsule", "cylinder", "sphere", "ellipsoid", "mesh")
 
@@ -264,32 +267,129 @@ def _ellipsoid(axes: np.ndarray, res: float) -> Elements:
     return Elements(pos, _unit(grad, radial), area.ravel())
 
 
-def _mesh(vertices: np.ndarray, faces: np.ndarray, res: float) -> Elements:
-    """Every triangle, split into k^2 congruent sub-triangles with k = ceil(longest edge / res)."""
-    if len(faces) == 0:
-        return Elements.empty()
+MERGE_BELOW = 0.5  # a triangle whose longest edge is at most this many resolutions is merged with its neighbours
+MERGE_BINS = 3  # normal-direction bins per cube face (6 x 3 x 3 = 54 directions) of the merged clusters
+
+
+def _mesh_faces(vertices: np.ndarray, faces: np.ndarray, res: float):
+    """Per triangle: (first vertex, two edge vectors, area, unit normal, pieces per edge k, small mask)."""
     v0, v1, v2 = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
     e1, e2 = v1 - v0, v2 - v0
     cross = np.cross(e1, e2)
     tri_area = 0.5 * np.linalg.norm(cross, axis=1)
     normal = _unit(cross, np.array([0.0, 0.0, 1.0]))
     longest = np.max(np.linalg.norm(np.stack([e1, e2, v2 - v1]), axis=2), axis=0)
-    k = _ncells(longest, res)
-    pos_parts, face_parts = [], []
-    for kk in np.unique(k):
-        idx = np.flatnonzero(k == kk)
-        i, j = np.meshgrid(np.arange(kk), np.arange(kk), indexing="ij")
-        up = i + j <= kk - 1
-        down = i + j <= kk - 2
-        s = np.concatenate([i[up] + 1 / 3, i[down] + 2 / 3]) / kk  # barycentric centroids of the k^2 pieces
-        t = np.concatenate([j[up] + 1 / 3, j[down] + 2 / 3]) / kk
-        p = v0[idx, None] + s[None, :, None] * e1[idx, None] + t[None, :, None] * e2[idx, None]
-        pos_parts.append(p.reshape(-1, 3))
-        face_parts.append(np.repeat(idx, len(s)))
-    face = np.concatenate(face_parts)
-    order = np.argsort(face, kind="stable")
-    face = face[order]
-    return Elements(np.concatenate(pos_parts)[order], normal[face], (tri_area / k**2)[face])
+    small = longest <= MERGE_BELOW * res
+    return v0, e1, e2, tri_area, normal, longest, small
+
+
+def _normal_bins(normal: np.ndarray) -> np.ndarray:
+    """Direction bin (0 .. 6 MERGE_BINS^2 - 1) of unit normals: the cube face the normal points through
+    (dominant axis and sign), cut into MERGE_BINS x MERGE_BINS equal squares."""
+    axis = np.argmax(np.abs(normal), axis=1)
+    rows = np.arange(len(normal))
+    major = normal[rows, axis]
+    u = normal[rows, (axis + 1) % 3] / np.abs(major)
+    v = normal[rows, (axis + 2) % 3] / np.abs(major)
+    iu = np.clip(np.floor((u + 1.0) * 0.5 * MERGE_BINS), 0, MERGE_BINS - 1).astype(np.int64)
+    iv = np.clip(np.floor((v + 1.0) * 0.5 * MERGE_BINS), 0, MERGE_BINS - 1).astype(np.int64)
+    face = 2 * axis + (major < 0)
+    return (face * MERGE_BINS + iu) * MERGE_BINS + iv
+
+
+def _spread_bits(x: np.ndarray) -> np.ndarray:
+    """The low 21 bits of ``x`` (uint64) spread to every third bit (for a Morton code)."""
+    x = x & np.uint64(0x1FFFFF)
+    for shift, mask in ((32, 0x1F00000000FFFF), (16, 0x1F0000FF0000FF), (8, 0x100F00F00F00F00F),
+                        (4, 0x10C30C30C30C30C3), (2, 0x1249249249249249)):
+        x = (x | (x << np.uint64(shift))) & np.uint64(mask)
+    return x
+
+
+def _clusters(centroid: np.ndarray, normal: np.ndarray, res: float) -> tuple[np.ndarray, int]:
+    """Cluster id of each small triangle (ids numbered along a Morton curve of the cells), and the count:
+    triangles whose centroids share a cube of edge ``res`` and whose normals share a direction bin."""
+    cell = np.floor(centroid / res).astype(np.int64)
+    keys = np.column_stack([cell - cell.min(axis=0), _normal_bins(normal)])
+    uniq, inverse = np.unique(keys, axis=0, return_inverse=True)
+    c = uniq[:, :3].astype(np.uint64)
+    morton = _spread_bits(c[:, 0]) | (_spread_bits(c[:, 1]) << np.uint64(1)) | (_spread_bits(c[:, 2]) << np.uint64(2))
+    order = np.lexsort((uniq[:, 3], morton))
+    rank = np.empty(len(uniq), dtype=np.int64)
+    rank[order] = np.arange(len(uniq))
+    return rank[inverse.reshape(-1)], len(uniq)
+
+
+def _mesh(vertices: np.ndarray, faces: np.ndarray, res: float) -> Elements:
+    """Elements of a triangle mesh at resolution ``res``.
+
+    A triangle whose longest edge exceeds ``MERGE_BELOW res`` is split into k^2 congruent sub-triangles
+    with k = ceil(longest edge / res) (k = 1: the triangle itself). Smaller triangles are merged: those
+    whose centroids lie in the same cube of edge ``res`` (a grid fixed in the mesh frame) and whose
+    normals fall in the same direction bin (:func:`_normal_bins`, normals within about 50 degrees of each
+    other) form one element with their total area, area-weighted centroid and the unit vector of their
+    summed area vectors; a cluster therefore spans about ``res`` (its cube plus the triangles' own
+    reach of at most ``MERGE_BELOW res``). Total area is exact; so are the sums of area x any quantity
+    linear in position (depth-linear loads); a curved cluster's projected area is its total area times
+    the unit normal, at most 1 - cos(spread) above the exact |sum of area vectors|. Split elements come
+    first, in face order, then the merged ones along a Morton curve of their cubes.
+    """
+    if len(faces) == 0:
+        return Elements.empty()
+    v0, e1, e2, tri_area, normal, longest, small = _mesh_faces(vertices, faces, res)
+    parts = []
+    big = np.flatnonzero(~small)
+    if len(big):
+        k = _ncells(longest[big], res)
+        pos_parts, face_parts = [], []
+        for kk in np.unique(k):
+            idx = big[k == kk]
+            i, j = np.meshgrid(np.arange(kk), np.arange(kk), indexing="ij")
+            up = i + j <= kk - 1
+            down = i + j <= kk - 2
+            s = np.concatenate([i[up] + 1 / 3, i[down] + 2 / 3]) / kk  # barycentric centroids of the k^2 pieces
+            t = np.concatenate([j[up] + 1 / 3, j[down] + 2 / 3]) / kk
+            p = v0[idx, None] + s[None, :, None] * e1[idx, None] + t[None, :, None] * e2[idx, None]
+            pos_parts.append(p.reshape(-1, 3))
+            face_parts.append(np.repeat(idx, len(s)))
+        face = np.concatenate(face_parts)
+        order = np.argsort(face, kind="stable")
+        face = face[order]
+        kf = np.zeros(len(faces), dtype=np.intp)
+        kf[big] = k
+        parts.append(Elements(np.concatenate(pos_parts)[order], normal[face], (tri_area / np.maximum(kf, 1) ** 2)[face]))
+    sm = np.flatnonzero(small)
+    if len(sm):
+        a = tri_area[sm]
+        cen = v0[sm] + (e1[sm] + e2[sm]) / 3.0
+        cid, n = _clusters(cen, normal[sm], res)
+        area = np.bincount(cid, a, minlength=n)
+        count = np.bincount(cid, minlength=n)
+        ok = area > 0
+        pos = np.empty((n, 3))
+        vec = np.empty((n, 3))
+        for d in range(3):
+            mean = np.bincount(cid, cen[:, d], minlength=n) / count  # zero-area clusters: the plain mean
+            pos[:, d] = np.where(ok, np.bincount(cid, a * cen[:, d], minlength=n) / np.where(ok, area, 1.0), mean)
+            vec[:, d] = np.bincount(cid, a * normal[sm, d], minlength=n)
+        first = np.full(n, len(sm))
+        np.minimum.at(first, cid, np.arange(len(sm)))
+        parts.append(Elements(pos, _unit(vec, normal[sm][first]), area))
+    return Elements.concatenate(parts)
+
+
+def mesh_element_count(vertices, faces, resolution: float) -> int:
+    """How many elements :func:`geom_elements` makes of this mesh at ``resolution``, without making them
+    (the split triangles' k^2 summed, the merged clusters counted)."""
+    res = _check_resolution(resolution)
+    v, f = _check_mesh(vertices, faces)
+    if len(f) == 0:
+        return 0
+    v0, e1, e2, _, normal, longest, small = _mesh_faces(v, f, res)
+    total = float(np.sum(np.ceil(longest[~small] / res - 1e-9).clip(min=1) ** 2))
+    if small.any():
+        total += _clusters(v0[small] + (e1[small] + e2[small]) / 3.0, normal[small], res)[1]
+    return int(min(total, 2**62))
 
 
 # --------------------------------------------------------------------------- public API
@@ -361,8 +461,8 @@ def discretize_geom(model: mujoco.MjModel, geom_id: int, resolution: float) -> E
 
 def estimate_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> int:
     """About how many elements :func:`discretize_geom` makes of these geoms, without making them:
-    surface area / resolution^2 per geom (a mesh at least one per triangle). Cheap: use it to refuse a
-    resolution that would take minutes and gigabytes before any element is built."""
+    surface area / resolution^2 per primitive geom, the exact count of a mesh (:func:`mesh_element_count`).
+    Cheap: use it to refuse a resolution that would take minutes and gigabytes before any element is built."""
     res = _check_resolution(resolution)
     total = 0.0
     for g in geom_ids:
@@ -370,7 +470,7 @@ def estimate_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> int
         geom_type = int(model.geom_type[g])
         if _geom_name(geom_type) == "mesh":
             v, f = _mesh_arrays(model, int(model.geom_dataid[g]))
-            total += max(surface_area(geom_type, None, v, f) / res**2, len(f))
+            total += mesh_element_count(v, f, res)
         else:
             total += surface_area(geom_type, model.geom_size[g]) / res**2
     return int(math.ceil(total))
