@@ -313,3 +313,20 @@ def test_bundled_and_many_triangle_meshes_estimate_exactly():
     m = mujoco.MjModel.from_xml_string(robot_xml())
     for res in (0.002, 0.005, 0.02):
         assert estimate_elements(m, [gid(m, "foot")], res) == len(discretize_geom(m, gid(m, "foot"), res))
+
+
+# ---------------------------------------------------------------------------------------------- bundled scenes
+@pytest.mark.parametrize("name", ["hexapod", "hexapod_small", "hexapod_shoal", "biped", "biped_wedge", "humanoid",
+                                  "humanoid_cutout", "plate_rig", "leg_rig"])
+def test_bundled_scenes_keep_every_geom_of_their_granular_bodies(name):
+    """The collision-geoms-only rule changes no bundled scene: each selects every supported geom of the bodies its
+    <custom> (or, for the kinematic rigs whose geoms collide with nothing, mjrft.rigs) names."""
+    from mjrft.coupler import _SUPPORTED_GEOMS, _custom
+    from mjrft.models import model_path
+
+    m = mujoco.MjModel.from_xml_path(model_path(name))
+    bodies = _custom(m).get("bodies", "plate" if name == "plate_rig" else "leg").split()
+    ids = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in bodies}
+    every = [g for g in range(m.ngeom) if m.geom_bodyid[g] in ids and m.geom_type[g] in _SUPPORTED_GEOMS]
+    terrain = mjrft.GranularTerrain(m, bodies=bodies, resolution=0.01)
+    assert terrain.geom_ids.tolist() == every and len(every) > 0
