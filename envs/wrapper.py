@@ -60,6 +60,7 @@ import gymnasium
 import mujoco
 import numpy as np
 from gymnasium.envs.mujoco import MujocoEnv
+from numba import njit
 
 from mjrft import kernel
 from mjrft.coupler import GranularTerrain
@@ -108,11 +109,29 @@ def static_timestep_limit(terrain: GranularTerrain, data: mujoco.MjData) -> floa
     return out
 
 
-def _floor_geoms(model: mujoco.MjModel) -> list[int]:
-    """World-body plane / box / hfield geoms that collide (the candidates for the floor)."""
-    kinds = (mujoco.mjtGeom.mjGEOM_PLANE, mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_HFIELD)
-    return [g for g in range(model.ngeom) if model.geom_bodyid[g] == 0 and model.geom_type[g] in kinds
-            and (model.geom_contype[g] or model.geom_conaffinity[g])]
+@njit(cache=True, error_model="numpy")
+def _add_wrench_to_cfrc_ext(cfrc_ext, xipos, subtree_com, wrench, bodies, roots):
+    """``cfrc_ext[b] += (t + (xipos[b] - subtree_com[root]) x f, f)`` for each body (MuJoCo's convention)."""
+    for i in range(bodies.shape[0]):
+        b, c = bodies[i], roots[i]
+        fx, fy, fz = wrench[b, 0], wrench[b, 1], wrench[b, 2]
+        rx, ry, rz = xipos[b, 0] - subtree_com[c, 0], xipos[b, 1] - subtree_com[c, 1], xipos[b, 2] - subtree_com[c, 2]
+        cfrc_ext[b, 0] += wrench[b, 3] + ry * fz - rz * fy
+        cfrc_ext[b, 1] += wrench[b, 4] + rz * fx - rx * fz
+        cfrc_ext[b, 2] += wrench[b, 5] + rx * fy - ry * fx
+        cfrc_ext[b, 3] += fx
+        cfrc_ext[b, 4] += fy
+        cfrc_ext[b, 5] += fz
+
+
+@njit(cache=True, error_model="numpy")
+def _body_sinkage(depth, elem_body, slot, out):
+    """Deepest element depth (>= 0) per body: ``out[slot[elem_body[e]]]``."""
+    out[:] = 0.0
+    for e in range(depth.shape[0]):
+        j = slot[elem_body[e]]
+        if depth[e] > out[j]:
+            out[j] = depth[e]
 
 
 def _build_terrain(model: mujoco.MjModel, medium, law, options: dict) -> tuple[GranularTerrain, list[int]]:
@@ -183,6 +202,8 @@ class GranularWrapper(gymnasium.Wrapper):
         self.body_names = tuple(mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
                                 for b in self.body_ids)
         self._root = np.asarray(model.body_rootid[self.body_ids], dtype=np.int64)
+        self._slot = np.zeros(model.nbody, dtype=np.int64)  # body id -> its row in info["sinkage"]
+        self._slot[self.body_ids] = np.arange(len(self.body_ids))
         self.model_timestep = float(model.opt.timestep)
         self.diverged: str | None = None
         self.last_substeps = 1
@@ -226,16 +247,15 @@ class GranularWrapper(gymnasium.Wrapper):
 
     def _add_cfrc_ext(self, data) -> None:
         """Add the sand's wrench (force, torque about each body's CoM) to ``cfrc_ext`` in MuJoCo's convention."""
-        b = self.body_ids
-        w = self.terrain.wrench[b]
-        r = data.xipos[b] - data.subtree_com[self._root]
-        data.cfrc_ext[b, :3] += w[:, 3:] + np.cross(r, w[:, :3])
-        data.cfrc_ext[b, 3:] += w[:, :3]
+        _add_wrench_to_cfrc_ext(data.cfrc_ext, data.xipos, data.subtree_com, self.terrain.wrench, self.body_ids,
+                                self._root)
 
     # ------------------------------------------------------------------ measurements
     def sinkage(self) -> np.ndarray:
         """Deepest element depth (m, >= 0) of each selected body (order :attr:`body_names`)."""
-        return self.terrain.sinkage()[self.body_ids].copy()
+        out = np.zeros(len(self.body_ids))
+        _body_sinkage(self.terrain.depth, self.terrain.elem_body, self._slot, out)
+        return out
 
     def granular_force(self) -> np.ndarray:
         """Net granular force (N, world frame) on each selected body, shape (n_bodies, 3)."""
