@@ -153,6 +153,8 @@ def _floor_top(model: mujoco.MjModel, d: mujoco.MjData, g: int, xy: np.ndarray):
 def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object]:
     """(geom id, surface: its top height, or its name for an hfield) of ``floor`` (a geom name/id or
     ``"auto"``), judged at the model's initial pose under the centre of the selected geoms."""
+    if isinstance(floor, (bool, np.bool_)) or not isinstance(floor, (str, int, np.integer)):
+        raise ValueError(f"floor must be None, 'auto' or a geom name/id, got {floor!r}")
     d = mujoco.MjData(model)
     mujoco.mj_kinematics(model, d)
     xy = d.geom_xpos[np.asarray(geom_ids, dtype=np.int64), :2].mean(axis=0)

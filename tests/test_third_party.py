@@ -165,6 +165,12 @@ def test_floor_from_the_models_custom_section_and_auto_resolution_text():
         terrain = mjrft.GranularTerrain(m)
     assert terrain.floor == gid(m, "floor") and terrain.medium.name == "glass3_cp" and terrain.resolution_auto
     assert default_resolution(m) == terrain.resolution
+    both = custom.replace("</custom>", '<numeric name="mjrft:surface" data="0"/></custom>')
+    with pytest.raises(ValueError, match="<custom> gives both mjrft:floor and mjrft:surface; keep one of them"):
+        mjrft.GranularTerrain(mujoco.MjModel.from_xml_string(robot_xml(custom=both)))
+    # an argument wins over the file: surface= given, the file's floor is not used (and keeps its contacts)
+    m = mujoco.MjModel.from_xml_string(robot_xml(custom=both))
+    assert mjrft.GranularTerrain(m, surface=0.02).floor is None and m.geom_contype[gid(m, "floor")] == 1
 
 
 def test_named_box_floor_and_its_height():
@@ -208,6 +214,9 @@ def test_auto_floor_errors_list_the_candidates():
         mjrft.GranularTerrain(m, floor="torso")
     with pytest.raises(mjrft.errors.UnknownNameError, match=r"unknown floor geom 'flor'; valid choices: auto, wall"):
         mjrft.GranularTerrain(m, floor="flor")
+    for bad in (0.05, True, ["floor"]):
+        with pytest.raises(ValueError, match=r"floor must be None, 'auto' or a geom name/id, got"):
+            mjrft.GranularTerrain(m, floor=bad)
     m = mujoco.MjModel.from_xml_string(robot_xml())
     with pytest.raises(ValueError, match="floor='auto' and surface=0.0 both give the sand surface"):
         mjrft.GranularTerrain(m, floor="auto", surface=0.0)
