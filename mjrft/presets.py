@@ -6,7 +6,7 @@
 Each preset sets:
 
 * ``resolution_scale``: the element size as a multiple of the model's own resolution (its MJCF
-  ``<custom>`` ``mjrft:resolution``: hexapod 5 mm, humanoid 2 cm, biped 1 cm), so one preset fits robots
+  ``<custom>`` ``mjrft:resolution``: hexapod 5 mm, humanoid 2 cm, biped 2 cm), so one preset fits robots
   of every size;
 * ``law``: the force law (``rft``, Li 2013 with the medium's own fit, in all three);
 * ``timestep`` (s) and ``frame_skip``: the physics step and the steps per env step. All three presets
@@ -14,45 +14,42 @@ Each preset sets:
   every preset.
 
 How they were chosen (``mjrft bench`` / ``python benchmarks/trade_study.py``, :mod:`mjrft.tradeoff`; the
-committed run is ``benchmarks/results/trade_study.md``, 2 cores shared with other jobs). Cost is the wall
-time per simulated second relative to the bare MuJoCo model (robots: their rigid-ground twin with the
-same controller); errors are against the reference (1/4 of the model's resolution, 0.5 ms, the medium's
-own fit), RMS and peak of the net granular force, final position of the torso / pelvis:
+committed run is ``benchmarks/results/trade_study.md``). Cost is the wall time per simulated second
+relative to the bare MuJoCo model (robots: their rigid-ground twin with the same controller); errors are
+against the reference (1/4 of the model's resolution, 0.5 ms, the medium's own fit), RMS and peak of the
+net granular force, final position of the torso / pelvis:
 
 ========  =====  ======  ===========  ==================================================================
-preset    scale  law     dt x skip    measured: hexapod tripod 2 s | humanoid on one foot 2.5 s
+preset    scale  law     dt x skip    measured: planar hexapod tripod 2 s | humanoid on one foot 2.5 s
 ========  =====  ======  ===========  ==================================================================
-fast      4      rft     1 ms x 10    1.38x, RMS 12.1 %, peak 4.8 %, 17.1 mm | 0.85x, 0.94 %, 0.40 %, 2.5 mm
-default   1      rft     1 ms x 10    2.22x, RMS 8.2 %, peak 1.1 %, 10.2 mm | 1.59x, 0.84 %, 0.19 %, 0.08 mm
-accurate  0.5    rft     0.5 ms x 20  9.70x, RMS 0.80 %, peak 0.09 %, 0.25 mm | 9.81x, 0.02 %, 0.00 %, 0.02 mm
+fast      4      rft     1 ms x 10    0.94x, RMS 11.4 %, peak 3.2 %, 12.2 mm | 0.92x, 0.94 %, 0.41 %, 2.7 mm
+default   1      rft     1 ms x 10    1.76x, RMS 7.1 %, peak 2.9 %, 2.7 mm | 2.07x, 0.84 %, 0.20 %, 0.08 mm
+accurate  0.5    rft     0.5 ms x 20  9.93x, RMS 0.68 %, peak 0.11 %, 0.36 mm | 11.2x, 0.03 %, 0.00 %, 0.02 mm
 ========  =====  ======  ===========  ==================================================================
 
-(Rigs, same order: plate 2.59x / 5.69x / 22.8x, C-leg 15.4x / 38.7x / 210x against a bare rig of a few
-microseconds per step, force errors <= 0.45 %; ``accurate`` is their reference.)
+(Rigs, same order: plate 3.62x / 6.77x / 23.6x, C-leg 4.50x / 40.6x / 193x against a bare rig of a few
+microseconds per step, force errors <= 0.74 %; ``accurate`` is their reference.)
 
 The rules (:func:`mjrft.tradeoff.recommend_presets`; candidates use ``rft``, a 10 ms control period and
-warn no more than the default; cost is the geometric mean over the four scenarios, errors the worst case):
-*fast* is the cheapest with RMS force error <= 20 % and peak <= 10 % (4x coarser: worst 12.1 % RMS, on
-the hexapod); *accurate* the cheapest non-reference configuration with RMS and peak force errors <= 1 % and
-<= 1/4 of the default's, and final position <= 1 mm, judged on the scenarios whose reference is converged
-(all four now: the hexapod's two finest resolutions differ by 0.83 % RMS force and 0.47 mm, since its
-box-chain legs are clipped to their exact exposed surface, :func:`mjrft.geometry.exposed_elements`; in
-the run before that they differed by 11 % and 9.8 mm and the hexapod was left out of the rule). The
-timestep, not the elements, limits the robots: at 5 mm the hexapod is 8.2 % RMS force and 10.2 mm from
-the reference at 1 ms and 2.9 % and 1.2 mm at 0.5 ms. What else the study showed:
+warn no more than the default; cost is the geometric mean over the scenarios that choose presets, errors
+the worst case): *fast* is the cheapest with RMS force error <= 20 % and peak <= 10 % (4x coarser: worst
+11.4 % RMS, on the hexapod); *accurate* the cheapest non-reference configuration with RMS and peak force
+errors <= 1 % and <= 1/4 of the default's, and final position <= 1 mm, judged on the scenarios whose
+reference is converged (all four: the planar hexapod's two finest resolutions differ by 0.67 % RMS force
+and 0.43 mm). The small hexapod at 10 Hz is reported but takes no part (its 1 ms default is already 22 %
+from its 0.5 ms reference: fast gaits need a finer timestep). The timestep, not the elements, limits the
+robots. What else the study showed:
 
-* 2 ms steps are cheap (hexapod 1.04x, humanoid 0.95x) but give 34 % RMS force error and 36 mm on the
-  hexapod and stability warnings on the humanoid, so no preset uses them;
+* 2 ms steps are cheap (hexapod 0.77x, humanoid 0.97x) but give 31 % RMS force error on the hexapod and
+  stability warnings on the humanoid, so no preset uses them;
 * Li's fit of the medium (``rft``) is the reference law and costs no more than the others: ``depth_only``
-  is 1.1-1.9x its cost with 22-107 % RMS force error, ``rft_generic`` (Li's scaling routine) 0.9-1.1x
-  with 1-46 %, ``rft3d`` 2.0-2.5x with 2-93 %;
+  is 1.2-2x its cost with 26-72 % RMS force error, ``rft_generic`` (Li's scaling routine) 0.9-1.2x
+  with 1.2-13.5 %, ``rft3d`` 1.7-4.2x with 2-37 %;
 * flat feet need few elements (a fully buried flat face is integrated exactly by one element at its
   centroid: stress is linear in depth): the humanoid at 8 cm (76 elements) is within 0.94 % RMS force;
-* frame skip only changes the per-call overhead (humanoid 1 ms x 1: 2.42x, x 10: 1.59x) and the control
-  signal.
+* frame skip only changes the per-call overhead and the control signal.
 
-The biped is not one of the study's scenarios; its presets use the same scales (its round feet are
-curved, so ``fast`` gives it coarser feet than the study tested).
+The biped is not one of the study's scenarios; its presets use the same scales.
 """
 
 from __future__ import annotations
