@@ -59,9 +59,9 @@ DEFAULTS = {
 }
 CUSTOM_PREFIX = "mjrft:"
 #: the ``mjrft:*`` keys a model's <custom> section may hold (any other one is warned about as a misspelling)
-CUSTOM_KEYS = ("medium", "law", "bodies", "geoms", "floor", "surface", "surface_hfield", "resolution", "yield_displacement",
-               "damping_time", "v_eps", "water_depth", "regions", "region_map", "transition", "buoyancy",
-               "drag_coefficient", "water_density", "inertial", "inertial_drag")
+CUSTOM_KEYS = ("medium", "law", "bodies", "geoms", "floor", "surface", "surface_hfield", "resolution",
+               "yield_displacement", "damping_time", "v_eps", "water_depth", "regions", "region_map", "transition",
+               "buoyancy", "drag_coefficient", "water_density", "inertial", "inertial_drag")
 _SUPPORTED_GEOMS = {
     int(mujoco.mjtGeom.mjGEOM_BOX), int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER),
     int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID), int(mujoco.mjtGeom.mjGEOM_MESH),
@@ -551,11 +551,11 @@ class GranularTerrain:
 
     Your own robot. A third-party model goes on sand unchanged with
     ``GranularTerrain(model, floor="auto")``: collision geoms only, the floor's top as the surface (its
-    contacts removed in the loaded model), an element size from the robot's size. Elements come from
-    every selected geom that can move; a mesh's small triangles are merged into elements of about the
-    resolution (:mod:`mjrft.geometry.discretize`), so a detailed mesh does not cost one element per
-    triangle. The terrain's force is explicit (computed from the state at the start of each step), so
-    its stability limit is the explicit one whatever the integrator; :meth:`step` refuses RK4 (see there).
+    contacts removed in the loaded model), an element size from the robot's size. A mesh's small
+    triangles are merged into elements of about the resolution (:mod:`mjrft.geometry.discretize`), so a
+    detailed mesh does not cost one element per triangle. The terrain's force is explicit (computed from
+    the state at the start of each step), so its stability limit is the explicit one whatever the
+    integrator; :meth:`step` and :meth:`install` refuse RK4 (see there).
 
     MJCF ``<custom>`` keys for all of this: text ``mjrft:floor`` (geom name or ``auto``), text
     ``mjrft:resolution`` ``auto``, text ``mjrft:surface_hfield`` (geom name), text
@@ -566,9 +566,9 @@ class GranularTerrain:
     ``mjrft:inertial_drag``.
     """
 
-    def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, floor=None, surface=None,
-                 resolution=None, yield_displacement=None, damping_time=None, v_eps=None, water_depth=None,
-                 regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
+    def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, floor=None,
+                 surface=None, resolution=None, yield_displacement=None, damping_time=None, v_eps=None,
+                 water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
                  water_density=None, inertial=None, inertial_drag=None, max_elements=None):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")

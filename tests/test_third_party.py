@@ -19,8 +19,9 @@ from mjrft.geometry import discretize_geom, estimate_elements, geom_elements, me
 def icosphere(level: int, radius: float) -> tuple[np.ndarray, np.ndarray]:
     """Vertices and outward counter-clockwise faces of a subdivided icosahedron (20 * 4**level triangles)."""
     t = (1 + math.sqrt(5)) / 2
-    verts = [np.array(v, dtype=float) for v in [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t),
-                                                (0, -1, -t), (0, 1, -t), (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]]
+    corners = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+               (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    verts = [np.array(v, dtype=float) for v in corners]
     verts = [v / np.linalg.norm(v) for v in verts]
     faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2), (10, 7, 6),
              (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11), (6, 2, 10),
@@ -112,7 +113,8 @@ def test_two_lines_put_a_third_party_model_on_sand():
     foot = terrain.elem_geom == gid(m, "foot")
     mesh = int(m.geom_dataid[gid(m, "foot")])  # (MuJoCo stores the vertices in float32)
     va, fa = m.mesh_vertadr[mesh], m.mesh_faceadr[mesh]
-    exact = surface_area("mesh", None, m.mesh_vert[va:va + m.mesh_vertnum[mesh]], m.mesh_face[fa:fa + m.mesh_facenum[mesh]])
+    exact = surface_area("mesh", None, m.mesh_vert[va:va + m.mesh_vertnum[mesh]],
+                         m.mesh_face[fa:fa + m.mesh_facenum[mesh]])
     np.testing.assert_allclose(terrain.area[foot].sum(), exact, rtol=1e-12)
     # it rests on the sand, not on the rigid floor, carrying its weight
     d = settle(m, terrain)
@@ -254,7 +256,8 @@ def test_visual_only_geoms_are_selected_only_when_named_or_when_a_body_has_nothi
     named = mjrft.GranularTerrain(m, geoms=["foot", "shell"])
     assert named.geom_ids.tolist() == [foot, shell]
     # a body whose geoms are all visual-only (a kinematic rig) keeps them
-    rig = '<body name="rig" pos="1 1 0.3"><geom name="paddle" type="box" size=".02 .02 .002" contype="0" conaffinity="0"/></body>'
+    rig = ('<body name="rig" pos="1 1 0.3"><geom name="paddle" type="box" size=".02 .02 .002" contype="0" '
+           'conaffinity="0"/></body>')
     m = mujoco.MjModel.from_xml_string(robot_xml(extra=rig))
     assert mjrft.GranularTerrain(m, bodies=["rig"]).geom_ids.tolist() == [gid(m, "paddle")]
     assert gid(m, "paddle") not in mjrft.GranularTerrain(m).geom_ids  # the default takes collision geoms only

@@ -357,7 +357,8 @@ def _mesh(vertices: np.ndarray, faces: np.ndarray, res: float) -> Elements:
         face = face[order]
         kf = np.zeros(len(faces), dtype=np.intp)
         kf[big] = k
-        parts.append(Elements(np.concatenate(pos_parts)[order], normal[face], (tri_area / np.maximum(kf, 1) ** 2)[face]))
+        parts.append(Elements(np.concatenate(pos_parts)[order], normal[face],
+                              (tri_area / np.maximum(kf, 1) ** 2)[face]))
     sm = np.flatnonzero(small)
     if len(sm):
         a = tri_area[sm]
