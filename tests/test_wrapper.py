@@ -168,3 +168,29 @@ def test_kwargs_split_and_make_vec():
     obs, rewards, terminated, truncated, infos = envs.step(envs.action_space.sample())
     assert obs.shape == (2, 11) and infos["sinkage"].shape[0] == 2
     envs.close()
+
+
+class _Zero:
+    """A policy object (``predict``) holding every actuator at zero."""
+
+    def __init__(self, n):
+        self.n = n
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        return np.zeros(self.n, dtype=np.float32), None
+
+
+def test_eval_and_rollout_on_a_sand_variant():
+    from mjrft.train.evaluate import evaluate
+    from mjrft.train.rollout import rollout
+    from mjrft.train.train import check_env_id, valid_env_kwargs
+
+    check_env_id("mjrft/HopperSand-v5")
+    names = valid_env_kwargs("mjrft/HopperSand-v5")
+    assert {"medium", "resolution", "substeps", "frame_skip", "max_episode_steps"} <= set(names)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        rows, summary = evaluate(_Zero(3), "mjrft/HopperSand-v5", episodes=1, env_kwargs={"max_episode_steps": 20})
+        result = rollout("mjrft/HopperSand-v5", _Zero(3), steps=10)
+    assert rows[0]["steps"] > 0 and rows[0]["sink_peak_mm"] > 0 and np.isfinite(rows[0]["cot"])
+    assert not rows[0]["diverged"] and result["steps"] == 10 and result["peak_sinkage_mm"] > 0

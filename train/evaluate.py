@@ -150,6 +150,17 @@ def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
 
 
 # ---------------------------------------------------------------------------------------------- metrics
+def _granular_wrapper(env):
+    """The :class:`mjrft.envs.wrapper.GranularWrapper` in ``env``'s wrapper chain, or None."""
+    from mjrft.envs.wrapper import GranularWrapper
+
+    while env is not None:
+        if isinstance(env, GranularWrapper):
+            return env
+        env = getattr(env, "env", None)
+    return None
+
+
 class _Meter:
     """Accumulates one episode's metrics from the env's info dicts and terrain state."""
 
@@ -158,8 +169,13 @@ class _Meter:
         self.env = u
         self.dt = float(u.dt)
         self.mass = float(u.model.body_subtreemass[0])
-        self.foot_ids = np.array([u.model.body(n).id for n in u.foot_names], dtype=np.int64)
-        terrain = getattr(u, "terrain", None)
+        sand = _granular_wrapper(env)  # a third-party env on sand: its selected bodies are the feet
+        if sand is not None:
+            self.foot_ids, terrain = np.asarray(sand.body_ids, dtype=np.int64), sand.terrain
+        else:
+            self.foot_ids = np.array([u.model.body(n).id for n in u.foot_names], dtype=np.int64)
+            terrain = getattr(u, "terrain", None)
+        self.terrain = terrain
         self.foot_elems = None if terrain is None else np.flatnonzero(np.isin(terrain.elem_body, self.foot_ids))
         self._jac = np.zeros((3, u.model.nv))
 
@@ -182,7 +198,8 @@ class _Meter:
         self.ret += float(reward)
         self.steps += 1
         self.x = float(info["x_position"])
-        self.energy += float(info["power"]) * self.dt
+        power = info["power"] if "power" in info else self._power()
+        self.energy += float(power) * self.dt
         sink = np.asarray(info["sinkage"], dtype=float)
         inside = sink > 0
         self.sink_sum += float(sink[inside].sum())
@@ -193,10 +210,15 @@ class _Meter:
         self.slip_num += num
         self.slip_den += den
 
+    def _power(self) -> float:
+        """Mechanical power (W) of the actuators, ``sum |force x velocity|`` (envs whose info has no ``power``)."""
+        d = self.env.data
+        return float(np.sum(np.abs(d.actuator_force * d.actuator_velocity)))
+
     def _slip(self) -> tuple[float, float]:
         u = self.env
         if self.foot_elems is not None:
-            t = u.terrain
+            t = self.terrain
             e = self.foot_elems[t.depth[self.foot_elems] > 0]
             if e.size == 0:
                 return 0.0, 0.0

@@ -132,10 +132,10 @@ def check_env_id(env_id: str) -> str:
     import gymnasium
 
     import mjrft  # noqa: F401  (registers the mjrft environments)
-    from mjrft.envs import ENV_IDS
+    from mjrft.envs import ENV_IDS, GYM_SAND_IDS
 
     if not isinstance(env_id, str) or env_id not in gymnasium.registry:
-        raise unknown("env id", env_id, ENV_IDS)
+        raise unknown("env id", env_id, [*ENV_IDS, *GYM_SAND_IDS])
     return env_id
 
 
@@ -150,6 +150,8 @@ def valid_env_kwargs(env_id: str) -> list[str]:
         import importlib
 
         entry = getattr(importlib.import_module(module), attr)
+    if hasattr(entry, "valid_kwargs"):  # a gymnasium robot on sand (mjrft.envs.wrapper.make_sand_env)
+        return sorted(set(entry.valid_kwargs(**spec.kwargs)) - {"gym_id"} | {"max_episode_steps"})
     names = set()
     own = [c for c in getattr(entry, "__mro__", ()) if c.__module__.split(".")[0] == "mjrft"]
     for cls in own or [entry]:  # mjrft's env classes (not gymnasium's MujocoEnv internals)
@@ -669,9 +671,9 @@ def _now() -> str:
 
 
 def _mjrft_env_ids() -> list[str]:
-    from mjrft.envs import ENV_IDS
+    from mjrft.envs import ENV_IDS, GYM_SAND_IDS
 
-    return sorted(ENV_IDS)
+    return sorted([*ENV_IDS, *GYM_SAND_IDS])
 
 
 # ---------------------------------------------------------------------------------------------- CLI
