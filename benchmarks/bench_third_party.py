@@ -1,0 +1,192 @@
+"""Gymnasium's five MuJoCo robots on sand (``mjrft.envs.GranularWrapper``), side by side in one run.
+
+For each robot (``Ant-v5``, ``HalfCheetah-v5``, ``Hopper-v5``, ``Walker2d-v5``, ``Humanoid-v5``) three
+environments are driven by the same seeded random action sequence and timed (only ``env.step``; resets
+after a termination are not timed; median of interleaved repeats):
+
+* ``sand``: ``GranularWrapper(gymnasium.make(id))`` with its defaults (``floor="auto"``,
+  ``resolution="auto"``, automatic sub-steps; RK4 run as semi-implicit Euler, see :mod:`mjrft.envs.wrapper`);
+* ``rigid, same dt``: the same gymnasium env on its rigid floor with the same integrator and the SAME
+  internal timestep in every env step (the sand run's sub-step counts replayed step by step): what the
+  sand itself costs;
+* ``stock``: the unchanged gymnasium env (its own integrator and timestep): what a user's env costs today.
+
+Then, per robot, the sand's weight balance at rest: zero actions for ``--rest`` seconds (the robots without
+a standing controller fall and lie on the sand), then the vertical granular force summed over the bodies
+divided by the weight (target within 2 %), the largest body speed left, and the deepest sinkage.
+Also listed: element count and size, sub-steps per model step (min / mean / max of the timed run),
+and the stability warnings the terrain gave during the run.
+
+    python benchmarks/bench_third_party.py [--steps N] [--repeats R] [--rest SECONDS] [--robots Ant-v5 ...]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+import warnings
+
+import gymnasium
+import mujoco
+import numpy as np
+
+import mjrft
+from mjrft.envs.wrapper import GranularWrapper
+
+ROBOTS = ("Ant-v5", "HalfCheetah-v5", "Hopper-v5", "Walker2d-v5", "Humanoid-v5")
+
+
+def actions(env, n: int, seed: int = 0) -> np.ndarray:
+    """``n`` uniform random actions in the env's action space (seeded)."""
+    rng = np.random.default_rng(seed)
+    low, high = env.action_space.low, env.action_space.high
+    return rng.uniform(low, high, size=(n, *env.action_space.shape)).astype(env.action_space.dtype)
+
+
+def timed(env, acts) -> tuple[float, list]:
+    """(seconds in ``env.step`` over ``acts``, the infos)."""
+    env.reset(seed=0)
+    spent, infos = 0.0, []
+    for a in acts:
+        t0 = time.perf_counter()
+        _, _, terminated, truncated, info = env.step(a)
+        spent += time.perf_counter() - t0
+        infos.append(info)
+        if terminated or truncated:
+            env.reset()
+    return spent, infos
+
+
+def make_sand(gym_id: str, stability: list) -> GranularWrapper:
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        env = GranularWrapper(gymnasium.make(gym_id))
+    stability.extend(w for w in caught if issubclass(w.category, mjrft.TerrainStabilityWarning))
+    return env
+
+
+def make_rigid_replay(gym_id: str, substeps: list[int]):
+    """The stock env on its rigid floor, Euler, stepping at ``h / k`` with ``k`` replayed from ``substeps``."""
+    env = gymnasium.make(gym_id)
+    u = env.unwrapped
+    m, d = u.model, u.data
+    if m.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4:
+        m.opt.integrator = mujoco.mjtIntegrator.mjINT_EULER
+    h = float(m.opt.timestep)
+    it = iter([])
+
+    def physics(ctrl, n_frames):
+        nonlocal it
+        try:
+            k = next(it)
+        except StopIteration:
+            it = iter(substeps)
+            k = next(it)
+        d.ctrl[:] = ctrl
+        m.opt.timestep = h / k
+        mujoco.mj_step(m, d, nstep=int(n_frames) * k)
+        m.opt.timestep = h
+        mujoco.mj_rnePostConstraint(m, d)
+
+    u._step_mujoco_simulation = physics
+
+    def restart():
+        nonlocal it
+        it = iter(substeps)
+
+    return env, restart
+
+
+def rest_balance(gym_id: str, seconds: float) -> dict:
+    """Zero actions for ``seconds``; the vertical granular force / weight, the fastest body, the deepest sinkage."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        env = GranularWrapper(gymnasium.make(gym_id))
+    u = env.unwrapped
+    env.reset(seed=0)
+    zero = np.zeros(env.action_space.shape, dtype=env.action_space.dtype)
+    for _ in range(int(round(seconds / u.dt))):
+        _, _, terminated, _, info = env.step(zero)
+        if "diverged" in info:
+            return {"balance": float("nan"), "speed": float("nan"), "sinkage": float("nan"), "note": info["diverged"]}
+    m, d = u.model, u.data
+    weight = float(m.body_subtreemass[0]) * -float(m.opt.gravity[2])
+    fz = float(env.terrain.wrench[env.body_ids, 2].sum())
+    speed = float(np.max(np.linalg.norm(d.cvel[1:, 3:], axis=1)))
+    out = {"balance": fz / weight, "cfrc_balance": float(d.cfrc_ext[1:, 5].sum()) / weight, "speed": speed,
+           "sinkage": float(env.sinkage().max()), "weight": weight, "healthy_end": not terminated}
+    env.close()
+    return out
+
+
+def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0) -> list[dict]:
+    rows = []
+    for gym_id in robots:
+        stability: list = []
+        sand = make_sand(gym_id, stability)
+        acts = actions(sand, steps)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            timed(sand, acts[:20])  # compile / warm up
+            sand_t, infos = [], None
+            for _ in range(repeats):
+                t, infos = timed(sand, acts)
+                sand_t.append(t)
+        stability.extend(w for w in caught if issubclass(w.category, mjrft.TerrainStabilityWarning))
+        ks = [int(i["substeps"]) for i in infos]
+        diverged = sum("diverged" in i for i in infos)
+        rigid, restart = make_rigid_replay(gym_id, ks)
+        stock = gymnasium.make(gym_id)
+        rigid_t, stock_t = [], []
+        timed(stock, acts[:20])
+        for _ in range(repeats):
+            restart()
+            rigid_t.append(timed(rigid, acts)[0])
+            stock_t.append(timed(stock, acts)[0])
+        u = sand.unwrapped
+        h = float(u.model.opt.timestep)
+        sink = np.array([i["sinkage"].max() for i in infos])
+        row = {
+            "robot": gym_id, "elements": sand.terrain.n_elements, "resolution": sand.terrain.resolution,
+            "h": h, "frame_skip": u.frame_skip, "k_min": min(ks), "k_mean": float(np.mean(ks)), "k_max": max(ks),
+            "sand": steps / float(np.median(sand_t)), "rigid": steps / float(np.median(rigid_t)),
+            "stock": steps / float(np.median(stock_t)), "stability_warnings": len(stability), "diverged": diverged,
+            "run_sinkage_mean": float(sink.mean()), "run_sinkage_max": float(sink.max()),
+            **rest_balance(gym_id, rest),
+        }
+        rows.append(row)
+        for e in (sand, rigid, stock):
+            e.close()
+    return rows
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--steps", type=int, default=400, help="timed env steps per robot and run (default 400)")
+    ap.add_argument("--repeats", type=int, default=3, help="interleaved repeats, median reported (default 3)")
+    ap.add_argument("--rest", type=float, default=3.0, help="seconds of zero action before the weight balance")
+    ap.add_argument("--robots", nargs="+", default=list(ROBOTS), help="gymnasium ids")
+    args = ap.parse_args(argv)
+    rows = run(args.robots, args.steps, args.repeats, args.rest)
+    print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
+          f"law {mjrft.coupler.DEFAULTS['law']}); {args.steps} random-action env steps, median of {args.repeats}")
+    print()
+    print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'k min/mean/max':>15} {'sand st/s':>9} "
+          f"{'rigid same dt':>13} {'stock':>7} {'sand/rigid':>10} {'sand/stock':>10} {'stab.warn':>9} {'diverged':>8}")
+    for r in rows:
+        print(f"{r['robot']:<15} {r['elements']:>8d} {1e3 * r['resolution']:>7.1f} {1e3 * r['h']:>5.3g} "
+              f"{r['k_min']:>4d}/{r['k_mean']:>5.2f}/{r['k_max']:<4d} {r['sand']:>9.0f} {r['rigid']:>13.0f} "
+              f"{r['stock']:>7.0f} {r['sand'] / r['rigid']:>10.2f} {r['sand'] / r['stock']:>10.2f} "
+              f"{r['stability_warnings']:>9d} {r['diverged']:>8d}")
+    print()
+    print(f"at rest after {args.rest:g} s of zero action (target: vertical granular force / weight within 2 %)")
+    print(f"{'robot':<15} {'weight N':>9} {'Fz/weight':>9} {'cfrc_ext z/weight':>17} {'fastest body m/s':>16} "
+          f"{'sinkage mm':>10} {'run sinkage mean/max mm':>23}")
+    for r in rows:
+        print(f"{r['robot']:<15} {r['weight']:>9.2f} {r['balance']:>9.4f} {r['cfrc_balance']:>17.4f} "
+              f"{r['speed']:>16.2g} {1e3 * r['sinkage']:>10.1f} "
+              f"{1e3 * r['run_sinkage_mean']:>11.1f}/{1e3 * r['run_sinkage_max']:<11.1f}")
+
+
+if __name__ == "__main__":
+    main()
