@@ -145,6 +145,8 @@ def test_bad_wrapper_arguments():
             GranularWrapper(ant, sand_rgba=bad)
     with pytest.raises(ValueError, match="unknown medium"):
         GranularWrapper(ant, medium="quicksand")
+    m = ant.unwrapped.model  # a refused setting leaves the env as it was
+    assert m.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4 and m.geom_contype[0] + m.geom_conaffinity[0] > 0
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         GranularWrapper(ant)
