@@ -219,6 +219,7 @@ class GranularWrapper(gymnasium.Wrapper):
         scratch.qpos[:], scratch.qvel[:] = u.init_qpos, 0.0
         self._static_limit = static_timestep_limit(self.terrain, scratch)
         self._limit = self._static_limit
+        self._model, self._data = model, data  # the env's own, for the life of the env
         u._step_mujoco_simulation = self._physics  # this instance only (see the module docstring)
 
     # ------------------------------------------------------------------ physics
@@ -229,8 +230,7 @@ class GranularWrapper(gymnasium.Wrapper):
 
     def _physics(self, ctrl, n_frames) -> None:
         """The env's ``_step_mujoco_simulation``: ``n_frames`` model steps on sand, sub-stepped."""
-        u = self.env.unwrapped
-        model, data = u.model, u.data
+        model, data = self._model, self._data
         data.ctrl[:] = ctrl
         if self.diverged is not None:  # stopped until reset(): never go on from MuJoCo's reset state
             return
@@ -250,8 +250,7 @@ class GranularWrapper(gymnasium.Wrapper):
 
     def _update_limit(self, data) -> None:
         if self.substeps == "auto":
-            lim = float(np.min(self.terrain.stable_timestep(data)[self.body_ids]))
-            self._limit = min(lim, self._static_limit)
+            self._limit = min(self.terrain.min_stable_timestep(data), self._static_limit)
 
     def _add_cfrc_ext(self, data) -> None:
         """Add the sand's wrench (force, torque about each body's CoM) to ``cfrc_ext`` in MuJoCo's convention."""
