@@ -32,9 +32,15 @@ import math
 import warnings
 from dataclasses import dataclass
 
+import ctypes
+import glob
+import os
+
 import mujoco
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic
 
 from . import kernel
 from .errors import (NonFiniteError, TerrainStabilityWarning, UnknownNameError, ValidityRangeWarning, check_finite,
@@ -70,8 +76,17 @@ _SUPPORTED_GEOMS = {
 _FLOOR_TYPES = {int(mujoco.mjtGeom.mjGEOM_PLANE): "plane", int(mujoco.mjtGeom.mjGEOM_BOX): "box",
                 int(mujoco.mjtGeom.mjGEOM_HFIELD): "hfield"}
 #: ``resolution="auto"``: the element count the automatic element size aims at (the selected geoms' surface
-#: area / resolution^2), and the finest size it picks (a small robot keeps this size and fewer elements)
-AUTO_ELEMENTS = 4000
+#: area / resolution^2), and the finest size it picks (a small robot keeps this size and fewer elements).
+#: 2,000 is measured (``benchmarks/element_budget.py``, output in ``benchmarks/results/element_budget.txt``):
+#: on gymnasium's five robots, a 2 s random-action rollout replayed through terrains of 250 to 8,000 elements
+#: against a 32,000-element one. At 2,000 the net granular force is within 2 % (RMS) of the reference for
+#: HalfCheetah, Hopper, Walker2d and Humanoid (0.6-1.9 %; 0.3-1.3 % at 4,000, 1.1-4.9 % at 1,000), at rest the
+#: vertical force balances the weight within 0.01 % and the centre of mass lies within 0.5 mm of the
+#: reference's, and the kernel's cost, which grows with the buried element count, is about halved against
+#: 4,000. Ant is the exception: 0.9 kg on 4 m^2 of 8 cm capsules sinks 12 mm at rest, a contact patch a few
+#: elements wide, and its force error is 7.7 % at 2,000 (4.3 % at 4,000, 1.8 % at 8,000 = 22 mm elements):
+#: a light robot on large geoms needs an explicit finer ``resolution``.
+AUTO_ELEMENTS = 2000
 AUTO_MIN_RESOLUTION = 0.005
 STABILITY_CHECK_EVERY = 50
 #: largest element count a terrain builds unless told otherwise (``max_elements``): about 15 s and 0.4 GB
@@ -81,6 +96,56 @@ CULL_GROUP = 32  # elements per cull box (the kernel skips a box lying wholly ab
 CULL_PAD = 1e-9  # m, added to each cull box's half sizes: rounding never culls an element at the surface
 _STEP_FUNCTIONS = kernel.mujoco_step_functions()  # None -> the plain Python stepping loop is used
 _max_stable_dt = njit(cache=True, error_model="numpy")(kernel.max_stable_dt)  # the same formula, callable compiled
+
+
+def _mujoco_jacobian_functions():
+    """Addresses of MuJoCo's ``mj_jacBodyCom`` and ``mj_solveM`` in the library the bindings loaded, or None
+    (then :meth:`GranularTerrain.stable_timestep` calls them through the bindings)."""
+    try:
+        lib = ctypes.CDLL(sorted(glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*")))[0])
+        return tuple(ctypes.cast(getattr(lib, n), ctypes.c_void_p).value for n in ("mj_jacBodyCom", "mj_solveM"))
+    except (IndexError, OSError, AttributeError):
+        return None
+
+
+_JACOBIAN_FUNCTIONS = _mujoco_jacobian_functions()
+
+
+@intrinsic
+def _call_mj_arrays(typingctx, fptr, m_addr, d_addr, a_addr, b_addr, n):
+    """Call ``void f(const mjModel*, mjData*, mjtNum* a, mjtNum* b, int n)`` at address ``fptr`` (the shape of
+    both ``mj_jacBodyCom(m, d, jacp, jacr, body)`` and ``mj_solveM(m, d, x, y, n)``)."""
+    sig = types.void(types.intp, types.intp, types.intp, types.intp, types.intp, types.intp)
+
+    def codegen(context, builder, signature, args):
+        f, m, d, a, b, k = args
+        vp, dp, i32 = ir.IntType(8).as_pointer(), ir.DoubleType().as_pointer(), ir.IntType(32)
+        fn = builder.inttoptr(f, ir.FunctionType(ir.VoidType(), [vp, vp, dp, dp, i32]).as_pointer())
+        builder.call(fn, [builder.inttoptr(m, vp), builder.inttoptr(d, vp), builder.inttoptr(a, dp),
+                          builder.inttoptr(b, dp), builder.trunc(k, i32)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@njit(cache=True, error_model="numpy")
+def _stable_timesteps(f_jac, f_solve, m_addr, d_addr, bodies, stiff, inert, use_inert, delta, tau, jac, minv_jac,
+                      rows, out):
+    """:meth:`GranularTerrain.stable_timestep` in one compiled call: each buried body's CoM jacobian
+    (``mj_jacBodyCom``) stacked in ``jac``, one ``mj_solveM`` of all rows, then :func:`_stable_dts`."""
+    nv = jac.shape[1]
+    n = 0
+    for i in range(bodies.shape[0]):
+        b = bodies[i]
+        if stiff[b, 0] > 0 or (use_inert and inert[b, 0] > 0):
+            at = jac.ctypes.data + 6 * n * nv * 8
+            _call_mj_arrays(f_jac, m_addr, d_addr, at, at + 3 * nv * 8, b)
+            rows[n] = b
+            n += 1
+    if n == 0:
+        return
+    _call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, 6 * n)
+    _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, out)
 
 
 _RESET_WARNINGS = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQACC)
@@ -243,9 +308,12 @@ def _remove_contacts(model: mujoco.MjModel, g: int) -> tuple[int, int]:
 def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS,
                     finest: float = AUTO_MIN_RESOLUTION) -> float:
     """The element size of ``resolution="auto"`` for these geoms: ``sqrt(area / target)`` for their total
-    surface area, not finer than ``finest``, then coarsened until :func:`~mjrft.geometry.estimate_elements`
-    (which counts a mesh's elements exactly, merged triangles included) is at most 10 % above ``target``.
-    The count before :func:`~mjrft.geometry.exposed_elements` drops the faces hidden inside neighbouring geoms."""
+    surface area, not finer than ``finest``, then coarsened until the elements :func:`~mjrft.geometry.discretize_geom`
+    makes of them are at most 10 % more than ``target``: first by :func:`~mjrft.geometry.estimate_elements`
+    (area / size^2 per primitive, a mesh's count exactly), then by the count the discretiser builds (it rounds
+    each face, ring and cap up to whole elements, ~10 % more than the area estimate at 2,000 elements). The
+    count before :func:`~mjrft.geometry.exposed_elements` drops the faces hidden inside neighbouring geoms, so
+    a terrain's ``n_elements`` is at most ``1.1 target`` (or fewer, at ``finest``)."""
     from .geometry.discretize import _mesh_arrays, surface_area
     area = 0.0
     for g in geom_ids:
@@ -257,6 +325,12 @@ def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS
     res = max(float(finest), math.sqrt(area / target))
     for _ in range(8):
         n = estimate_elements(model, geom_ids, res)
+        if n <= 1.1 * target:
+            break
+        res *= math.sqrt(n / target)
+    for _ in range(8):
+        n = sum(estimate_elements(model, [g], res) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH
+                else len(discretize_geom(model, int(g), res)) for g in geom_ids)
         if n <= 1.1 * target:
             break
         res *= math.sqrt(n / target)
@@ -500,8 +574,9 @@ class GranularTerrain:
             field is the free surface (bilinear between its samples; see "Height-field surface" below).
         resolution: target element edge length (m), the one discretisation knob, or ``"auto"`` (the
             default when neither the argument nor the MJCF's ``mjrft:resolution`` gives one): the size
-            that cuts the selected geoms into about ``AUTO_ELEMENTS`` = 4,000 elements (surface area /
-            size^2), but not finer than ``AUTO_MIN_RESOLUTION`` = 5 mm (see :func:`auto_resolution`).
+            that cuts the selected geoms into about ``AUTO_ELEMENTS`` = 2,000 elements (surface area /
+            size^2; the measured choice is documented at the constant), but not finer than
+            ``AUTO_MIN_RESOLUTION`` = 5 mm (see :func:`auto_resolution`).
         yield_displacement: ``delta`` of the rest regularisation (m); 0 switches it to a viscous ramp.
         damping_time: ``tau`` (s) of the Kelvin-Voigt damping below yield; default ``0.5 sqrt(delta/g)``
             (5 ms for delta = 1 mm): critical damping at omega = 2 / tau = 400 rad/s, which keeps the
@@ -790,6 +865,7 @@ class GranularTerrain:
         self._jac6 = (np.zeros((6, model.nv)), np.zeros((6, model.nv)))  # stability check scratch
         self._jac_rows = (np.zeros((6 * len(self.body_ids), model.nv)), np.zeros((6 * len(self.body_ids), model.nv)))
         self._dt_scratch = np.full(model.nbody, np.inf)  # min_stable_timestep's
+        self._rows_scratch = np.zeros(len(self.body_ids), dtype=np.int64)
         self._damp_max = np.zeros(model.nbody)
         self._inert = np.zeros((model.nbody, 10))  # moments of the inertial regime's dampers (kernel)
         self._inert_max = np.zeros((model.nbody, 10))  # ... of the step with the most of it (track_stiffness)
@@ -1113,6 +1189,12 @@ class GranularTerrain:
         solved with ``M^-1`` in one ``mj_solveM`` and reduced in one compiled call (:func:`_stable_dts`)."""
         if data is not self._data:
             raise ValueError(f"{what} needs the MjData this terrain last stepped")
+        jac, minv_jac = self._jac_rows
+        if _JACOBIAN_FUNCTIONS is not None:
+            _stable_timesteps(*_JACOBIAN_FUNCTIONS, self.model._address, data._address, self.body_ids, self._stiff,
+                              self._inert, self.inertial, float(self.yield_displacement), float(self.damping_time),
+                              jac, minv_jac, self._rows_scratch, out)
+            return
         bodies = self.body_ids
         buried = self._stiff[bodies, 0] > 0
         if self.inertial:
@@ -1122,7 +1204,6 @@ class GranularTerrain:
         if n == 0:
             return
         m = self.model
-        jac, minv_jac = self._jac_rows
         for i in range(n):
             mujoco.mj_jacBodyCom(m, data, jac[6 * i:6 * i + 3], jac[6 * i + 3:6 * i + 6], int(rows[i]))
         mujoco.mj_solveM(m, data, minv_jac[:6 * n], jac[:6 * n])
