@@ -11,7 +11,7 @@ at ``--reference`` elements (not coarser than 2 mm):
   its vertical component, on the same trajectory (no chaotic divergence of two closed-loop runs);
 * rest: zero action for ``--rest`` s from the env's reset state, then the vertical granular force / weight
   and the height of the whole model's centre of mass, compared with the reference's (mm);
-* cost: env steps per second of the ``N``-element env over 200 other random actions (median of repeats;
+* cost: env steps per second of the ``N``-element env over 400 other random actions (median of repeats;
   this process's CPU time, so the other processes of a shared machine do not count).
 
     python benchmarks/element_budget.py [--budgets 250 500 ...] [--reference 32000] [--robots Ant-v5 ...]
@@ -31,7 +31,7 @@ from mjrft.coupler import auto_resolution, select_geoms
 from mjrft.envs.wrapper import GranularWrapper
 
 ROBOTS = ("Ant-v5", "HalfCheetah-v5", "Hopper-v5", "Walker2d-v5", "Humanoid-v5")
-BUDGETS = (250, 500, 1000, 2000, 4000, 8000)
+BUDGETS = (250, 500, 1000, 2000, 3000, 4000, 8000)
 FINEST = 0.002  # m: no budget goes finer than this (the reference of the smallest robot)
 
 
@@ -169,7 +169,7 @@ def main(argv=None) -> None:
     ap.add_argument("--reference", type=int, default=32000, help="element budget of the reference (default 32000)")
     ap.add_argument("--seconds", type=float, default=2.0, help="simulated seconds of the replayed rollout")
     ap.add_argument("--rest", type=float, default=3.0, help="seconds of zero action before the rest numbers")
-    ap.add_argument("--steps", type=int, default=200, help="timed env steps per budget")
+    ap.add_argument("--steps", type=int, default=400, help="timed env steps per budget")
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args(argv)
     rows = run(args.robots, args.budgets, args.reference, args.seconds, args.rest, args.steps, args.repeats)

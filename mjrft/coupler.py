@@ -77,16 +77,17 @@ _FLOOR_TYPES = {int(mujoco.mjtGeom.mjGEOM_PLANE): "plane", int(mujoco.mjtGeom.mj
                 int(mujoco.mjtGeom.mjGEOM_HFIELD): "hfield"}
 #: ``resolution="auto"``: the element count the automatic element size aims at (the selected geoms' surface
 #: area / resolution^2), and the finest size it picks (a small robot keeps this size and fewer elements).
-#: 2,000 is measured (``benchmarks/element_budget.py``, output in ``benchmarks/results/element_budget.txt``):
+#: 3,000 is measured (``benchmarks/element_budget.py``, output in ``benchmarks/results/element_budget.txt``):
 #: on gymnasium's five robots, a 2 s random-action rollout replayed through terrains of 250 to 8,000 elements
-#: against a 32,000-element one. At 2,000 the net granular force is within 2 % (RMS) of the reference for
-#: HalfCheetah, Hopper, Walker2d and Humanoid (0.6-1.9 %; 0.3-1.3 % at 4,000, 1.1-4.9 % at 1,000), at rest the
-#: vertical force balances the weight within 0.01 % and the centre of mass lies within 0.5 mm of the
-#: reference's, and the kernel's cost, which grows with the buried element count, is about halved against
-#: 4,000. Ant is the exception: 0.9 kg on 4 m^2 of 8 cm capsules sinks 12 mm at rest, a contact patch a few
-#: elements wide, and its force error is 7.7 % at 2,000 (4.3 % at 4,000, 1.8 % at 8,000 = 22 mm elements):
-#: a light robot on large geoms needs an explicit finer ``resolution``.
-AUTO_ELEMENTS = 2000
+#: against a 32,000-element one. 3,000 is the coarsest budget of that ladder at which the net granular force is
+#: within 2 % (RMS; the issue's weight-balance tolerance, far inside the laws' own errors) of the reference for
+#: HalfCheetah, Hopper, Walker2d and Humanoid (0.45-1.96 %; at 2,000 Humanoid's is 2.7 %, at 4,000 all four are
+#: 0.3-1.3 %); at rest the vertical force balances the weight within 0.05 % and the centre of mass lies within
+#: 0.6 mm of the reference's at every budget from 2,000 up; the kernel's cost grows with the buried element count.
+#: Ant is the exception: 0.9 kg on 4 m^2 of 8 cm capsules sinks ~10 mm at rest, a contact patch a few elements
+#: wide, and its force error is 4.9 % at 3,000 (4.3 % at 4,000, 1.8 % at 8,000 = 24 mm elements): a light robot
+#: on large geoms needs an explicit finer ``resolution``.
+AUTO_ELEMENTS = 3000
 AUTO_MIN_RESOLUTION = 0.005
 STABILITY_CHECK_EVERY = 50
 #: largest element count a terrain builds unless told otherwise (``max_elements``): about 15 s and 0.4 GB
@@ -311,7 +312,7 @@ def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS
     surface area, not finer than ``finest``, then coarsened until the elements :func:`~mjrft.geometry.discretize_geom`
     makes of them are at most 10 % more than ``target``: first by :func:`~mjrft.geometry.estimate_elements`
     (area / size^2 per primitive, a mesh's count exactly), then by the count the discretiser builds (it rounds
-    each face, ring and cap up to whole elements, ~10 % more than the area estimate at 2,000 elements). The
+    each face, ring and cap up to whole elements: ~10 % more than the area estimate at a few thousand elements). The
     count before :func:`~mjrft.geometry.exposed_elements` drops the faces hidden inside neighbouring geoms, so
     a terrain's ``n_elements`` is at most ``1.1 target`` (or fewer, at ``finest``)."""
     from .geometry.discretize import _mesh_arrays, surface_area
@@ -574,7 +575,7 @@ class GranularTerrain:
             field is the free surface (bilinear between its samples; see "Height-field surface" below).
         resolution: target element edge length (m), the one discretisation knob, or ``"auto"`` (the
             default when neither the argument nor the MJCF's ``mjrft:resolution`` gives one): the size
-            that cuts the selected geoms into about ``AUTO_ELEMENTS`` = 2,000 elements (surface area /
+            that cuts the selected geoms into about ``AUTO_ELEMENTS`` = 3,000 elements (surface area /
             size^2; the measured choice is documented at the constant), but not finer than
             ``AUTO_MIN_RESOLUTION`` = 5 mm (see :func:`auto_resolution`).
         yield_displacement: ``delta`` of the rest regularisation (m); 0 switches it to a viscous ramp.
