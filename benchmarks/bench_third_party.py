@@ -168,7 +168,8 @@ def main(argv=None) -> None:
     args = ap.parse_args(argv)
     rows = run(args.robots, args.steps, args.repeats, args.rest)
     print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
-          f"law {mjrft.coupler.DEFAULTS['law']}); {args.steps} random-action env steps, median of {args.repeats}")
+          f"law {mjrft.coupler.DEFAULTS['law']}); {args.steps} random-action env steps, median of {args.repeats} "
+          "(CPU time of env.step, the three envs interleaved)")
     print()
     print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'k min/mean/max':>15} {'sand st/s':>9} "
           f"{'rigid same dt':>13} {'stock':>7} {'sand/rigid':>10} {'sand/stock':>10} {'stab.warn':>9} {'diverged':>8}")
