@@ -265,7 +265,7 @@ def test_visual_only_geoms_are_selected_only_when_named_or_when_a_body_has_nothi
 
 def test_auto_resolution_bounds_the_count_and_keeps_small_robots_at_the_finest_size():
     m = mujoco.MjModel.from_xml_string(robot_xml())
-    ids = [gid(m, "foot")]  # a small part (~1,500 elements at 5 mm, under AUTO_ELEMENTS)
+    ids = [gid(m, "torso"), gid(m, "foot")]
     assert auto_resolution(m, ids) == AUTO_MIN_RESOLUTION  # small robot: 5 mm, under the target count
     assert estimate_elements(m, ids, AUTO_MIN_RESOLUTION) <= AUTO_ELEMENTS
     big = ('<body name="big" pos="0 0 2"><freejoint/><geom name="hull" type="box" size="0.6 0.4 0.2"/>'
