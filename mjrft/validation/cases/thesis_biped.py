@@ -49,6 +49,7 @@ import math
 import numpy as np
 
 from ..case import CaseResult, Line, Panel, case, check_band, check_outcome, published
+from ...models.biped import RESOLUTION as BIPED_RESOLUTION
 
 PAPER = "thesis_biped"
 CITE = "Robophysics PhD thesis, ch. II-III (planar biped)"
@@ -297,7 +298,8 @@ def run_biped(quick: bool) -> CaseResult:
         f"{_gait_spec(0).replace('angle=0', 'angle=A')}: each sole centre traces a 16 x 3 cm rectangle 14 cm "
         "below the hip, 6 s period, 5/8 on the bottom edge; presentation angle A in "
         f"{', '.join(f'{a:g}' for a in angles)} deg. Poppy seeds closely (poppy_cp, phi 0.62) and loosely "
-        "(poppy_lp, 0.58) packed, Li RFT (rft), 1 cm elements, 1 ms steps; rigid floor as mjrft's control. "
+        f"(poppy_lp, 0.58) packed, Li RFT (rft), {100 * BIPED_RESOLUTION:g} cm elements, 1 ms steps; rigid floor as "
+        "mjrft's control. "
         f"{'Quick: one step (3-6 s).' if quick else 'Steps from 6 to 12 s averaged.'}")
     notes = (
         "Choices: the conical foot's height is the wedge's 7.5/8.5 of its diameter (the thesis modelled the "
