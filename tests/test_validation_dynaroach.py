@@ -45,6 +45,6 @@ def test_dynaroach_robot():
                    "(figs. 1B, E, lost) are not modelled")
 def test_dynaroach_robot_nonlinear_speed_and_sinkage():
     r = run_case("dynaroach_robot", quick=True)
-    checks = {c.name: c for c in r.checks}
+    checks = r.by_name
     assert checks["regime on: stride length rises again at 7-12 Hz (speed super-linear)"].passed
     assert checks["regime on: penetration depth falls above ~3 Hz"].passed

@@ -23,7 +23,7 @@ def leg():
 
 def test_plate(plate):
     assert not plate.failed_outcomes
-    by = {c.name: c for c in plate.checks}
+    by = plate.by_name
     measured = dict(zip(published("li2013", "media").value, published("li2013", "alpha_z_measured").value))
     for name, az in measured.items():
         # the depth-only law reproduces table S3's measured plate stress; the fit stays below it

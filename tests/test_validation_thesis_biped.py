@@ -23,7 +23,7 @@ def test_presentation_angle_outcomes(result):
     failures = [(c.name, c.published, c.simulated) for c in result.checks
                 if c.qualitative and not c.passed and SIM_VF not in c.name]
     assert not failures
-    by = {c.name: c for c in result.checks}
+    by = result.by_name
     # the peak of step distance against angle is the published 30 deg within the quick grid (0 and 55 deg around it)
     peak = by["cone (experiment), CP: angle of the longest step"]
     assert peak.reference == published("thesis_biped", "peak_angle").value

@@ -31,7 +31,7 @@ def gait():
 
 
 def test_stance_width_outcomes(stance):
-    by = {c.name: c for c in stance.checks}
+    by = stance.by_name
     # what mjrft reproduces: the natural foot falls, the 30.4 cm board stands (CoM on the sole centre)
     assert by["natural foot (15.2 cm): falls in every trial"].passed
     assert by["30.4 cm board: stands in every trial"].passed
