@@ -35,7 +35,8 @@ Metrics (one row per episode; the summary holds their mean and standard deviatio
 
 A policy is a gait spec (``tripod:f=2.0``, see :mod:`mjrft.gaits`), a stable-baselines3 ``.zip``
 saved by :mod:`mjrft.train.train` (or by ``PPO.save``/``SAC.save``), a run folder (its ``model.zip``),
-or any object with SB3's ``predict``. For a zip the ``config.json`` of its run (its folder, or the
+a policy shipped with mjrft (``pretrained:HexapodSand-v0``: :func:`pretrained_names`), or any object
+with SB3's ``predict``. For a zip the ``config.json`` of its run (its folder, or the
 folder above ``checkpoints/``) gives the algorithm, the env id and env kwargs (those given here
 override them) and whether observations were normalised (then the saved VecNormalize statistics
 are applied, frozen). Without a config the algorithm is read from the zip itself.
@@ -111,6 +112,40 @@ def algo_of_zip(path) -> str:
     return min(missing, key=missing.get)
 
 
+#: policy spec prefix of the policies shipped with mjrft: ``pretrained:HexapodSand-v0``
+PRETRAINED = "pretrained:"
+PRETRAINED_DIR = Path(__file__).resolve().parent / "pretrained"
+
+
+def pretrained_names() -> list[str]:
+    """Names of the bundled policies (``pretrained:<name>``): one run folder each in ``mjrft/train/pretrained``."""
+    return sorted(p.name for p in PRETRAINED_DIR.glob("*") if (p / MODEL_NAME).is_file())
+
+
+def pretrained_path(spec: str) -> Path:
+    """The run folder of ``pretrained:<name>`` (``<name>`` may carry the ``mjrft/`` prefix of the env id)."""
+    name = spec[len(PRETRAINED):].removeprefix("mjrft/")
+    if name not in pretrained_names():
+        from mjrft.errors import unknown
+
+        raise unknown("pretrained policy", spec, [PRETRAINED + n for n in pretrained_names()])
+    return PRETRAINED_DIR / name
+
+
+def trained_env(policy) -> tuple[str, dict]:
+    """(env id, env kwargs) a model zip / run folder / ``pretrained:`` policy was trained on (its config.json)."""
+    from mjrft.gaits import is_gait_spec
+
+    if isinstance(policy, str) and is_gait_spec(policy):
+        raise ValueError(f"give the env id (--env) for the gait {policy!r}")
+    path = pretrained_path(policy) if str(policy).startswith(PRETRAINED) else Path(policy)
+    cfg_path = find_config(path / MODEL_NAME if path.is_dir() else path)
+    if cfg_path is None:
+        raise ValueError(f"{str(policy)!r} has no config.json of its run to take the env from; give the env id (--env)")
+    cfg = load_config(cfg_path)
+    return cfg["env_id"], dict(cfg.get("env_kwargs") or {})
+
+
 def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
     """A gait spec, an SB3 zip / run folder (see the module doc), or an object with ``predict``."""
     from mjrft.gaits import is_gait_spec
@@ -122,7 +157,7 @@ def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
 
         parse_gait_spec(policy)  # a bad parameter fails here, before any env is built
         return LoadedPolicy(policy, "gait")
-    path = Path(policy)
+    path = pretrained_path(policy) if isinstance(policy, str) and policy.startswith(PRETRAINED) else Path(policy)
     if path.is_dir():
         path = path / MODEL_NAME
     if not path.is_file() and path.suffix != ".zip" and path.with_name(path.name + ".zip").is_file():
@@ -416,7 +451,8 @@ def write_json(path, rows: list[dict], summary: dict) -> None:
 # ---------------------------------------------------------------------------------------------- CLI
 def add_arguments(parser) -> None:
     parser.add_argument("--policy", required=True,
-                        help="model .zip or run folder from 'mjrft train', or a gait spec such as tripod:f=2.0")
+                        help="model .zip or run folder from 'mjrft train', pretrained:HexapodSand-v0 (a policy shipped "
+                             "with mjrft), or a gait spec such as tripod:f=2.0")
     parser.add_argument("--env", dest="env_id", default=None,
                         help="environment id (default: the one the model was trained on; required for a gait)")
     parser.add_argument("--episodes", type=_int_arg, default=10, help="episodes (default 10)")

@@ -210,10 +210,12 @@ def open_hint(path) -> str:
 
 # ---------------------------------------------------------------------------------------------- CLI
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--env", required=True, metavar="ID", help="environment id, e.g. mjrft/HexapodSand-v0")
+    parser.add_argument("--env", default=None, metavar="ID",
+                        help="environment id, e.g. mjrft/HexapodSand-v0 (default: the one a model was trained on, "
+                             "with its env kwargs; required for a gait)")
     parser.add_argument("--policy", required=True, metavar="PATH|GAIT",
-                        help="SB3 model .zip / run folder, or a gait spec such as tripod:f=2.0 "
-                             "(gaits: tripod, rect, stand, shift)")
+                        help="SB3 model .zip / run folder, pretrained:HexapodSand-v0, or a gait spec such as "
+                             "tripod:f=2.0 (gaits: tripod, rect, stand, shift)")
     parser.add_argument("--seconds", type=float, default=5.0, help="simulated seconds to run (default 5)")
     parser.add_argument("--rrd", default="rollout.rrd", metavar="FILE", help="rerun file to write (default rollout.rrd)")
     parser.add_argument("--log-every", type=int, default=LOG_EVERY, metavar="N",
@@ -234,9 +236,14 @@ def main(args) -> int:
         from mjrft.rerun_log import check_viewer_display
 
         check_viewer_display()
-    summary = rollout(args.env, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
-                      seed=args.seed, env_kwargs=parse_kwargs(args.env_kwargs), spawn_viewer=args.spawn_viewer,
-                      progress=args.progress)
+    env_id, env_kwargs = args.env, parse_kwargs(args.env_kwargs)
+    if env_id is None:
+        from .evaluate import trained_env
+
+        env_id, saved_kwargs = trained_env(args.policy)
+        env_kwargs = {**saved_kwargs, **env_kwargs}
+    summary = rollout(env_id, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
+                      seed=args.seed, env_kwargs=env_kwargs, spawn_viewer=args.spawn_viewer, progress=args.progress)
     print(format_summary(summary))
     print(f"wrote {summary['rrd']} ({summary['frames']} frames, every {args.log_every} env steps)")
     print(open_hint(summary["rrd"]))

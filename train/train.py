@@ -453,7 +453,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
           seed: int = 0, out_dir="runs/mjrft", env_kwargs: dict | None = None, checkpoint_every: int = 10_000,
           resume: bool = True, *, hyperparams: dict | None = None, normalize: bool | None = None,
           device: str = "cpu", torch_threads: int | None = 1, progress_bar: bool = False, verbose: int = 0,
-          callback=None) -> TrainResult:
+          callback=None, config_name: str | None = None) -> TrainResult:
     """Train ``algo`` on ``env_id`` until ``num_timesteps`` reaches ``timesteps``; resumable (see module doc).
 
     Args:
@@ -476,6 +476,8 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         progress_bar: SB3's progress bar (tqdm + rich).
         verbose: SB3 verbosity (1 prints the training log).
         callback: extra SB3 callback(s) (a ``BaseCallback`` or a list).
+        config_name: the training configuration the settings came from (``mjrft train --config``),
+            recorded as ``config`` in ``config.json``.
 
     Returns:
         :class:`TrainResult`; ``interrupted`` is True when a ``KeyboardInterrupt`` stopped training (the
@@ -556,6 +558,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         "num_timesteps": start_step,
         "model": None,
         "runs": history,
+        "config": config_name if config_name is not None else (saved or {}).get("config"),
     }
     if start_step >= timesteps:  # nothing to do: the run already reached its budget
         model_path = out_dir / MODEL_NAME
@@ -678,15 +681,22 @@ def _mjrft_env_ids() -> list[str]:
 
 # ---------------------------------------------------------------------------------------------- CLI
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    from .config import named_configs
+
+    parser.add_argument("--config", default=None, metavar="NAME_OR_FILE",
+                        help="training configuration: a named recipe shipped with mjrft "
+                             f"({', '.join(named_configs())}), a .yaml/.json file, or a run's config.json; "
+                             "the options below override its values")
     parser.add_argument("--env", dest="env_id", default=None,
-                        help="environment id, e.g. mjrft/HexapodSand-v0 (required for a new run)")
+                        help="environment id, e.g. mjrft/HexapodSand-v0 (required for a new run without --config)")
     parser.add_argument("--algo", default=None, help="ppo or sac (default ppo; on resume the saved one)")
-    parser.add_argument("--timesteps", type=_int_arg, default=100_000,
+    parser.add_argument("--timesteps", type=_int_arg, default=None,
                         help="total environment steps of the run (resuming continues up to this; default 1e5)")
-    parser.add_argument("--n-envs", type=_int_arg, default=1, help="parallel environments (subprocesses if > 1)")
-    parser.add_argument("--seed", type=_int_arg, default=0, help="random seed (default 0)")
+    parser.add_argument("--n-envs", type=_int_arg, default=None,
+                        help="parallel environments (default 1)")
+    parser.add_argument("--seed", type=_int_arg, default=None, help="random seed (default 0)")
     parser.add_argument("--out", default="runs/mjrft", help="run folder (default runs/mjrft)")
-    parser.add_argument("--checkpoint-every", type=_int_arg, default=10_000,
+    parser.add_argument("--checkpoint-every", type=_int_arg, default=None,
                         help="steps between checkpoints (default 10000)")
     parser.add_argument("--hp", action="append", default=[], metavar="KEY=VALUE",
                         help="SB3 hyper-parameter, repeatable: --hp n_steps=512 --hp learning_rate=1e-4 "
@@ -705,17 +715,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "max_episode_steps=500")
 
 
+def run_settings(args) -> dict:
+    """The run's settings from ``--config`` (if given) overridden by the options given on the command line."""
+    from .config import DEFAULTS, load_training_config
+
+    cfg = load_training_config(args.config) if args.config else {**DEFAULTS, "env_id": None, "algo": None,
+                                                                   "normalize": None, "hyperparams": {},
+                                                                   "env_kwargs": {}}
+    given = {"env_id": args.env_id, "algo": args.algo, "timesteps": args.timesteps, "n_envs": args.n_envs,
+             "seed": args.seed, "checkpoint_every": args.checkpoint_every, "normalize": args.normalize}
+    cfg.update({k: v for k, v in given.items() if v is not None})
+    cfg["hyperparams"] = {**cfg["hyperparams"], **parse_kwargs(args.hp, "--hp")}
+    cfg["env_kwargs"] = {**cfg["env_kwargs"], **parse_kwargs(args.env_kwargs, "env kwarg")}
+    return cfg
+
+
 def main(args) -> int:
-    env_kwargs = parse_kwargs(args.env_kwargs, "env kwarg") or None
-    hyperparams = parse_kwargs(args.hp, "--hp") or None
+    cfg = run_settings(args)
     out = Path(output_dir(args.out))
     if args.resume and list_checkpoints(out):
         step, path = list_checkpoints(out)[-1]
-        print(f"resuming {out} from {path.relative_to(out)} at {step} steps (target {args.timesteps})")
-    result = train(args.env_id, args.algo, args.timesteps, args.n_envs, args.seed, out, env_kwargs,
-                   args.checkpoint_every, args.resume, hyperparams=hyperparams, normalize=args.normalize,
-                   device=args.device, torch_threads=args.torch_threads, progress_bar=args.progress,
-                   verbose=args.verbose)
+        print(f"resuming {out} from {path.relative_to(out)} at {step} steps (target {cfg['timesteps']})")
+    result = train(cfg["env_id"], cfg["algo"], cfg["timesteps"], cfg["n_envs"], cfg["seed"], out,
+                   cfg["env_kwargs"] or None, cfg["checkpoint_every"], args.resume,
+                   hyperparams=cfg["hyperparams"] or None, normalize=cfg["normalize"], device=args.device,
+                   torch_threads=args.torch_threads, progress_bar=args.progress, verbose=args.verbose,
+                   config_name=args.config)
     cfg = load_config(result.config_path)
     if result.interrupted:
         print(f"interrupted at {result.num_timesteps} steps; saved {result.model_path} and a checkpoint. "

@@ -1,0 +1,125 @@
+"""Training configurations: the named recipes shipped with mjrft and a user's own YAML or JSON files.
+
+>>> from mjrft.train.config import load_training_config, named_configs
+>>> named_configs()
+['hexapod-sand', ...]
+>>> cfg = load_training_config("hexapod-sand")          # or a path: "my_run.yaml", "runs/hex/config.json"
+>>> cfg["env_id"], cfg["timesteps"], cfg["hyperparams"]["n_steps"]
+
+``mjrft train --config hexapod-sand`` trains with such a configuration; options given on the command
+line override its values (``--timesteps 20000``, ``--seed 3``, ``--hp learning_rate=1e-4``, ``KEY=VALUE``
+env kwargs are merged into its ``env_kwargs``). A run folder's ``config.json`` is itself a valid
+configuration (its training keys are read, the bookkeeping keys ignored), so a run can be repeated
+with ``mjrft train --config runs/hex/config.json --out runs/hex2``.
+
+Keys (all but ``env_id`` optional; :data:`DEFAULTS` gives the defaults):
+
+=====================  =================================================================================
+``env_id``             registered environment id, e.g. ``mjrft/HexapodSand-v0``
+``algo``               ``ppo`` or ``sac``
+``timesteps``          total environment steps of the run
+``n_envs``             environments stepped together
+``seed``               seeds the algorithm and the environments
+``normalize``          ``VecNormalize`` observations and rewards
+``hyperparams``        constructor arguments of the SB3 algorithm (``n_steps``, ``learning_rate``, ...)
+``env_kwargs``         keyword arguments of the environment (``max_episode_steps`` included)
+``checkpoint_every``   steps between checkpoints
+``description``        free text (why the recipe is as it is)
+=====================  =================================================================================
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from mjrft.errors import unknown
+
+#: folder of the named configurations shipped in the package (``<name>.yaml``)
+CONFIG_DIR = Path(__file__).resolve().parent / "configs"
+DEFAULTS = {"algo": "ppo", "timesteps": 100_000, "n_envs": 1, "seed": 0, "normalize": False, "hyperparams": {},
+            "env_kwargs": {}, "checkpoint_every": 10_000, "description": ""}
+KEYS = ("env_id", *DEFAULTS)
+#: keys of a run folder's config.json that are bookkeeping, not training settings
+RUN_KEYS = ("policy", "hyperparams_given", "device", "torch_threads", "vec_env", "start_method", "versions",
+            "created", "num_timesteps", "model", "runs", "checkpoint", "config")
+
+
+def named_configs() -> list[str]:
+    """Names of the configurations shipped with mjrft (``mjrft train --config NAME``)."""
+    return sorted(p.stem for p in CONFIG_DIR.glob("*.yaml"))
+
+
+def config_path(name_or_path) -> Path:
+    """The file of a named configuration, or the given path (which must exist)."""
+    path = Path(name_or_path)
+    if path.suffix.lower() in (".yaml", ".yml", ".json") or path.is_file():
+        if not path.is_file():
+            raise ValueError(f"training config file {str(path)!r} does not exist")
+        return path
+    named = CONFIG_DIR / f"{name_or_path}.yaml"
+    if not named.is_file():
+        err = unknown("training config", str(name_or_path), named_configs())
+        raise type(err)(f"{err}; or give the path of a .yaml / .json file") from None
+    return named
+
+
+def _read(path: Path) -> dict:
+    text = path.read_text()
+    try:
+        if path.suffix.lower() == ".json":
+            data = json.loads(text)
+        else:
+            import yaml
+
+            data = yaml.safe_load(text)
+    except Exception as exc:  # yaml.YAMLError / json.JSONDecodeError: name the file and the parser's reason
+        raise ValueError(f"training config {str(path)!r} cannot be read: {exc}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"training config {str(path)!r} must hold a mapping of keys ({', '.join(KEYS)}), "
+                         f"got {type(data).__name__}")
+    return data
+
+
+def check_training_config(data: dict, source: str = "training config") -> dict:
+    """Validate the keys and value types of a configuration; return it with the defaults filled in."""
+    is_run = "runs" in data and "hyperparams_given" in data
+    if is_run:  # a run folder's config.json: the hyper-parameters as given, not SB3's filled-in defaults
+        data = {**{k: v for k, v in data.items() if k not in RUN_KEYS and k != "hyperparams"},
+                "hyperparams": data.get("hyperparams_given") or {}}
+    bad = sorted(set(data) - set(KEYS))
+    if bad:
+        raise ValueError(f"{source}: unknown key(s) {', '.join(map(repr, bad))}; valid keys: {', '.join(KEYS)}")
+    if not isinstance(data.get("env_id"), str):
+        raise ValueError(f"{source}: 'env_id' (a registered environment id) is required, got {data.get('env_id')!r}")
+    cfg = {**DEFAULTS, **{k: v for k, v in data.items() if v is not None}}
+    cfg["hyperparams"], cfg["env_kwargs"] = dict(cfg["hyperparams"]), dict(cfg["env_kwargs"])
+    for key in ("hyperparams", "env_kwargs"):
+        if not isinstance(data.get(key, {}) or {}, dict):
+            raise ValueError(f"{source}: {key!r} must be a mapping, got {data[key]!r}")
+    for key in ("timesteps", "n_envs", "seed", "checkpoint_every"):
+        value = cfg[key]
+        if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):
+            raise ValueError(f"{source}: {key!r} must be an integer >= {0 if key == 'seed' else 1}, got {value!r}")
+    if not isinstance(cfg["normalize"], bool):
+        raise ValueError(f"{source}: 'normalize' must be true or false, got {cfg['normalize']!r}")
+    return {k: cfg[k] for k in KEYS}
+
+
+def load_training_config(name_or_path) -> dict:
+    """A named configuration (:func:`named_configs`) or a YAML / JSON file, validated, defaults filled in."""
+    path = config_path(name_or_path)
+    return check_training_config(_read(path), f"training config {str(path)!r}")
+
+
+def save_training_config(cfg: dict, path) -> Path:
+    """Write ``cfg`` (validated) as YAML or JSON by the file's suffix; :func:`load_training_config` reads it back."""
+    path = Path(path)
+    cfg = check_training_config(cfg)
+    if path.suffix.lower() == ".json":
+        path.write_text(json.dumps(cfg, indent=2) + "\n")
+    else:
+        import yaml
+
+        path.write_text(yaml.safe_dump(cfg, sort_keys=False))
+    return path
