@@ -172,7 +172,7 @@ def _stable_dts(jac, minv_jac, rows, stiff, inert, use_inert, delta, tau, out):
     """``out[b]`` for each body ``b = rows[i]``: the largest stable timestep of its granular stiffness
     (``stiff[b]``) and, with ``use_inert``, its inertial dampers (``inert[b]``), from its 6 x nv jacobian rows
     ``jac[6 i:6 i + 6]`` and ``minv_jac`` (= ``(M^-1 jac^T)^T``): what :meth:`GranularTerrain.stable_timestep`
-    computes body by body (kernel.largest_rate, GranularTerrain._spring, kernel.max_stable_dt), in one call."""
+    computes body by body (kernel.largest_rate, :func:`spring`, kernel.max_stable_dt), in one call."""
     for i in range(rows.shape[0]):
         b = rows[i]
         jac_b, minv_b = jac[6 * i:6 * i + 6], minv_jac[6 * i:6 * i + 6]
@@ -548,6 +548,384 @@ def _hfield_surface(model: mujoco.MjModel, name) -> tuple[int, np.ndarray, np.nd
     return g, np.ascontiguousarray(z.reshape(nrow, ncol)), frame
 
 
+@dataclass
+class TerrainSettings:
+    """The settings of a :class:`GranularTerrain`, each from its argument, else the model's ``mjrft:*`` entry, else
+    :data:`DEFAULTS`, checked (:func:`resolve_settings`). ``regions`` are the extra regions as given (region 0,
+    the terrain's own medium and law, is not among them); ``water_depth`` is region 0's (None: the medium's)."""
+
+    medium: Medium
+    law: str
+    geom_ids: list
+    floor: int | None  # geom id of the floor that becomes the surface
+    surface: float
+    surface_hfield: int | None  # geom id of the hfield surface
+    hf_z: np.ndarray  # its world heights (nrow, ncol); (0, 0) for a flat surface
+    hf_frame: np.ndarray
+    resolution: float
+    resolution_auto: bool
+    yield_displacement: float
+    v_eps: float
+    damping_time: float
+    transition: float
+    buoyancy: bool
+    inertial: bool
+    inertial_given: bool  # passed as an argument (not read from the model or the defaults)
+    inertial_drag: float
+    drag_coefficient: float | None
+    water_density: float | None
+    water_depth: float | None
+    regions: list
+    region_map: object
+
+
+def _check_selection(bodies, geoms) -> None:
+    """Refuse an empty ``bodies``/``geoms`` list (None means: read the model's, or select the default)."""
+    for name, value in (("bodies", bodies), ("geoms", geoms)):
+        if value is not None and not isinstance(value, (str, int, np.integer)) and len(value) == 0:
+            raise ValueError(f"{name}=[] selects nothing; name the {name} to cut into elements, or pass None "
+                             "to use the model's mjrft:bodies / mjrft:geoms (default: every geom not on the "
+                             "world body)")
+
+
+def _resolve_surface(model: mujoco.MjModel, cfg: dict, floor, surface, geom_ids) -> tuple:
+    """(floor geom id or None, surface height, hfield geom id or None, hfield heights, hfield frame) from the
+    ``floor`` / ``surface`` arguments (at most one given) or the model's ``mjrft:floor`` / ``mjrft:surface`` /
+    ``mjrft:surface_hfield``."""
+    floor_id, hfield, hf_z, hf_frame = None, None, np.zeros((0, 0)), np.zeros(8)
+    if floor is not None:
+        floor_id, surface = _find_floor(model, floor, geom_ids)
+    elif surface is None and "surface_hfield" in cfg:
+        surface = cfg["surface_hfield"]
+    if surface is None:
+        surface = cfg.get("surface", DEFAULTS["surface"])
+    if isinstance(surface, str):
+        try:
+            surface = float(surface)
+        except ValueError:
+            hfield, hf_z, hf_frame = _hfield_surface(model, surface)
+            surface = float(hf_z.mean())
+    return floor_id, check_finite("surface", surface), hfield, hf_z, hf_frame
+
+
+def _resolve_resolution(model: mujoco.MjModel, resolution, geom_ids) -> tuple[float, bool]:
+    """(element size in m, whether it was chosen by ``"auto"``) of a resolution setting."""
+    auto = isinstance(resolution, str) and resolution.strip().lower() == "auto"
+    if auto:
+        resolution = auto_resolution(model, geom_ids)
+    elif isinstance(resolution, str):
+        raise ValueError(f"resolution must be a length in m or 'auto', got {resolution!r}")
+    return check_positive("resolution", resolution), auto
+
+
+def resolve_settings(model: mujoco.MjModel, cfg: dict, *, medium=None, law=None, bodies=None, geoms=None, floor=None,
+                     surface=None, resolution=None, yield_displacement=None, damping_time=None, v_eps=None,
+                     water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None,
+                     drag_coefficient=None, water_density=None, inertial=None, inertial_drag=None) -> TerrainSettings:
+    """The :class:`TerrainSettings` of a terrain on ``model`` whose ``<custom>`` entries are ``cfg`` (keyword
+    arguments as :class:`GranularTerrain`'s); raises on the first bad or conflicting value, naming it."""
+    _check_selection(bodies, geoms)
+
+    def pick(key, value):
+        if value is not None:
+            return value
+        return cfg.get(key, DEFAULTS.get(key))
+
+    medium = get_medium(pick("medium", medium))
+    law = str(pick("law", law))
+    law_id(law)
+    if floor is not None and surface is not None:
+        raise ValueError(f"floor={floor!r} and surface={surface!r} both give the sand surface; pass one of them")
+    if floor is None and surface is None:
+        floor = cfg.get("floor")
+        if floor is not None and ("surface" in cfg or "surface_hfield" in cfg):
+            raise ValueError("the model's <custom> gives both mjrft:floor and mjrft:surface"
+                             f"{'_hfield' if 'surface_hfield' in cfg else ''}; keep one of them")
+    geom_ids = select_geoms(model, pick("bodies", bodies), pick("geoms", geoms))
+    if not geom_ids:
+        raise ValueError("no geoms selected for the granular terrain")
+    floor_id, surface, hfield, hf_z, hf_frame = _resolve_surface(model, cfg, floor, surface, geom_ids)
+    resolution, resolution_auto = _resolve_resolution(model, pick("resolution", resolution), geom_ids)
+    yield_displacement = check_positive("yield_displacement", pick("yield_displacement", yield_displacement),
+                                        allow_zero=True)
+    v_eps = check_positive("v_eps", pick("v_eps", v_eps), allow_zero=True)
+    if yield_displacement == 0 and v_eps == 0:
+        raise ValueError("yield_displacement and v_eps cannot both be 0 (the force at rest would be undefined)")
+    if damping_time is None:
+        damping_time = cfg.get("damping_time", 0.5 * math.sqrt(yield_displacement / 9.81))
+    damping_time = check_positive("damping_time", damping_time, allow_zero=True)
+    transition = check_positive("transition", pick("transition", transition), allow_zero=True)
+    buoyancy = bool(pick("buoyancy", buoyancy))
+    inertial_given = inertial is not None
+    inertial = pick("inertial", inertial)
+    if not isinstance(inertial, (bool, np.bool_)) and inertial not in (0, 1):
+        raise ValueError(f"inertial must be True/False (mjrft:inertial 0 or 1), got {inertial!r}")
+    inertial_drag = check_positive("inertial_drag", pick("inertial_drag", inertial_drag))
+    if drag_coefficient is None:
+        drag_coefficient = cfg.get("drag_coefficient")
+    if water_density is None:
+        water_density = cfg.get("water_density")
+    if drag_coefficient is not None:
+        drag_coefficient = check_positive("drag_coefficient", drag_coefficient, allow_zero=True)
+    if water_density is not None:
+        water_density = check_positive("water_density", water_density, allow_zero=True)
+    if region_map is None:
+        region_map = cfg.get("region_map")
+    entries = _region_entries(pick("regions", regions), mapped=region_map is not None)
+    return TerrainSettings(medium, law, geom_ids, floor_id, surface, hfield, hf_z, hf_frame, resolution,
+                           resolution_auto, yield_displacement, v_eps, damping_time, transition, buoyancy,
+                           bool(inertial), inertial_given, inertial_drag, drag_coefficient, water_density,
+                           pick("water_depth", water_depth), entries, region_map)
+
+
+@dataclass
+class RegionTables:
+    """The kernel's per-region arrays (region 0 = the terrain's own medium and law, then ``regions[k - 1]``):
+    ``bounds`` the strips' x_min, ``law`` law ids, ``params`` each medium's parameter row with its water depth,
+    water drag and inertial constants, ``rho`` the buoyancy's water density (0: none), ``map`` / ``map_frame``
+    the region map (empty for strips); ``regions`` the resolved :class:`Region` of each row; ``inertial``
+    the setting as it applies (off for a scene file's ``mjrft:inertial`` when no region has a dry law)."""
+
+    regions: list
+    bounds: np.ndarray
+    law: np.ndarray
+    params: np.ndarray
+    rho: np.ndarray
+    map: np.ndarray
+    map_frame: np.ndarray
+    inertial: bool
+
+
+def _region_row(k: int, reg: Region, s: TerrainSettings) -> tuple[Medium, int, np.ndarray, float, float]:
+    """(medium, law id, parameter row, water depth, buoyancy's water density) of region ``k``."""
+    where = "" if k == 0 else f"region {k} "
+    try:
+        med = get_medium(reg.medium)
+    except UnknownNameError:
+        raise unknown(f"{where}medium", reg.medium, MEDIA) from None
+    try:
+        lid = law_id(reg.law)
+    except UnknownNameError:
+        raise unknown(f"{where}law", reg.law, LAW_IDS) from None
+    wc = wet_constants(med)
+    hw = wc["water_depth"] if reg.water_depth is None else reg.water_depth
+    hw = check_positive(f"{where}water_depth", hw, allow_zero=True)
+    rho = wc["water_density"] if s.water_density is None else s.water_density
+    cd = wc["drag_coefficient"] if s.drag_coefficient is None else s.drag_coefficient
+    p = med.params()
+    p[P_WATER_DEPTH] = hw
+    p[P_WATER_DRAG] = cd * rho
+    if s.inertial and str(reg.law) in DRY_LAWS:
+        try:
+            set_inertial(p, med, s.inertial_drag)
+        except ValueError as exc:
+            raise ValueError(f"{where}inertial=True: {exc}") from None
+    return med, lid, p, hw, (rho if s.buoyancy and (hw > 0 or lid in _SATURATED_LAWS) else 0.0)
+
+
+def _next_strip(k: int, x_min, bounds: list, transition: float) -> float:
+    """Region ``k``'s strip start, checked against the strips before it (sorted, at least ``transition`` wide)."""
+    x_min = check_finite(f"region {k} x_min", x_min)
+    if bounds and x_min <= bounds[-1]:
+        raise ValueError(f"regions must be sorted by increasing x_min, got {x_min!r} after {bounds[-1]!r}")
+    if bounds and x_min - bounds[-1] < transition:
+        raise ValueError(f"region {k - 1} is {x_min - bounds[-1]:g} m wide (x_min {bounds[-1]!r} to "
+                         f"{x_min!r}), less than the transition width {transition:g} m; "
+                         "widen it or pass a smaller transition")
+    return x_min
+
+
+def build_regions(s: TerrainSettings) -> RegionTables:
+    """The :class:`RegionTables` of the settings' own region and its strips or mapped regions."""
+    base = Region(None, s.medium, s.law, s.water_depth)
+    laws, params, rhos, bounds, regions = [], [], [], [], []
+    for k, reg in enumerate([base, *s.regions]):
+        med, lid, p, hw, rho = _region_row(k, reg, s)
+        laws.append(lid)
+        params.append(p)
+        rhos.append(rho)
+        x_min = None
+        if k > 0 and s.region_map is None:
+            x_min = _next_strip(k, reg.x_min, bounds, s.transition)
+            bounds.append(x_min)
+        regions.append(Region(x_min, med, str(reg.law), hw))
+    rmap, rframe = np.zeros((0, 0), dtype=np.int64), np.zeros(4)
+    if s.region_map is not None:
+        rmap, rframe = _region_map(s.region_map, len(s.regions), s.transition)
+    inertial = s.inertial
+    if inertial and not any(str(r.law) in DRY_LAWS for r in regions):
+        if not s.inertial_given:  # a scene file's mjrft:inertial applies to its dry regions; here there are none
+            inertial = False
+        else:
+            raise ValueError(f"inertial=True needs a region with a dry law ({', '.join(DRY_LAWS)}); the terrain's "
+                             f"laws are {', '.join(sorted({str(r.law) for r in regions}))}")
+    return RegionTables(regions, np.array(bounds, dtype=np.float64), np.array(laws, dtype=np.int64),
+                        np.ascontiguousarray(np.array(params, dtype=np.float64)), np.array(rhos, dtype=np.float64),
+                        rmap, rframe, inertial)
+
+
+def check_element_count(model: mujoco.MjModel, geom_ids, resolution: float, max_elements) -> None:
+    """Refuse, before building anything, a resolution that would make more than ``max_elements`` elements
+    (default :data:`MAX_ELEMENTS`)."""
+    limit = MAX_ELEMENTS if max_elements is None else int(check_positive("max_elements", max_elements))
+    n = estimate_elements(model, geom_ids, resolution)
+    if n > limit:
+        area = n * resolution**2
+        suggest = math.sqrt(area / 1e5)
+        raise ValueError(f"resolution {resolution:g} m would cut the {len(geom_ids)} selected geoms into about "
+                         f"{n:,} elements, more than max_elements = {limit:,} (minutes and gigabytes to build); "
+                         f"use a coarser resolution (about {suggest:.2g} m gives 100,000 elements) or pass "
+                         "max_elements=... if you mean it")
+
+
+@dataclass
+class ElementTables:
+    """The surface elements of the selected geoms, as the kernel reads them: per element its position and
+    normal in its geom's frame (``lpos``, ``lnrm``), ``area``, geom and body; per cull group (runs of at most
+    :data:`CULL_GROUP` consecutive elements of one geom) its geom, body, first element (``g_start``, one past
+    the last at the end) and the box of its element points in the geom frame (``g_aabb``: centre, half sizes,
+    what MuJoCo's geom_aabb is for the whole geom), so the part of a leg above the sand costs no element work."""
+
+    elements: Elements
+    geom_ids: np.ndarray  # the geoms with exposed elements, in element order
+    lpos: np.ndarray
+    lnrm: np.ndarray
+    area: np.ndarray
+    elem_geom: np.ndarray
+    elem_body: np.ndarray
+    body_ids: np.ndarray  # the bodies that own elements, sorted
+    g_geom: np.ndarray
+    g_body: np.ndarray
+    g_start: np.ndarray
+    g_aabb: np.ndarray
+
+
+def _cull_groups(model: mujoco.MjModel, groups) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(geom, body, start, aabb) of the cull groups of ``groups`` = [(geom id, Elements), ...] (see ElementTables)."""
+    g_geom, g_start, g_aabb = [], [0], []
+    for gid, el in groups:
+        local = to_geom_frame(model, gid, el.pos)
+        for a in range(0, len(el), CULL_GROUP):
+            pts = local[a:a + CULL_GROUP]
+            lo, hi = pts.min(axis=0), pts.max(axis=0)
+            g_geom.append(gid)
+            g_start.append(g_start[-1] + len(pts))
+            g_aabb.append(np.concatenate([(lo + hi) / 2, (hi - lo) / 2 + CULL_PAD]))
+    g_geom = np.array(g_geom, dtype=np.int64)
+    return (g_geom, np.ascontiguousarray(model.geom_bodyid[g_geom], dtype=np.int64), np.array(g_start, dtype=np.int64),
+            np.ascontiguousarray(np.array(g_aabb, dtype=np.float64).reshape(-1, 6)))
+
+
+def build_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> ElementTables:
+    """Cut the geoms into elements of about ``resolution`` and keep the exposed ones (only the exposed surface
+    of each body's union of geoms meets grains, see :func:`~mjrft.geometry.exposed_elements`)."""
+    parts = [discretize_geom(model, gid, resolution) for gid in geom_ids]
+    groups = list(zip(geom_ids, exposed_elements(model, geom_ids, parts, resolution)))
+    if not groups:
+        raise ValueError("no geoms selected for the granular terrain")
+    ids = np.array([g for g, _ in groups], dtype=np.int64)
+    g_geom, g_body, g_start, g_aabb = _cull_groups(model, groups)
+    elements = Elements.concatenate([el for _, el in groups])
+    elem_geom = np.repeat(ids, [len(el) for _, el in groups])
+    return ElementTables(elements, ids, np.ascontiguousarray(elements.pos, dtype=np.float64),
+                         np.ascontiguousarray(elements.normal, dtype=np.float64),
+                         np.ascontiguousarray(elements.area, dtype=np.float64), elem_geom,
+                         np.ascontiguousarray(model.geom_bodyid[elem_geom], dtype=np.int64), np.unique(g_body),
+                         g_geom, g_body, g_start, g_aabb)
+
+
+def spring(lam: float, lam_c: float, yield_displacement: float, damping_time: float) -> tuple[float, float]:
+    """(K, c) per unit mass of the stiffest mode, for kernel.stable_step / max_stable_dt with w = 1: ``lam`` the
+    largest rate of the granular stiffness (the damping's in the viscous mode, ``yield_displacement`` = 0),
+    ``lam_c`` the inertial regime's largest damping rate (1/s), added to the damping (kernel module docstring)."""
+    return (0.0, lam + lam_c) if yield_displacement == 0 else (lam, damping_time * lam + lam_c)
+
+
+def unstable_mode(jac, minv_jac, held, spike, inert, yield_displacement: float, damping_time: float,
+                  dt: float) -> tuple[float, float, float] | None:
+    """(stiffness moment 0, lam, lam_c) of the first unstable state of one body at timestep ``dt``, or None.
+
+    The states are the stiffness moments ``held`` for ``kernel.HELD_STEPS`` steps (unstable when a step amplifies
+    at all) and, when it has any, the single step's ``spike`` (unstable past ``kernel.SPIKE_GROWTH``); ``inert``
+    the inertial dampers' moments (None: none), whose rate is added to both. ``jac``, ``minv_jac``: the body's
+    CoM jacobian and ``(M^-1 J^T)^T``.
+    """
+    lam_c = kernel.largest_rate(jac, minv_jac, inert) if inert is not None else 0.0
+    states = [(held, 1.0), (spike, kernel.SPIKE_GROWTH)] if spike[0] > 0 else [(held, 1.0)]
+    for moments, growth in states:
+        if moments[0] <= 0 and lam_c <= 0:
+            continue
+        lam = kernel.largest_rate(jac, minv_jac, moments) if moments[0] > 0 else 0.0
+        K, c = spring(lam, lam_c, yield_displacement, damping_time)
+        if kernel.step_growth(K, c, 1.0, dt) > growth * (1.0 + 1e-12):
+            return moments[0], lam, lam_c
+    return None
+
+
+def stability_warning(body: str, time: float, dt: float, s0: float, damp: float, lam: float, lam_c: float,
+                      yield_displacement: float, damping_time: float) -> TerrainStabilityWarning:
+    """The :class:`TerrainStabilityWarning` for ``body`` (its name) whose :func:`unstable_mode` is
+    (``s0``, ``lam``, ``lam_c``) at timestep ``dt``; ``damp`` its damping (N s/m)."""
+    K, c = spring(lam, lam_c, yield_displacement, damping_time)
+    what = (f"damping {s0:.3g} N s/m" if yield_displacement == 0 else
+            f"stiffness {s0:.3g} N/m, damping {damp:.3g} N s/m")
+    mode = f"effective mass {s0 / lam:.3g} kg in its stiffest mode" if lam > 0 else "no stiffness"
+    if lam_c > 0:
+        mode += f"; inertial-regime damping rate {lam_c:.3g} 1/s"
+    return TerrainStabilityWarning(
+        f"mjrft: timestep {dt:g} s exceeds the stability limit {kernel.max_stable_dt(K, c, 1.0):.3g} s of the "
+        f"granular stiffness on body '{body}' at t = {time:.4g} s ({what}, {mode}); reduce the timestep "
+        "or increase yield_displacement" + (" (the inertial regime's limit is dt < 2 / its rate)" if lam_c > 0
+                                             else ""))
+
+
+def nonfinite_error(model: mujoco.MjModel, status: int, body: int, time: float) -> NonFiniteError:
+    """The :class:`NonFiniteError` for a kernel ``status`` (``kernel.BAD_FORCE`` or ``kernel.BAD_STATE``) on ``body``."""
+    name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
+    what = "granular force" if status == kernel.BAD_FORCE else "state (position or velocity)"
+    return NonFiniteError(f"non-finite {what} on body '{name}' at t = {time:.6g} s; nothing was written to mjData")
+
+
+class ValidityWatch:
+    """Warns once per (law, quantity) when a terrain leaves a law's calibrated range (:mod:`mjrft.laws.validity`):
+    at construction for the static quantities (grain size, ...) of each region's medium, afterwards through
+    :meth:`check` for the deepest and the fastest buried element. ``dynamic`` holds (region mask, law name,
+    range) for each dynamic range in use not yet warned about (empty: nothing left to check)."""
+
+    def __init__(self, regions, inertial: bool):
+        self.warned: set[tuple[str, str]] = set()
+        groups: dict[str, list[int]] = {}
+        for k, reg in enumerate(regions):
+            groups.setdefault(str(reg.law), []).append(k)
+            for r, v in validity.check_static(str(reg.law), reg.medium):
+                self.warn(str(reg.law), r, v, f" (medium '{reg.medium.name}')", stacklevel=4)
+        self.dynamic = [(validity.group_mask(len(regions), ks), law, r) for law, ks in groups.items()
+                        for r in validity.dynamic_ranges(law, inertial)]
+
+    def warn(self, law: str, r, value: float, where: str, stacklevel: int) -> None:
+        if (law, r.quantity) in self.warned:
+            return
+        self.warned.add((law, r.quantity))
+        warnings.warn(ValidityRangeWarning(r.message(law, value, where)), stacklevel=stacklevel)
+
+    def check(self, depth, vel, region, time: float) -> None:
+        """Warn for the buried elements (``depth`` > 0, velocities ``vel``, region ids ``region``) of the step at
+        ``time`` that are deeper or faster than their law's range."""
+        extremes = {}
+        for mask, law, r in self.dynamic:
+            if (law, r.quantity) in self.warned:
+                continue
+            if law not in extremes:  # one compiled pass per law: (deepest, fastest) buried element
+                extremes[law] = validity.buried_extremes(depth, vel, region, mask)
+            dmax, vmax = extremes[law]
+            if dmax <= 0.0:
+                continue
+            v = dmax if r.quantity == "depth" else vmax
+            if not r.contains(v):
+                self.warn(law, r, v, f" at t = {time:.4g} s", stacklevel=5)
+        self.dynamic = [d for d in self.dynamic if (d[1], d[2].quantity) not in self.warned]
+
+
 class GranularTerrain:
     """Granular forces on selected geoms of a MuJoCo model, applied through ``xfrc_applied``.
 
@@ -680,174 +1058,49 @@ class GranularTerrain:
         self.model = model
         cfg = _custom(model)
         check_custom_keys(cfg)
-        for name, value in (("bodies", bodies), ("geoms", geoms)):
-            if value is not None and not isinstance(value, (str, int, np.integer)) and len(value) == 0:
-                raise ValueError(f"{name}=[] selects nothing; name the {name} to cut into elements, or pass None "
-                                 "to use the model's mjrft:bodies / mjrft:geoms (default: every geom not on the "
-                                 "world body)")
-
-        def pick(key, value):
-            if value is not None:
-                return value
-            return cfg.get(key, DEFAULTS.get(key))
-
-        self.medium = get_medium(pick("medium", medium))
-        self.law = str(pick("law", law))
-        lid = law_id(self.law)
-        if floor is not None and surface is not None:
-            raise ValueError(f"floor={floor!r} and surface={surface!r} both give the sand surface; pass one of them")
-        if floor is None and surface is None:
-            floor = cfg.get("floor")
-            if floor is not None and ("surface" in cfg or "surface_hfield" in cfg):
-                raise ValueError("the model's <custom> gives both mjrft:floor and mjrft:surface"
-                                 f"{'_hfield' if 'surface_hfield' in cfg else ''}; keep one of them")
-        self.floor = None  # geom id of the floor that became the surface
+        s = resolve_settings(model, cfg, medium=medium, law=law, bodies=bodies, geoms=geoms, floor=floor,
+                             surface=surface, resolution=resolution, yield_displacement=yield_displacement,
+                             damping_time=damping_time, v_eps=v_eps, water_depth=water_depth, regions=regions,
+                             region_map=region_map, transition=transition, buoyancy=buoyancy,
+                             drag_coefficient=drag_coefficient, water_density=water_density, inertial=inertial,
+                             inertial_drag=inertial_drag)
+        self.medium, self.law = s.medium, s.law
+        self.floor = s.floor  # geom id of the floor that became the surface
         self.floor_contacts = None  # its (contype, conaffinity) before the terrain removed its contacts
-        self.surface_hfield = None  # geom id of the hfield surface
-        self._hf_z, self._hf_frame = np.zeros((0, 0)), np.zeros(8)
-        geom_ids = select_geoms(model, pick("bodies", bodies), pick("geoms", geoms))
-        if not geom_ids:
-            raise ValueError("no geoms selected for the granular terrain")
-        if floor is not None:
-            self.floor, surface = _find_floor(model, floor, geom_ids)
-        elif surface is None and "surface_hfield" in cfg:
-            surface = cfg["surface_hfield"]
-        surface = pick("surface", surface)
-        if isinstance(surface, str):
-            try:
-                surface = float(surface)
-            except ValueError:
-                self.surface_hfield, self._hf_z, self._hf_frame = _hfield_surface(model, surface)
-                surface = float(self._hf_z.mean())
-        self.surface = check_finite("surface", surface)
-        resolution = pick("resolution", resolution)
-        self.resolution_auto = isinstance(resolution, str) and resolution.strip().lower() == "auto"
-        if self.resolution_auto:
-            resolution = auto_resolution(model, geom_ids)
-        elif isinstance(resolution, str):
-            raise ValueError(f"resolution must be a length in m or 'auto', got {resolution!r}")
-        self.resolution = check_positive("resolution", resolution)
-        self.yield_displacement = check_positive("yield_displacement",
-                                                 pick("yield_displacement", yield_displacement), allow_zero=True)
-        self.v_eps = check_positive("v_eps", pick("v_eps", v_eps), allow_zero=True)
-        if self.yield_displacement == 0 and self.v_eps == 0:
-            raise ValueError("yield_displacement and v_eps cannot both be 0 (the force at rest would be undefined)")
-        if damping_time is None:
-            damping_time = cfg.get("damping_time", 0.5 * math.sqrt(self.yield_displacement / 9.81))
-        self.damping_time = check_positive("damping_time", damping_time, allow_zero=True)
+        self.surface_hfield = s.surface_hfield  # geom id of the hfield surface
+        self._hf_z, self._hf_frame = s.hf_z, s.hf_frame
+        self.surface = s.surface
+        self.resolution, self.resolution_auto = s.resolution, s.resolution_auto
+        self.yield_displacement, self.v_eps, self.damping_time = s.yield_displacement, s.v_eps, s.damping_time
+        self.transition, self.buoyancy, self.inertial_drag = s.transition, s.buoyancy, s.inertial_drag
 
         # --- regions: strips along x or a map; water layer, buoyancy ---
-        self.transition = check_positive("transition", pick("transition", transition), allow_zero=True)
-        self.buoyancy = bool(pick("buoyancy", buoyancy))
-        inertial_given = inertial is not None
-        inertial = pick("inertial", inertial)
-        if not isinstance(inertial, (bool, np.bool_)) and inertial not in (0, 1):
-            raise ValueError(f"inertial must be True/False (mjrft:inertial 0 or 1), got {inertial!r}")
-        self.inertial = bool(inertial)
-        self.inertial_drag = check_positive("inertial_drag", pick("inertial_drag", inertial_drag))
-        if drag_coefficient is None:
-            drag_coefficient = cfg.get("drag_coefficient")
-        if water_density is None:
-            water_density = cfg.get("water_density")
-        if drag_coefficient is not None:
-            drag_coefficient = check_positive("drag_coefficient", drag_coefficient, allow_zero=True)
-        if water_density is not None:
-            water_density = check_positive("water_density", water_density, allow_zero=True)
-        if region_map is None:
-            region_map = cfg.get("region_map")
-        entries = _region_entries(pick("regions", regions), mapped=region_map is not None)
-        base = Region(None, self.medium, self.law, pick("water_depth", water_depth))
-        laws, params, rhos, bounds = [], [], [], []
-        self.regions: list[Region] = []  # region 0 (the terrain's own) first, each with its water depth
-        for k, reg in enumerate([base, *entries]):
-            where = "" if k == 0 else f"region {k} "
-            try:
-                med = get_medium(reg.medium)
-            except UnknownNameError:
-                raise unknown(f"{where}medium", reg.medium, MEDIA) from None
-            try:
-                lid_k = law_id(reg.law)
-            except UnknownNameError:
-                raise unknown(f"{where}law", reg.law, LAW_IDS) from None
-            wc = wet_constants(med)
-            hw = wc["water_depth"] if reg.water_depth is None else reg.water_depth
-            hw = check_positive(f"{where}water_depth", hw, allow_zero=True)
-            rho = wc["water_density"] if water_density is None else water_density
-            cd = wc["drag_coefficient"] if drag_coefficient is None else drag_coefficient
-            p = med.params()
-            p[P_WATER_DEPTH] = hw
-            p[P_WATER_DRAG] = cd * rho
-            if self.inertial and str(reg.law) in DRY_LAWS:
-                try:
-                    set_inertial(p, med, self.inertial_drag)
-                except ValueError as exc:
-                    raise ValueError(f"{where}inertial=True: {exc}") from None
-            laws.append(lid_k)
-            params.append(p)
-            rhos.append(rho if self.buoyancy and (hw > 0 or lid_k in _SATURATED_LAWS) else 0.0)
-            x_min = None
-            if k > 0 and region_map is None:
-                x_min = check_finite(f"region {k} x_min", reg.x_min)
-                if bounds and x_min <= bounds[-1]:
-                    raise ValueError(f"regions must be sorted by increasing x_min, got {x_min!r} after {bounds[-1]!r}")
-                if bounds and x_min - bounds[-1] < self.transition:
-                    raise ValueError(f"region {k - 1} is {x_min - bounds[-1]:g} m wide (x_min {bounds[-1]!r} to "
-                                     f"{x_min!r}), less than the transition width {self.transition:g} m; "
-                                     "widen it or pass a smaller transition")
-                bounds.append(x_min)
-            self.regions.append(Region(x_min, med, str(reg.law), hw))
-        self._reg_bounds = np.array(bounds, dtype=np.float64)
-        self._reg_law = np.array(laws, dtype=np.int64)
-        self._reg_params = np.ascontiguousarray(np.array(params, dtype=np.float64))
-        self._reg_rho = np.array(rhos, dtype=np.float64)
-        self._reg_map, self._reg_map_frame = np.zeros((0, 0), dtype=np.int64), np.zeros(4)
-        if region_map is not None:
-            self._reg_map, self._reg_map_frame = _region_map(region_map, len(entries), self.transition)
-        if self.inertial and not any(str(r.law) in DRY_LAWS for r in self.regions):
-            if not inertial_given:  # a scene file's mjrft:inertial applies to its dry regions; here there are none
-                self.inertial = False
-            else:
-                raise ValueError(f"inertial=True needs a region with a dry law ({', '.join(DRY_LAWS)}); the terrain's "
-                                 f"laws are {', '.join(sorted({str(r.law) for r in self.regions}))}")
+        rt = build_regions(s)
+        self.regions: list[Region] = rt.regions  # region 0 (the terrain's own) first, each with its water depth
+        self.inertial = rt.inertial
+        self._reg_bounds, self._reg_law, self._reg_params, self._reg_rho = rt.bounds, rt.law, rt.params, rt.rho
+        self._reg_map, self._reg_map_frame = rt.map, rt.map_frame
         self.water_depth = float(self._reg_params[:, P_WATER_DEPTH].max())  # deepest water anywhere
         self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
 
         # --- geoms ---
-        self._check_element_count(geom_ids, max_elements)
-        parts = [discretize_geom(model, gid, self.resolution) for gid in geom_ids]
-        # only the exposed surface of each body's union of geoms meets grains (see geometry.exposed_elements)
-        groups = list(zip(geom_ids, exposed_elements(model, geom_ids, parts, self.resolution)))
-        if not groups:
-            raise ValueError("no geoms selected for the granular terrain")
-        self.geom_ids = np.array([g for g, _ in groups], dtype=np.int64)
-        counts = [len(el) for _, el in groups]
-        # the kernel's cull groups: runs of at most CULL_GROUP consecutive elements of one geom, each
-        # with the box of its element points in the geom frame (centre, half sizes: what MuJoCo's
-        # geom_aabb is for the whole geom), so the half of a leg above the sand costs no element work
-        g_geom, g_start, g_aabb = [], [0], []
-        for gid, el in groups:
-            local = to_geom_frame(model, gid, el.pos)
-            for a in range(0, len(el), CULL_GROUP):
-                pts = local[a:a + CULL_GROUP]
-                lo, hi = pts.min(axis=0), pts.max(axis=0)
-                g_geom.append(gid)
-                g_start.append(g_start[-1] + len(pts))
-                g_aabb.append(np.concatenate([(lo + hi) / 2, (hi - lo) / 2 + CULL_PAD]))
-        self._g_geom = np.array(g_geom, dtype=np.int64)
-        self._g_body = np.ascontiguousarray(model.geom_bodyid[self._g_geom], dtype=np.int64)
-        self._g_start = np.array(g_start, dtype=np.int64)
-        self._g_aabb = np.ascontiguousarray(np.array(g_aabb, dtype=np.float64).reshape(-1, 6))
-        self.elements = Elements.concatenate([el for _, el in groups])
-        n = len(self.elements)
-        self._e_lpos = np.ascontiguousarray(self.elements.pos, dtype=np.float64)
-        self._e_lnrm = np.ascontiguousarray(self.elements.normal, dtype=np.float64)
-        self.area = np.ascontiguousarray(self.elements.area, dtype=np.float64)
-        self.elem_geom = np.repeat(self.geom_ids, counts)
-        self.elem_body = np.ascontiguousarray(model.geom_bodyid[self.elem_geom], dtype=np.int64)
-        self.body_ids = np.unique(self._g_body)
+        check_element_count(model, s.geom_ids, self.resolution, max_elements)
+        et = build_elements(model, s.geom_ids, self.resolution)
+        self.elements, self.geom_ids, self.area = et.elements, et.geom_ids, et.area
+        self.elem_geom, self.elem_body, self.body_ids = et.elem_geom, et.elem_body, et.body_ids
+        self._e_lpos, self._e_lnrm = et.lpos, et.lnrm
+        self._g_geom, self._g_body, self._g_start, self._g_aabb = et.g_geom, et.g_body, et.g_start, et.g_aabb
         self._rootid = np.ascontiguousarray(model.body_rootid, dtype=np.int64)
 
-        # --- per-step state and outputs ---
+        self._allocate_state()
+        self._validity = ValidityWatch(self.regions, self.inertial)
+        if self.floor is not None:  # last: a constructor that raises leaves the model as it was
+            self.floor_contacts = _remove_contacts(model, self.floor)
+
+    # ------------------------------------------------------------------ set-up helpers
+    def _allocate_state(self) -> None:
+        """The per-step state, outputs and scratch arrays, zeroed."""
+        model, n = self.model, len(self.elements)
         self._g_active = np.zeros(len(self._g_geom), dtype=np.bool_)
         self._u = np.zeros((n, 3))
         self._scr_f = np.zeros((12, n))  # the kernel's gather/scatter scratch (batched law)
@@ -877,22 +1130,6 @@ class GranularTerrain:
         self._steps = 0
         self._warned: set[int] = set()
         self._cb_prev = None
-        self._validity_init()
-        if self.floor is not None:  # last: a constructor that raises leaves the model as it was
-            self.floor_contacts = _remove_contacts(model, self.floor)
-
-    # ------------------------------------------------------------------ set-up helpers
-    def _check_element_count(self, geom_ids, max_elements) -> None:
-        """Refuse, before building anything, a resolution that would make more than ``max_elements`` elements."""
-        limit = MAX_ELEMENTS if max_elements is None else int(check_positive("max_elements", max_elements))
-        n = estimate_elements(self.model, geom_ids, self.resolution)
-        if n > limit:
-            area = n * self.resolution**2
-            suggest = math.sqrt(area / 1e5)
-            raise ValueError(f"resolution {self.resolution:g} m would cut the {len(geom_ids)} selected geoms into about "
-                             f"{n:,} elements, more than max_elements = {limit:,} (minutes and gigabytes to build); "
-                             f"use a coarser resolution (about {suggest:.2g} m gives 100,000 elements) or pass "
-                             "max_elements=... if you mean it")
 
     def _bind(self, data: mujoco.MjData) -> None:
         if data is self._data:
@@ -984,17 +1221,14 @@ class GranularTerrain:
         if _reset_count(self._warning_numbers) != self._resets_seen:
             self._check_mujoco_reset(data, f"between t = {self._t_begin:.6g} s and the end of {nstep} step(s)")
         if status != kernel.OK:
-            name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
-            what = "granular force" if status == kernel.BAD_FORCE else "state (position or velocity)"
             self.wrench[:] = 0.0
-            raise NonFiniteError(f"non-finite {what} on body '{name}' at t = {data.time:.6g} s; "
-                                 "nothing was written to mjData")
+            raise nonfinite_error(self.model, status, body, data.time)
         before = self._steps
         self._steps += nstep
         if before == 0 or before // STABILITY_CHECK_EVERY != self._steps // STABILITY_CHECK_EVERY:
             self._check_stability(data, dt)
-            if self._val_dynamic:
-                self._check_validity(data)
+            if self._validity.dynamic:
+                self._validity.check(self.depth, self.vel, self.region, data.time)
 
     def step(self, data: mujoco.MjData, nstep: int = 1) -> None:
         """``nstep`` times: ``mj_step1``, add the granular wrench to ``xfrc_applied``, ``mj_step2``.
@@ -1085,8 +1319,8 @@ class GranularTerrain:
     def _check_stability(self, data, dt) -> None:
         """Warn once per body when dt exceeds the explicit stability limit (see :mod:`mjrft.kernel`):
         for a stiffness held ``HELD_STEPS`` steps, or a single step that amplifies by ``SPIKE_GROWTH``;
-        with the inertial regime on, its largest damping rate since the last check is added to both."""
-        m = self.model
+        with the inertial regime on, its largest damping rate since the last check is added to both
+        (:func:`unstable_mode`)."""
         held, spike, damp = self._stiff_max[:, 0].copy(), self._stiff_max[:, 1].copy(), self._damp_max.copy()
         inert = self._inert_max.copy() if self.inertial else None
         self._stiff_max[:, :2] = 0.0
@@ -1098,74 +1332,16 @@ class GranularTerrain:
             if (spike[b, 0] <= 0 and not has_inert) or b in self._warned:
                 continue
             jac, minv_jac = self._jacobians(data, int(b))
-            lam_c = kernel.largest_rate(jac, minv_jac, inert[b]) if has_inert else 0.0
-            states = [(held[b], 1.0), (spike[b], kernel.SPIKE_GROWTH)] if spike[b, 0] > 0 else [(held[b], 1.0)]
-            for moments, growth in states:
-                if moments[0] <= 0 and lam_c <= 0:
-                    continue
-                lam = kernel.largest_rate(jac, minv_jac, moments) if moments[0] > 0 else 0.0
-                K, c = self._spring(lam, lam_c)
-                if kernel.step_growth(K, c, 1.0, dt) > growth * (1.0 + 1e-12):
-                    self._warn(data, int(b), dt, moments[0], damp[b], lam, lam_c)
-                    break
+            mode = unstable_mode(jac, minv_jac, held[b], spike[b], inert[b] if has_inert else None,
+                                 self.yield_displacement, self.damping_time, dt)
+            if mode is not None:
+                self._warn(data, int(b), dt, mode[0], damp[b], mode[1], mode[2])
 
     def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float, lam_c: float = 0.0) -> None:
         self._warned.add(b)
         name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
-        K, c = self._spring(lam, lam_c)
-        what = (f"damping {s0:.3g} N s/m" if self.yield_displacement == 0 else
-                f"stiffness {s0:.3g} N/m, damping {damp:.3g} N s/m")
-        mode = f"effective mass {s0 / lam:.3g} kg in its stiffest mode" if lam > 0 else "no stiffness"
-        if lam_c > 0:
-            mode += f"; inertial-regime damping rate {lam_c:.3g} 1/s"
-        warnings.warn(TerrainStabilityWarning(
-            f"mjrft: timestep {dt:g} s exceeds the stability limit {kernel.max_stable_dt(K, c, 1.0):.3g} s of the "
-            f"granular stiffness on body '{name}' at t = {data.time:.4g} s ({what}, {mode}); reduce the timestep "
-            "or increase yield_displacement" + (" (the inertial regime's limit is dt < 2 / its rate)" if lam_c > 0
-                                                 else "")),
-            stacklevel=4)
-
-    def _validity_init(self) -> None:
-        """Warn now for the static quantities (grain size, ...) that leave a law's calibrated range
-        (:mod:`mjrft.laws.validity`) and list the dynamic ranges (depth, speed) that :meth:`_check_validity` watches:
-        ``_val_dynamic`` holds (region ids, law name, range) for each law in use that has one, once per
-        (law, quantity)."""
-        self._val_warned: set[tuple[str, str]] = set()
-        groups: dict[str, list[int]] = {}
-        for k, reg in enumerate(self.regions):
-            groups.setdefault(str(reg.law), []).append(k)
-            for r, v in validity.check_static(str(reg.law), reg.medium):
-                self._validity_warn(str(reg.law), r, v, f" (medium '{reg.medium.name}')", stacklevel=4)
-        self._val_dynamic = [(validity.group_mask(len(self.regions), ks), law, r) for law, ks in groups.items()
-                             for r in validity.dynamic_ranges(law, self.inertial)]
-
-    def _validity_warn(self, law: str, r, value: float, where: str, stacklevel: int) -> None:
-        if (law, r.quantity) in self._val_warned:
-            return
-        self._val_warned.add((law, r.quantity))
-        warnings.warn(ValidityRangeWarning(r.message(law, value, where)), stacklevel=stacklevel)
-
-    def _check_validity(self, data) -> None:
-        """Warn once per (law, quantity) when a buried element of the last step is deeper or faster than its law's
-        calibrated range (run with the stability check, every STABILITY_CHECK_EVERY steps)."""
-        extremes = {}
-        for mask, law, r in self._val_dynamic:
-            if (law, r.quantity) in self._val_warned:
-                continue
-            if law not in extremes:  # one compiled pass per law: (deepest, fastest) buried element
-                extremes[law] = validity.buried_extremes(self.depth, self.vel, self.region, mask)
-            dmax, vmax = extremes[law]
-            if dmax <= 0.0:
-                continue
-            v = dmax if r.quantity == "depth" else vmax
-            if not r.contains(v):
-                self._validity_warn(law, r, v, f" at t = {data.time:.4g} s", stacklevel=5)
-        self._val_dynamic = [d for d in self._val_dynamic if (d[1], d[2].quantity) not in self._val_warned]
-
-    def _spring(self, lam: float, lam_c: float = 0.0) -> tuple[float, float]:
-        """(K, c) per unit mass of the stiffest mode, for kernel.stable_step / max_stable_dt with w = 1; ``lam_c``
-        the inertial regime's largest damping rate (1/s), added to the damping (kernel module docstring)."""
-        return (0.0, lam + lam_c) if self.yield_displacement == 0 else (lam, self.damping_time * lam + lam_c)
+        warnings.warn(stability_warning(name, data.time, dt, s0, damp, lam, lam_c, self.yield_displacement,
+                                        self.damping_time), stacklevel=4)
 
     def stable_timestep(self, data: mujoco.MjData) -> np.ndarray:
         """Largest stable timestep (s) of each body for the granular stiffness of the last step, shape (nbody,).
