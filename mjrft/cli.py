@@ -12,6 +12,7 @@ settle     ``mjrft.settle``               drop a box foot and a legged body; sin
 rig        ``mjrft.rigs``                 plate-intruder and rotating-leg rigs; arrays + plots
 train      ``mjrft.train.train``          stable-baselines3 training (PPO/SAC), resumable
 eval       ``mjrft.train.evaluate``       deterministic evaluation of a policy or gait
+plot       ``mjrft.train.plot``           learning curves of training runs (return, speed)
 rollout    ``mjrft.train.rollout``        any policy or gait, any env, headless, to a rerun file
 bench      ``mjrft.tradeoff``             the speed/accuracy trade study
 sweep      ``mjrft.train.sweep``          parameter grids, local processes or Ray, resumable
@@ -31,6 +32,7 @@ COMMANDS = {
     "rig": ("mjrft.rigs", "run the plate-intruder or rotating-leg rig; save force profiles and plots"),
     "train": ("mjrft.train.train", "train a policy with stable-baselines3 (PPO or SAC), resumable"),
     "eval": ("mjrft.train.evaluate", "evaluate a trained policy or an open-loop gait; print a table"),
+    "plot": ("mjrft.train.plot", "plot learning curves (episode return, forward speed) of training runs"),
     "rollout": ("mjrft.train.rollout", "roll out a policy or gait headless and log it to a rerun file"),
     "bench": ("mjrft.tradeoff", "measure the speed/accuracy trade of resolution, law and timestep"),
     "sweep": ("mjrft.train.sweep", "run a parameter grid (local processes or Ray), resumable"),
