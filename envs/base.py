@@ -39,6 +39,14 @@ Common keyword arguments (all environments):
 ``width``, ``height``      off-screen image size in pixels (default 480 x 480).
 ``camera_name``,           the camera to render from (a named MJCF camera, or its id); default: the
 ``camera_id``              free camera tracking the torso.
+``terrain_randomization``  ``None`` (default: the same terrain every episode, nothing drawn), a dict of
+                           options or a :class:`mjrft.envs.randomization.TerrainRandomization`: at each
+                           ``reset()`` draw the medium from a list (``media``), a factor on the grains'
+                           stresses (``stress_scale``), the sand surface's raise (``surface_height``)
+                           and roughness (``roughness``, ``correlation_length``: a smooth random height
+                           field) and a strip layout (``strips``, ``strip_length``, ``strip_start``),
+                           from the env's ``np_random`` (``reset(seed=s)`` reproduces it). Sand
+                           environments only. Options and their meaning: :mod:`mjrft.envs.randomization`.
 =========================  ============================================================================
 
 Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power`` (W),
@@ -46,7 +54,9 @@ Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power
 ``reward_ctrl``, ``reward_healthy``, ``is_healthy``, ``sinkage`` (array (n_feet,), deepest element
 depth below the surface of each foot/leg body in m, order ``foot_names``; zeros on rigid ground) and
 ``granular_force`` (array (n_feet, 3), net granular force on each foot/leg body in N, world frame;
-zeros on rigid ground).
+zeros on rigid ground). With ``terrain_randomization``: ``terrain`` (also at reset), the terrain of this
+episode: ``medium`` (name), ``stress_scale``, ``surface_height`` (m), ``roughness`` (m RMS) and ``strips``
+(tuple of ``(x_min, medium)``).
 
 Divergence: when the simulation diverges (a non-finite granular force or state, or MuJoCo resetting a
 state it found non-finite or huge, on sand and on rigid ground alike), ``step`` does not go on from a
@@ -71,6 +81,8 @@ from mjrft.media import get_medium
 from mjrft.models import model_path
 from mjrft.presets import model_resolution
 from mjrft.presets import resolve as resolve_preset
+
+from .randomization import TerrainRandomization, TerrainRandomizer
 
 G = 9.81
 
@@ -110,7 +122,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                  episode_seconds: float | None = None, render_mode: str | None = None,
                  width: int = 480, height: int = 480, camera_name: str | None = None,
                  camera_id: int | None = None, pickle_kwargs: dict | None = None,
-                 preset: str | None = None, timestep: float | None = None):
+                 preset: str | None = None, timestep: float | None = None, terrain_randomization=None):
         self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
         if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
             raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
@@ -141,6 +153,9 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"unknown render_mode {render_mode!r}; valid choices: "
                              f"{', '.join(self.metadata['render_modes'])}")
+        randomization = TerrainRandomization.from_value(terrain_randomization)
+        if randomization is not None and not sand:
+            raise ValueError(f"terrain_randomization needs a sand environment; {type(self).__name__} has rigid ground")
 
         self._xml = xml
         self.sand = bool(sand)
@@ -165,6 +180,10 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         if self.sand and resolution is None and chosen["resolution_scale"] != 1.0:
             resolution = chosen["resolution_scale"] * model_resolution(self.model)
         self.terrain = (GranularTerrain(self.model, medium, law, resolution=resolution) if self.sand else None)
+        # terrain randomisation: None costs nothing (no draw, no info entry)
+        self.randomizer = (None if randomization is None else
+                           TerrainRandomizer(randomization, self.terrain, self.model))
+        self.terrain_info: dict | None = None  # info["terrain"] of this episode (with terrain_randomization)
         self.diverged: str | None = None  # the NonFiniteError message once the simulation diverged
         self._torso_id = self.model.body(self.torso_name).id
         self._foot_ids = np.array([self.model.body(n).id for n in self.foot_names], dtype=np.int64)
@@ -327,6 +346,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
             "sinkage": self.foot_sinkage(),
             "granular_force": self.foot_granular_force(),
         }
+        if self.terrain_info is not None:
+            info["terrain"] = dict(self.terrain_info)  # a new dict each call, as gymnasium asks
         if self.render_mode == "human":
             self.render()
         return self._get_obs(), float(reward), bool(terminated), bool(truncated), info
@@ -342,6 +363,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                 "reward_energy": 0.0, "reward_ctrl": 0.0, "reward_healthy": 0.0, "is_healthy": False,
                 "sinkage": np.zeros(len(self._foot_ids)), "granular_force": np.zeros((len(self._foot_ids), 3)),
                 "diverged": self.diverged}
+        if self.terrain_info is not None:
+            info["terrain"] = dict(self.terrain_info)  # a new dict each call, as gymnasium asks
         return obs, 0.0, True, False, info
 
     def reset_model(self):
@@ -350,6 +373,9 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         qpos = self.init_qpos + self.np_random.uniform(-noise, noise, size=self.model.nq)
         qvel = self.init_qvel + self.np_random.uniform(-noise, noise, size=self.model.nv)
         self._normalise_free_quat(qpos)
+        if self.randomizer is not None:  # after the start pose's noise: an unrandomised env draws the same noise
+            self.terrain_info = self.randomizer.apply(self.np_random)
+            self._upload_hfield()
         self.set_state(qpos, qvel)
         if self.terrain is not None:
             self.terrain.reset()
@@ -360,6 +386,16 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
     def _reset_extra(self) -> None:
         pass
 
+    def _upload_hfield(self) -> None:
+        """Send a height-field sand surface the terrain rewrote to the render contexts already made."""
+        hfield = None if self.terrain is None else self.terrain.surface_hfield
+        viewers = getattr(getattr(self, "mujoco_renderer", None), "_viewers", None)
+        if hfield is None or not viewers:
+            return
+        for viewer in viewers.values():
+            viewer.make_context_current()
+            mujoco.mjr_uploadHField(self.model, viewer.con, int(self.model.geom_dataid[hfield]))
+
     def _normalise_free_quat(self, qpos) -> None:
         for j in range(self.model.njnt):
             if self.model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:
@@ -367,11 +403,14 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                 qpos[adr:adr + 4] /= np.linalg.norm(qpos[adr:adr + 4])
 
     def _get_reset_info(self):
-        return {
+        info = {
             "x_position": float(self.data.qpos[0]),
             "sinkage": self.foot_sinkage(),
             "granular_force": self.foot_granular_force(),
         }
+        if self.terrain_info is not None:
+            info["terrain"] = dict(self.terrain_info)  # a new dict each call, as gymnasium asks
+        return info
 
 
 #: the keyword arguments every environment accepts (:class:`GranularMujocoEnv`), routed by :func:`split_env_kwargs`

@@ -11,6 +11,7 @@ from mjrft.models.hexapod import LEG_NAMES, TRIPOD_A, TRIPOD_B, hexapod_xml
 from mjrft.models.shoal import SHOAL
 
 from .base import GranularMujocoEnv, split_env_kwargs
+from .randomization import DEFAULT_SURFACE_GRID, TerrainRandomization
 
 
 class HexapodSand(GranularMujocoEnv):
@@ -73,6 +74,16 @@ class HexapodSand(GranularMujocoEnv):
 
     See :mod:`mjrft.envs.base`; ``sinkage`` and ``granular_force`` are per leg (6 rows, order above).
 
+    ## Terrain randomisation
+
+    ``terrain_randomization={...}`` draws a new terrain at each reset (:mod:`mjrft.envs.randomization`:
+    ``media``, ``stress_scale``, ``surface_height``, ``roughness``, ``correlation_length``, ``strips``,
+    ``strip_length``, ``strip_start``); ``info["terrain"]`` says what was drawn. With ``roughness`` the
+    scene's sand surface becomes a height field of samples ``surface_grid`` apart (default
+    ``DEFAULT_SURFACE_GRID`` = 1 cm over the 2 x 1 m bed; ``surface_grid=<m>`` chooses another, and
+    gives a height-field surface without randomisation too). Drawn strips are not drawn in the
+    rendering (the sand looks the same); ``info["terrain"]["strips"]`` lists them.
+
     ## Roll and heading under the open-loop tripod
 
     The free body rocks and can take a new heading while the gait starts. Measured with
@@ -111,6 +122,9 @@ class HexapodSand(GranularMujocoEnv):
         self._max_lag = check_positive("max_lag", max_lag)
         self.planar = bool(planar)
         env_kw, model_kw = split_env_kwargs(kwargs)
+        randomization = TerrainRandomization.from_value(env_kw.get("terrain_randomization"))
+        if sand and randomization is not None and randomization.roughness > 0:
+            model_kw.setdefault("surface_grid", DEFAULT_SURFACE_GRID)  # a height-field surface to carry it
         xml = hexapod_xml(curvature, variant=variant, sand=sand, planar=planar, **model_kw)
         super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 

@@ -30,7 +30,7 @@ from __future__ import annotations
 import difflib
 import math
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import ctypes
 import glob
@@ -47,10 +47,12 @@ from .errors import (NonFiniteError, TerrainStabilityWarning, UnknownNameError, 
                      check_positive, unknown)
 from .geometry import Elements, discretize_geom, estimate_elements, exposed_elements, to_geom_frame
 from .laws import LAW_IDS, law_id
+from .laws.hybrid import P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PAR_H, P_HYB_PERP_H
 from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
 from .laws import validity
 from .laws.inertial import DRY_LAWS, INERTIAL_DRAG, set_inertial
-from .media import MEDIA, Medium, get_medium
+from .media import (MEDIA, P_AX_DRAG, P_AZ_DOWN, P_AZ_UP, P_COEFF, P_INERTIA, P_XI, P_ZETA, Medium,
+                    get_medium)
 
 DEFAULTS = {
     "medium": "poppy_cp",
@@ -95,6 +97,13 @@ STABILITY_CHECK_EVERY = 50
 MAX_ELEMENTS = 1_000_000
 CULL_GROUP = 32  # elements per cull box (the kernel skips a box lying wholly above the surface)
 CULL_PAD = 1e-9  # m, added to each cull box's half sizes: rounding never culls an element at the surface
+#: the slots of a region's parameter vector that hold granular stresses, which ``stress_scale``
+#: (:meth:`GranularTerrain.set_medium`) multiplies: Li's nine coefficients and zeta, 3D-RFT's xi_n, the
+#: depth-only constants, the hybrid law's bar-drag constants (N/m^3) and the inertial regime's
+#: ``C rho_bulk`` (kg/m^3). Friction coefficients, ratios and speed factors are not stresses; the water
+#: layer's drag and the buoyancy are the water's, not the grains', and keep their values.
+STRESS_SLOTS = np.array([*range(P_COEFF, P_COEFF + 9), P_XI, P_ZETA, P_AZ_DOWN, P_AZ_UP, P_AX_DRAG, P_HYB_E0,
+                         P_HYB_E1, P_HYB_E2, P_HYB_PERP_H, P_HYB_PAR_H, P_INERTIA], dtype=np.int64)
 _STEP_FUNCTIONS = kernel.mujoco_step_functions()  # None -> the plain Python stepping loop is used
 _max_stable_dt = njit(cache=True, error_model="numpy")(kernel.max_stable_dt)  # the same formula, callable compiled
 
@@ -764,6 +773,14 @@ def build_regions(s: TerrainSettings) -> RegionTables:
                         rmap, rframe, inertial)
 
 
+def _refill(old: np.ndarray, new: np.ndarray) -> np.ndarray:
+    """``new``'s values in ``old`` when shape and dtype match (the same array object), else ``new``."""
+    if old.shape == new.shape and old.dtype == new.dtype:
+        old[...] = new
+        return old
+    return np.ascontiguousarray(new)
+
+
 def check_element_count(model: mujoco.MjModel, geom_ids, resolution: float, max_elements) -> None:
     """Refuse, before building anything, a resolution that would make more than ``max_elements`` elements
     (default :data:`MAX_ELEMENTS`)."""
@@ -890,10 +907,11 @@ class ValidityWatch:
     """Warns once per (law, quantity) when a terrain leaves a law's calibrated range (:mod:`mjrft.laws.validity`):
     at construction for the static quantities (grain size, ...) of each region's medium, afterwards through
     :meth:`check` for the deepest and the fastest buried element. ``dynamic`` holds (region mask, law name,
-    range) for each dynamic range in use not yet warned about (empty: nothing left to check)."""
+    range) for each dynamic range in use not yet warned about (empty: nothing left to check). ``warned``: the
+    (law, quantity) pairs already warned about (a terrain whose regions change keeps them: no second warning)."""
 
-    def __init__(self, regions, inertial: bool):
-        self.warned: set[tuple[str, str]] = set()
+    def __init__(self, regions, inertial: bool, warned: set | None = None):
+        self.warned: set[tuple[str, str]] = set() if warned is None else warned
         groups: dict[str, list[int]] = {}
         for k, reg in enumerate(regions):
             groups.setdefault(str(reg.law), []).append(k)
@@ -1064,6 +1082,8 @@ class GranularTerrain:
                              region_map=region_map, transition=transition, buoyancy=buoyancy,
                              drag_coefficient=drag_coefficient, water_density=water_density, inertial=inertial,
                              inertial_drag=inertial_drag)
+        self._settings = s  # what set_medium / set_regions change
+        self.stress_scale = 1.0  # factor on every granular stress (set_medium)
         self.medium, self.law = s.medium, s.law
         self.floor = s.floor  # geom id of the floor that became the surface
         self.floor_contacts = None  # its (contype, conaffinity) before the terrain removed its contacts
@@ -1152,6 +1172,116 @@ class GranularTerrain:
         self._stiff_max[:] = 0.0
         self._inert_max[:] = 0.0
         self._last_time = -np.inf
+
+    # ------------------------------------------------------------------ changing the terrain in place
+    def set_medium(self, medium=None, stress_scale=None) -> None:
+        """Change the terrain's own medium (region 0: where no other region applies; its law and water
+        depth stay) and/or the factor ``stress_scale`` (> 0) on the granular stresses of every region,
+        without rebuilding the elements. ``None`` keeps the current value.
+
+        ``stress_scale`` multiplies the stress slots of each region's parameters (:data:`STRESS_SLOTS`:
+        every stress of the sand laws and of the inertial regime), so every buried element's granular
+        force scales by it; the water layer's drag and the buoyancy keep theirs. It is relative to the
+        media's own stresses (``set_medium(stress_scale=1)`` restores them), and it stays when the
+        medium or the regions change. A larger scale stiffens the grains in proportion: the stability
+        check sees the scaled stiffness, and its warning names the scale. The elements' memory is
+        kept (:meth:`reset` forgets it). A bad medium raises as in the constructor (an unknown name
+        lists the catalogue) and leaves the terrain as it was.
+        """
+        s = self._settings if medium is None else replace(self._settings, medium=get_medium(medium))
+        scale = self.stress_scale if stress_scale is None else check_positive("stress_scale", stress_scale)
+        self._install_regions(s, scale)
+
+    def set_regions(self, regions) -> None:
+        """Replace the terrain's extra regions without rebuilding the elements: strips along x in the
+        constructor's form (``[Region(x_min, medium, law, water_depth), ...]`` or tuples, sorted by
+        ``x_min``; ``None`` or ``[]``: the terrain's own medium everywhere), or, on a terrain with a
+        ``region_map``, its ``(medium, law[, water_depth])`` entries (at least as many as the map's ids
+        name). Checked as in the constructor; on an error the terrain is left as it was. The current
+        ``stress_scale`` applies to the new regions; the elements' memory is kept."""
+        s = self._settings
+        self._install_regions(replace(s, regions=_region_entries(regions, mapped=s.region_map is not None)),
+                              self.stress_scale)
+
+    def _install_regions(self, s: TerrainSettings, scale: float) -> None:
+        """Build the region tables of ``s`` with the stresses times ``scale`` and put them in place: into the
+        kernel's arrays when their shapes are unchanged (a :class:`~mjrft.batch.BatchedTerrain` then reuses
+        its argument tuple), else as new arrays; everything derived from them follows (water depth, cull
+        height, validity ranges; the elements' region ids when the region count changes)."""
+        rt = build_regions(s)  # raises before anything changes
+        params = rt.params
+        if scale != 1.0:
+            params[:, STRESS_SLOTS] *= scale
+        if len(rt.regions) != len(self.regions):
+            self.region[:] = 0  # ids of the old layout would index past the new tables
+        self._settings, self.stress_scale = s, float(scale)
+        self.medium, self.law = s.medium, s.law
+        self.regions, self.inertial = rt.regions, rt.inertial
+        self._reg_bounds = _refill(self._reg_bounds, rt.bounds)
+        self._reg_law = _refill(self._reg_law, rt.law)
+        self._reg_params = _refill(self._reg_params, params)
+        self._reg_rho = _refill(self._reg_rho, rt.rho)
+        self._reg_map = _refill(self._reg_map, rt.map)
+        self._reg_map_frame = _refill(self._reg_map_frame, rt.map_frame)
+        self.water_depth = float(self._reg_params[:, P_WATER_DEPTH].max())
+        self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
+        self._validity = ValidityWatch(self.regions, self.inertial, self._validity.warned)
+
+    def set_surface(self, surface) -> None:
+        """Move the free sand surface without rebuilding the elements.
+
+        Flat surface: ``surface`` is its new height (m). Height-field surface (``surface="<hfield geom>"``):
+        the new world heights of the samples, an array shaped like :meth:`surface_samples`' (``(nrow,
+        ncol)``: row j along the geom's y, column i along its x), or one number for a level field. The
+        hfield's data in the loaded model are rewritten to the same heights (through its elevation and
+        the geom's height), so MuJoCo's collisions with it and its rendering (after
+        ``mujoco.mjr_uploadHField`` on a render context made before) show the surface the grains have.
+        Water stands the same depth above the new surface. The elements' memory is kept.
+        """
+        if self._hf_z.size == 0:
+            if np.ndim(surface) != 0:
+                raise ValueError(f"this terrain's surface is flat (height {self.surface:g} m): set_surface takes one "
+                                 f"height in m, got an array of shape {np.shape(surface)}; a height field needs an "
+                                 "hfield geom as the surface (surface='<hfield geom>')")
+            self.surface = check_finite("surface", surface)
+        else:
+            z = np.asarray(surface, dtype=np.float64)
+            if z.ndim == 0:
+                z = np.full(self._hf_z.shape, check_finite("surface", z))
+            if z.shape != self._hf_z.shape:
+                raise ValueError(f"surface heights must have the height field's shape {self._hf_z.shape} "
+                                 f"(nrow, ncol), got {z.shape}")
+            if not np.all(np.isfinite(z)):
+                raise ValueError("surface heights must be finite")
+            self._hf_z[...] = z
+            self.surface = float(z.mean())
+            self._write_hfield()
+        self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
+
+    def surface_samples(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """World ``(x, y, z)`` of the height-field surface's samples, each ``(nrow, ncol)`` (copies); raises
+        on a flat surface."""
+        if self._hf_z.size == 0:
+            raise ValueError(f"this terrain's surface is flat (height {self.surface:g} m), it has no samples; "
+                             "a height field needs an hfield geom as the surface (surface='<hfield geom>')")
+        nrow, ncol = self._hf_z.shape
+        x0, y0, c, sn, rx, ry, kx, ky = self._hf_frame
+        lx, ly = np.meshgrid(np.arange(ncol) / kx - rx, np.arange(nrow) / ky - ry)
+        return x0 + c * lx - sn * ly, y0 + sn * lx + c * ly, self._hf_z.copy()
+
+    def _write_hfield(self) -> None:
+        """Write the surface heights into the loaded model's hfield samples (z = geom z + elevation x sample)."""
+        m, g = self.model, self.surface_hfield
+        h = int(m.geom_dataid[g])
+        elev = float(m.hfield_size[h, 2])
+        if not elev > 0:
+            return
+        if getattr(self, "_hf_geom_z", None) is None:
+            d = mujoco.MjData(m)
+            mujoco.mj_kinematics(m, d)
+            self._hf_geom_z = float(d.geom_xpos[g, 2])
+        adr, n = int(m.hfield_adr[h]), self._hf_z.size
+        m.hfield_data[adr:adr + n] = ((self._hf_z - self._hf_geom_z) / elev).ravel()
 
     # ------------------------------------------------------------------ per-step work
     @property
@@ -1340,8 +1470,11 @@ class GranularTerrain:
     def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float, lam_c: float = 0.0) -> None:
         self._warned.add(b)
         name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
-        warnings.warn(stability_warning(name, data.time, dt, s0, damp, lam, lam_c, self.yield_displacement,
-                                        self.damping_time), stacklevel=4)
+        w = stability_warning(name, data.time, dt, s0, damp, lam, lam_c, self.yield_displacement, self.damping_time)
+        if self.stress_scale != 1.0:
+            w = TerrainStabilityWarning(f"{w} (the granular stresses are scaled x{self.stress_scale:.4g}, "
+                                        "set_medium: the stiffness grows with the scale)")
+        warnings.warn(w, stacklevel=4)
 
     def stable_timestep(self, data: mujoco.MjData) -> np.ndarray:
         """Largest stable timestep (s) of each body for the granular stiffness of the last step, shape (nbody,).

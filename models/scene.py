@@ -30,6 +30,15 @@ Scene convention
   Each strip gets its own visual sand box (darker for the saturated-sand law ``wet``) and, where it
   has standing water, a translucent visual water box on top (``water_<k>``).
 
+  ``surface_grid=<m>`` makes the sand surface a height field instead (for a rough surface, e.g. the
+  environments' ``terrain_randomization``): ``sand_surface`` is then a visual-only ``hfield`` geom
+  over the bed (asset ``sand``, samples ``surface_grid`` apart, all at ``surface`` until something
+  writes them, elevation scale ``HFIELD_ELEVATION``), and the terrain reads its free surface from it::
+
+      <text    name="mjrft:surface_hfield" data="sand_surface"/>     (instead of mjrft:surface)
+
+  The strips' sand boxes are then not drawn (their water boxes are).
+
 ``sand=False`` (rigid comparison scenes, the ``...Rigid-v0`` environments):
 ``floor`` is a rigid plane at ``z = 0`` that collides; no ``mjrft:*`` custom
 entries are written.
@@ -58,6 +67,8 @@ DEFAULT_LAW = "rft"
 SAND_RGBA = "0.86 0.74 0.52 0.45"
 WET_SAND_RGBA = "0.55 0.45 0.30 0.55"
 WATER_RGBA = "0.25 0.45 0.75 0.35"
+HFIELD_ELEVATION = 0.1  # m per unit of a height-field surface's samples (hfield size[2]); any height can be written
+MAX_SURFACE_SAMPLES = 4_000_000  # most samples a surface_grid may make (16 MB of float32)
 
 #: Collision bits: robot geoms collide with the ground only (never with each other).
 ROBOT_CONTACT = 'contype="1" conaffinity="0"'
@@ -110,6 +121,12 @@ class SceneOptions:
     transition: float | None = None  # region blend width (m); None: mjrft's default
     buoyancy: bool = False
     inertial: bool = False  # the dry laws' inertial regime (mjrft:inertial; mjrft.laws.inertial)
+    surface_grid: float | None = None  # sample spacing (m) of a height-field sand surface; None: flat box
+
+    def surface_shape(self) -> tuple[int, int]:
+        """(nrow, ncol) of the height-field surface: samples ``surface_grid`` apart (or closer) over the bed."""
+        return (int(math.ceil(self.bed_width / self.surface_grid - 1e-9)) + 1,
+                int(math.ceil(self.bed_length / self.surface_grid - 1e-9)) + 1)
 
     def validate(self) -> None:
         check_positive("bed_depth", self.bed_depth)
@@ -121,6 +138,13 @@ class SceneOptions:
         for name, val in (("medium", self.medium), ("law", self.law)):
             _check_identifier(name, val)
         check_positive("water_depth", self.water_depth, allow_zero=True)
+        if self.surface_grid is not None:
+            check_positive("surface_grid", self.surface_grid)
+            nrow, ncol = self.surface_shape()
+            if nrow * ncol > MAX_SURFACE_SAMPLES:
+                raise ValueError(f"surface_grid {self.surface_grid:g} m makes {nrow} x {ncol} height-field samples over "
+                                 f"the {self.bed_length:g} x {self.bed_width:g} m bed, more than {MAX_SURFACE_SAMPLES:,}; "
+                                 "use a coarser surface_grid")
         if self.transition is not None:
             check_positive("transition", self.transition, allow_zero=True)
         regions = []
@@ -162,13 +186,14 @@ def pop_scene_options(kw: dict, *, resolution: float, bed_length: float, bed_wid
         transition=kw.pop("transition", None),
         buoyancy=bool(kw.pop("buoyancy", False)),
         inertial=bool(kw.pop("inertial", False)),
+        surface_grid=kw.pop("surface_grid", None),
     )
     opts.validate()
     return opts
 
 
 SCENE_OPTIONS = ("bed_depth", "bed_length", "bed_width", "medium", "law", "resolution", "surface", "granular_bodies",
-                 "regions", "water_depth", "transition", "buoyancy", "inertial")
+                 "regions", "water_depth", "transition", "buoyancy", "inertial", "surface_grid")
 
 
 def reject_unknown(kw: dict, func: str) -> None:
@@ -188,7 +213,10 @@ def _ground_xml(opts: SceneOptions) -> str:
     cx = hx - 0.5
     top = float(opts.surface)
     lines = ["    <!-- granular bed: visual-only sand (forces come from mjrft), rigid bottom -->"]
-    if not opts.regions:
+    if opts.surface_grid is not None:  # a height field (the strips' boxes are not drawn over it)
+        lines.append(f'    <geom name="sand_surface" type="hfield" hfield="sand" pos="{fmt(cx, 0, top)}" '
+                     f'material="sand" {VISUAL_ONLY} group="1"/>')
+    if opts.surface_grid is None and not opts.regions:
         lines.append(f'    <geom name="sand_surface" type="box" pos="{fmt(cx, 0, top - hz)}" '
                      f'size="{fmt(hx, hy, hz)}" material="sand" {VISUAL_ONLY} group="1"/>')
         strips = []
@@ -198,7 +226,7 @@ def _ground_xml(opts: SceneOptions) -> str:
         strips = [(opts.law, opts.water_depth)] + [(r[2], r[3]) for r in opts.regions]
         for k, (law, _) in enumerate(strips):
             a, b = edges[k], edges[k + 1]
-            if b <= a:
+            if b <= a or opts.surface_grid is not None:
                 continue
             name = "sand_surface" if k == 0 else f"sand_{k}"
             rgba = WET_SAND_RGBA if law == "wet" else SAND_RGBA
@@ -221,7 +249,8 @@ def _custom_xml(opts: SceneOptions, extra: str = "") -> str:
             f'    <text name="mjrft:medium" data="{opts.medium}"/>',
             f'    <text name="mjrft:law" data="{opts.law}"/>',
             f'    <text name="mjrft:bodies" data="{" ".join(opts.granular_bodies)}"/>',
-            f'    <numeric name="mjrft:surface" data="{fmt(opts.surface)}"/>',
+            (f'    <numeric name="mjrft:surface" data="{fmt(opts.surface)}"/>' if opts.surface_grid is None else
+             '    <text name="mjrft:surface_hfield" data="sand_surface"/>'),
             f'    <numeric name="mjrft:resolution" data="{fmt(opts.resolution)}"/>',
             f'    <numeric name="scene:bed_depth" data="{fmt(opts.bed_depth)}"/>',
         ]
@@ -287,6 +316,10 @@ def assemble(
     ]
     if assets:
         parts.append(assets.rstrip("\n"))
+    if opts.sand and opts.surface_grid is not None:
+        nrow, ncol = opts.surface_shape()
+        parts.append(f'    <hfield name="sand" nrow="{nrow}" ncol="{ncol}" '
+                     f'size="{fmt(opts.bed_length / 2, opts.bed_width / 2, HFIELD_ELEVATION, opts.bed_depth)}"/>')
     parts.append("  </asset>")
     if defaults:
         parts += ["  <default>", defaults.rstrip("\n"), "  </default>"]
