@@ -215,4 +215,6 @@ def test_vec_env_bad_kind_and_auto():
     assert set(KINDS) == {"auto", "subproc", "dummy", "batched"}
     assert resolve_kind("auto", HEX, 1) == "dummy"
     assert resolve_kind("auto", HEX, 4, cpu_count=2) == "batched"
+    assert resolve_kind("auto", "mjrft/HopperSand-v5", 4, cpu_count=2) == "dummy"
+    assert resolve_kind("auto", HEX, 4, cpu_count=8) == "subproc"
     assert resolve_kind("subproc", HEX, 4) == "subproc"
