@@ -81,8 +81,9 @@ class HexapodSand(GranularMujocoEnv):
     ``strip_length``, ``strip_start``); ``info["terrain"]`` says what was drawn. With ``roughness`` the
     scene's sand surface becomes a height field of samples ``surface_grid`` apart (default
     ``DEFAULT_SURFACE_GRID`` = 1 cm over the 2 x 1 m bed; ``surface_grid=<m>`` chooses another, and
-    gives a height-field surface without randomisation too). Drawn strips are not drawn in the
-    rendering (the sand looks the same); ``info["terrain"]["strips"]`` lists them.
+    gives a height-field surface without randomisation too). Drawn strips are not shown in the
+    rendering, which shows one uniform bed (they replace a scene's own strips, e.g. the shoal's, whose
+    boxes are then hidden); ``info["terrain"]["strips"]`` lists them.
 
     ## Roll and heading under the open-loop tripod
 

@@ -198,6 +198,21 @@ def _name(medium) -> str:
     return medium.name if isinstance(medium, Medium) else str(medium)
 
 
+def _show_one_strip(model: mujoco.MjModel, bed: dict) -> None:
+    """Drawn strips replace the scene's: hide its strips' visual boxes (``sand_<k>``, ``water_<k>``, k >= 1) and
+    stretch ``sand_surface`` (a box) over the bed they covered, so the rendering shows no layout that is not there."""
+    boxes = [g for name, g in bed.items() if name.startswith("sand_") and model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX]
+    first = bed.get("sand_surface")
+    if first is None or first not in boxes or len(boxes) < 2:
+        return
+    lo = min(model.geom_pos[g, 0] - model.geom_size[g, 0] for g in boxes)
+    hi = max(model.geom_pos[g, 0] + model.geom_size[g, 0] for g in boxes)
+    model.geom_pos[first, 0], model.geom_size[first, 0] = (lo + hi) / 2, (hi - lo) / 2
+    for name, g in bed.items():
+        if name != "sand_surface" and name.split("_")[-1] != "0":
+            model.geom_rgba[g, 3] = 0.0
+
+
 class TerrainRandomizer:
     """Draws and puts in place a new terrain on one environment's :class:`~mjrft.GranularTerrain` (and the
     visual sand of its model). Made once per environment; checks the options against the terrain."""
@@ -233,14 +248,18 @@ class TerrainRandomizer:
             if o.strip_length[0] < t.transition:
                 raise ValueError(f"terrain_randomization strip_length {list(o.strip_length)!r} m: strips must be at "
                                  f"least the terrain's transition width {t.transition:g} m long")
-        # the flat scene's visual sand and water boxes, moved with the surface (the hfield shows itself)
-        self._visual = []
-        if t.surface_hfield is None and o.surface_height is not None:
-            for g in range(model.ngeom):
-                name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
-                if (model.geom_bodyid[g] == 0 and name.startswith(("sand_", "water_"))
-                        and not (model.geom_contype[g] or model.geom_conaffinity[g])):
-                    self._visual.append((g, float(model.geom_pos[g, 2])))
+        # the scene's visual sand and water boxes (models.scene): moved with a flat surface (the hfield shows itself)
+        bed = {}
+        for g in range(model.ngeom):
+            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
+            if (model.geom_bodyid[g] == 0 and name.startswith(("sand_", "water_"))
+                    and not (model.geom_contype[g] or model.geom_conaffinity[g])):
+                bed[name] = g
+        self._visual = ([(g, float(model.geom_pos[g, 2])) for g in bed.values()]
+                        if t.surface_hfield is None and o.surface_height is not None else [])
+        if o.strips is not None and o.strips[1] > 0:
+            _show_one_strip(model, bed)
+
 
     def apply(self, rng: np.random.Generator) -> dict:
         """Draw a terrain from ``rng`` and put it in place; returns ``info["terrain"]``."""

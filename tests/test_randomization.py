@@ -346,6 +346,22 @@ def test_a_raised_surface_buries_the_robot():
     assert i_raised["granular_force"][:, 2].sum() > 10 * max(i_flat["granular_force"][:, 2].sum(), 1e-3)
 
 
+def test_drawn_strips_replace_the_scenes():
+    """On the shoal, drawn strips replace its saturated-sand and water strips (region 0 keeps its medium draw and
+    law); their visual boxes are hidden and the first box covers the bed."""
+    env = gymnasium.make("mjrft/HexapodShoal-v0", terrain_randomization={"media": ["poppy_lp"], "strips": 2,
+                                                                          "strip_length": [0.3, 0.3]})
+    t = env.reset(seed=0)[1]["terrain"]
+    u = env.unwrapped
+    assert t["strips"] == ((pytest.approx(0.3), "poppy_lp"), (pytest.approx(0.6), "poppy_lp"))
+    assert [(r.medium.name, r.law, r.water_depth) for r in u.terrain.regions] == [("poppy_lp", "rft", 0.0)] * 3
+    assert u.terrain.water_depth == 0.0
+    m = u.model
+    assert m.geom_rgba[m.geom("sand_1").id, 3] == m.geom_rgba[m.geom("water_2").id, 3] == 0.0
+    first = m.geom("sand_surface").id
+    assert (m.geom_pos[first, 0] - m.geom_size[first, 0], m.geom_pos[first, 0] + m.geom_size[first, 0]) == (-0.5, 2.5)
+
+
 def test_vector_env_with_randomization_equals_the_single_envs():
     kw = dict(terrain_randomization=ALL, healthy_z_range=(0.0455, 0.5))
     ours = make_vector(HEX, 3, max_episode_steps=6, **kw)
@@ -378,3 +394,37 @@ def test_command_line_value_reaches_the_env():
         env.step(env.action_space.sample())
         env.step(env.action_space.sample())
     assert env.unwrapped.randomizer.options.media == ("poppy_cp", "poppy_lp")
+
+
+RENDER_SCRIPT = """
+import sys
+import mujoco
+try:
+    mujoco.GLContext(8, 8).make_current()
+except Exception as exc:
+    print("NO-GL", type(exc).__name__, exc)
+    sys.exit(0)
+import gymnasium, numpy as np, mjrft
+env = gymnasium.make("mjrft/HexapodSand-v0", render_mode="rgb_array", width=160, height=120, camera_name="track",
+                     terrain_randomization={"roughness": 0.004, "correlation_length": 0.04})
+imgs = []
+for seed in (0, 1, 0):
+    env.reset(seed=seed)
+    imgs.append(env.render().astype(float))
+print("DIFF", np.abs(imgs[0] - imgs[1]).mean(), np.abs(imgs[0] - imgs[2]).max())
+"""
+
+
+def test_the_rendered_height_field_follows_each_draw():
+    """Off-screen (EGL, in a subprocess as in test_envs): after each reset the render context gets the new heights,
+    so seed 0, seed 1, seed 0 again render the first frame again, and seed 1 another."""
+    import os
+    import subprocess
+    import sys
+    env = dict(os.environ, MUJOCO_GL="egl", PYOPENGL_PLATFORM="egl")
+    out = subprocess.run([sys.executable, "-c", RENDER_SCRIPT], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    if "NO-GL" in out.stdout:
+        pytest.skip(f"no EGL context on this machine: {out.stdout.strip()}")
+    differ, again = (float(v) for v in out.stdout.split("DIFF")[1].split())
+    assert differ > 1.0 and again == 0.0, out.stdout
