@@ -142,10 +142,10 @@ def test_resume_continues_the_step_count(ppo_run, tmp_path):
 
 def test_subprocess_vec_env(tmp_path):
     hp = {**PPO_HP, "n_steps": 64}
-    result = train(HEX, "ppo", 256, 2, 1, tmp_path, ENV_KW, checkpoint_every=128, hyperparams=hp)
+    result = train(HEX, "ppo", 256, 2, 1, tmp_path, ENV_KW, checkpoint_every=128, hyperparams=hp, vec_env="subproc")
     assert result.num_timesteps == 256
     cfg = load_config(result.config_path)
-    assert cfg["vec_env"] == "SubprocVecEnv" and cfg["n_envs"] == 2 and cfg["start_method"] in ("forkserver", "spawn")
+    assert cfg["vec_env"] == "subproc" and cfg["n_envs"] == 2 and cfg["start_method"] in ("forkserver", "spawn")
     assert [s for s, _ in list_checkpoints(tmp_path)] == [128, 256]
 
 

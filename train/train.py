@@ -40,17 +40,17 @@ Choices (the issue is silent on them):
   laid out per environment).
 * SAC's ``buffer_size`` defaults to ``min(1_000_000, timesteps)``: SB3 pickles the whole buffer
   array, so a 1e6 buffer for a 50k-step run would write ~0.5 GB per checkpoint for nothing.
-* With ``n_envs > 1`` the environments run in subprocesses (``SubprocVecEnv``, ``forkserver`` start
-  method on Linux, ``spawn`` elsewhere); the workers ignore SIGINT, so Ctrl-C reaches only the trainer,
-  which saves ``model.zip``, a checkpoint and ``config.json`` and returns (``interrupted=True``).
-  SIGTERM (e.g. a cluster scheduler stopping the job) is handled the same way.
+* The ``n_envs`` environments are stepped as ``vec_env`` says (:mod:`mjrft.train.vecenv`: subprocesses,
+  one after the other, or mjrft's batched physics; ``auto`` picks the fastest measured on a machine
+  with that many cores). Ctrl-C reaches only the trainer (subprocess workers ignore SIGINT), which
+  saves ``model.zip``, a checkpoint and ``config.json`` and returns (``interrupted=True``). SIGTERM
+  (e.g. a cluster scheduler stopping the job) is handled the same way.
 """
 
 from __future__ import annotations
 
 import argparse
 import datetime
-import functools
 import inspect
 import json
 import math
@@ -65,6 +65,8 @@ from pathlib import Path
 
 from mjrft.errors import unknown
 from mjrft.outputs import output_dir
+
+from .vecenv import KINDS, check_kind, make_vec_env, resolve_kind
 
 ALGOS = ("ppo", "sac")
 POLICY = "MlpPolicy"
@@ -199,28 +201,6 @@ def make_training_env(env_id: str, env_kwargs: dict | None = None, rank: int = 0
 def start_method() -> str:
     """``forkserver`` where available (Linux), else ``spawn``: safe with threads (torch, numba)."""
     return "forkserver" if "forkserver" in multiprocessing.get_all_start_methods() else "spawn"
-
-
-def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: dict | None = None, monitor_file=None):
-    """``n_envs`` environments (``SubprocVecEnv`` when more than one) seeded ``seed, seed+1, ...`` under a
-    ``VecMonitor`` that appends finished episodes to ``monitor_file``."""
-    from stable_baselines3.common.monitor import ResultsWriter
-    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
-
-    fns = [functools.partial(make_training_env, env_id, dict(env_kwargs or {}), i) for i in range(n_envs)]
-    if n_envs > 1 and start_method() == "forkserver":
-        # the fork server imports these once; each worker forks from it instead of importing torch, SB3,
-        # gymnasium and mjrft again (no effect once this process's fork server is running)
-        multiprocessing.get_context("forkserver").set_forkserver_preload(FORKSERVER_PRELOAD)
-    venv = SubprocVecEnv(fns, start_method=start_method()) if n_envs > 1 else DummyVecEnv(fns)
-    venv.seed(seed)
-    venv = VecMonitor(venv)
-    if monitor_file is not None:
-        monitor_file = Path(monitor_file)
-        append = monitor_file.exists() and monitor_file.stat().st_size > 0
-        venv.results_writer = ResultsWriter(str(monitor_file), header={"t_start": venv.t_start, "env_id": env_id},
-                                            override_existing=not append)
-    return venv
 
 
 # ---------------------------------------------------------------------------------------------- algorithms
@@ -453,14 +433,14 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
           seed: int = 0, out_dir="runs/mjrft", env_kwargs: dict | None = None, checkpoint_every: int = 10_000,
           resume: bool = True, *, hyperparams: dict | None = None, normalize: bool | None = None,
           device: str = "cpu", torch_threads: int | None = 1, progress_bar: bool = False, verbose: int = 0,
-          callback=None, config_name: str | None = None) -> TrainResult:
+          callback=None, config_name: str | None = None, vec_env: str = "auto") -> TrainResult:
     """Train ``algo`` on ``env_id`` until ``num_timesteps`` reaches ``timesteps``; resumable (see module doc).
 
     Args:
         env_id: registered gymnasium id (``mjrft.envs.ENV_IDS``); ``None`` on resume takes the saved one.
         algo: ``"ppo"`` or ``"sac"``; ``None``: the saved one on resume, else ``"ppo"``.
         timesteps: total environment steps of the run folder (over all environments and resumes).
-        n_envs: environments stepped together (subprocesses when > 1).
+        n_envs: environments stepped together (see ``vec_env``).
         seed: seeds the algorithm (torch, numpy) and the environments (``seed + i`` for env ``i``).
         out_dir: run folder (created).
         env_kwargs: keyword arguments of the environment (``max_episode_steps`` sets the time limit).
@@ -476,6 +456,8 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         progress_bar: SB3's progress bar (tqdm + rich).
         verbose: SB3 verbosity (1 prints the training log).
         callback: extra SB3 callback(s) (a ``BaseCallback`` or a list).
+        vec_env: how the ``n_envs`` environments are stepped: ``"subproc"``, ``"dummy"``, ``"batched"`` or
+            ``"auto"`` (:mod:`mjrft.train.vecenv`); any kind gives the same episodes for the same seed.
         config_name: the training configuration the settings came from (``mjrft train --config``),
             recorded as ``config`` in ``config.json``.
 
@@ -490,6 +472,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
     checkpoint_every = _check_int("checkpoint_every", checkpoint_every, 1)
     if torch_threads is not None:
         torch_threads = _check_int("torch_threads", torch_threads, 1)
+    check_kind(vec_env)
     if algo is not None:
         algo_class(algo)
     if env_id is not None:
@@ -536,6 +519,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
     probe.close()
 
     start_step = checkpoints[-1][0] if checkpoints else 0
+    kind = resolve_kind(vec_env, env_id, n_envs)
     history = list(saved.get("runs", [])) if saved else []
     config = {
         "env_id": env_id,
@@ -551,8 +535,8 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         "checkpoint_every": checkpoint_every,
         "device": device,
         "torch_threads": torch_threads,
-        "vec_env": "SubprocVecEnv" if n_envs > 1 else "DummyVecEnv",
-        "start_method": start_method() if n_envs > 1 else None,
+        "vec_env": kind,
+        "start_method": start_method() if kind == "subproc" else None,
         "versions": versions(),
         "created": saved["created"] if saved else _now(),
         "num_timesteps": start_step,
@@ -581,7 +565,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
     import torch
 
     env_seed = seed + start_step
-    venv = make_vec_env(env_id, n_envs, env_seed, env_kwargs, out_dir / "monitor.csv")
+    venv = make_vec_env(env_id, n_envs, env_seed, env_kwargs, out_dir / "monitor.csv", kind=kind)
     threads_before = torch.get_num_threads()
     if torch_threads is not None:
         torch.set_num_threads(torch_threads)
@@ -703,6 +687,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "--hp 'policy_kwargs={\"net_arch\": [64, 64]}'")
     parser.add_argument("--normalize", action="store_true", default=None,
                         help="VecNormalize observations and rewards (statistics saved with the model)")
+    parser.add_argument("--vec-env", default="auto", choices=KINDS,
+                        help="how the environments are stepped: subproc, dummy, batched or auto (default; "
+                             "mjrft.train.vecenv)")
     parser.add_argument("--device", default="cpu", help="torch device: cpu (default), cuda, auto")
     parser.add_argument("--torch-threads", type=_int_arg, default=1,
                         help="torch CPU threads (default 1: fastest for these small MLP policies)")
@@ -740,7 +727,7 @@ def main(args) -> int:
                    cfg["env_kwargs"] or None, cfg["checkpoint_every"], args.resume,
                    hyperparams=cfg["hyperparams"] or None, normalize=cfg["normalize"], device=args.device,
                    torch_threads=args.torch_threads, progress_bar=args.progress, verbose=args.verbose,
-                   config_name=args.config)
+                   config_name=args.config, vec_env=args.vec_env)
     cfg = load_config(result.config_path)
     if result.interrupted:
         print(f"interrupted at {result.num_timesteps} steps; saved {result.model_path} and a checkpoint. "

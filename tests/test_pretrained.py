@@ -1,0 +1,52 @@
+"""The policy shipped with mjrft (``pretrained:HexapodSand-v0``) against the open-loop tripod.
+
+The full comparison (10 episodes, every tripod frequency, every ground) is
+``python benchmarks/learning_transfer.py`` (benchmarks/results/learning/); here one episode of each on the
+env the policy was trained on checks the issue's criteria: faster than the tripod at its best frequency,
+cost of transport at most 1.5x the tripod's, no fall.
+"""
+
+import csv
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("stable_baselines3")
+
+from mjrft.cli import main as cli  # noqa: E402
+from mjrft.train.evaluate import evaluate, pretrained_names, trained_env  # noqa: E402
+
+SWEEP = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "learning" / "tripod_sweep.csv"
+
+
+def best_tripod_frequency(env_id: str) -> float:
+    with open(SWEEP) as fh:
+        rows = [r for r in csv.DictReader(fh) if r["ground"] == env_id]
+    return float(max(rows, key=lambda r: float(r["speed"]))["f_hz"])
+
+
+def test_the_hexapod_policy_is_shipped():
+    assert "HexapodSand-v0" in pretrained_names()
+    assert trained_env("pretrained:HexapodSand-v0")[0] == "mjrft/HexapodSand-v0"
+    assert trained_env("pretrained:mjrft/HexapodSand-v0")[0] == "mjrft/HexapodSand-v0"
+
+
+def test_pretrained_policy_beats_the_tripod_at_its_best_frequency():
+    f = best_tripod_frequency("mjrft/HexapodSand-v0")
+    _, learned = evaluate("pretrained:HexapodSand-v0", episodes=1)
+    _, tripod = evaluate(f"tripod:f={f:g}", "mjrft/HexapodSand-v0", episodes=1)
+    assert learned["fall_rate"] == 0.0
+    assert learned["speed"] > tripod["speed"]
+    assert learned["cot"] <= 1.5 * tripod["cot"]
+
+
+def test_unknown_pretrained_name_lists_the_choices():
+    with pytest.raises(ValueError, match="pretrained:HexapodSand-v0"):
+        evaluate("pretrained:Nope-v0", episodes=1)
+
+
+def test_rollout_cli_takes_the_env_of_a_pretrained_policy(tmp_path, capsys):
+    rrd = tmp_path / "hex.rrd"
+    assert cli(["rollout", "--policy", "pretrained:HexapodSand-v0", "--seconds", "0.5", "--rrd", str(rrd),
+                "--no-progress"]) == 0
+    assert rrd.is_file() and "HexapodSand-v0" in capsys.readouterr().out
