@@ -4,7 +4,7 @@
 ...                      terrain_randomization={"media": ["poppy_cp", "poppy_lp"], "stress_scale": [0.7, 1.3]})
 >>> obs, info = env.reset(seed=3)       # the same seed draws the same terrain
 >>> info["terrain"]                     # what was drawn (also in every step's info)
-{'medium': 'poppy_lp', 'stress_scale': 1.04..., 'surface_height': 0.0, 'roughness': 0.0, 'strips': ()}
+{'medium': 'poppy_lp', 'stress_scale': 0.9827857991090988, 'surface_height': 0.0, 'roughness': 0.0, 'strips': ()}
 
 From the command line the option is one JSON value:
 ``mjrft train ... terrain_randomization='{"media": ["poppy_cp", "poppy_lp"], "stress_scale": [0.7, 1.3]}'``.
@@ -254,15 +254,15 @@ class TerrainRandomizer:
             if o.strip_length[0] < t.transition:
                 raise ValueError(f"terrain_randomization strip_length {list(o.strip_length)!r} m: strips must be at "
                                  f"least the terrain's transition width {t.transition:g} m long")
-        # the scene's visual sand and water boxes (models.scene): moved with a flat surface (the hfield shows itself)
+        # the scene's visual sand and water boxes (models.scene), moved with the surface (an hfield shows itself)
         bed = {}
         for g in range(model.ngeom):
             name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or ""
             if (model.geom_bodyid[g] == 0 and name.startswith(("sand_", "water_"))
                     and not (model.geom_contype[g] or model.geom_conaffinity[g])):
                 bed[name] = g
-        self._visual = ([(g, float(model.geom_pos[g, 2])) for g in bed.values()]
-                        if t.surface_hfield is None and o.surface_height is not None else [])
+        self._visual = [(g, float(model.geom_pos[g, 2])) for g in bed.values()
+                        if o.surface_height is not None and model.geom_type[g] != mujoco.mjtGeom.mjGEOM_HFIELD]
         if o.strips is not None and o.strips[1] > 0:
             _show_one_strip(model, bed)
 

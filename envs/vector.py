@@ -22,7 +22,10 @@ plain ``mj_step`` per environment).
   the registration (1000), as ``gymnasium.make``.
 * ``parallel``: ``True``: the batched physics on numba's threads; ``False`` (default): one thread
   (see :mod:`mjrft.batch` for the measurements behind the default).
-* Any other keyword argument goes to every sub-environment (``medium``, ``frame_skip``, ...).
+* Any other keyword argument goes to every sub-environment (``medium``, ``frame_skip``, ...). With
+  ``terrain_randomization`` each sub-environment draws its own terrain from its own ``np_random`` at
+  each of its resets (sub-environment ``i`` of ``reset(seed=s)`` as a single env seeded ``s + i``);
+  the batch steps each one's current terrain (:mod:`mjrft.envs.randomization`).
 
 A non-finite action raises ``ValueError`` naming the environment index before anything is stepped.
 A sub-environment whose simulation diverges (a non-finite granular force or state, or MuJoCo resetting

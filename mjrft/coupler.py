@@ -1043,6 +1043,12 @@ class GranularTerrain:
     level surface; a slope's lower downhill confinement is not modelled). ``surface`` (the attribute)
     is then the mean height, for display.
 
+    Changing the terrain in place. :meth:`set_medium` (the own medium and/or ``stress_scale``, a factor on
+    every granular stress), :meth:`set_regions` (new strips, or a map's entries) and :meth:`set_surface` (a
+    flat height, or new height-field samples, also written into the model's hfield) update the kernel's
+    parameter arrays without rebuilding the elements, so that an environment can draw a new terrain at
+    each reset (:mod:`mjrft.envs.randomization`); the result equals a terrain built with those settings.
+
     Calibrated ranges. Each law knows the speed, depth and grain-size range its source calibrated
     (:mod:`mjrft.laws.validity`). The terrain warns once per (law, quantity) with
     :class:`~mjrft.errors.ValidityRangeWarning`, naming the law, the quantity, the value and the range:
