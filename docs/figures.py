@@ -402,7 +402,45 @@ def rest(out: Path = IMG / "rest.png") -> Path:
     return out
 
 
-FIGURES = {"hero": hero, "element_model": element_model, "laws": laws, "media": media, "rest": rest}
+def tradeoff(out: Path = IMG / "speed_accuracy.png") -> Path:
+    """The two robots of the committed speed/accuracy study (``python benchmarks/trade_study.py`` ->
+    ``benchmarks/results/trade_study.csv``; nothing is re-run here): cost against RMS force error."""
+    import csv
+
+    rows = list(csv.DictReader(open(ROOT / "benchmarks" / "results" / "trade_study.csv")))
+    marks = {"resolution": ("o", "tab:blue"), "law": ("s", "tab:orange"), "timestep": ("^", "tab:green"),
+             "frame_skip": ("v", "tab:purple")}
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.3), dpi=DPI)
+    lines = []
+    for ax, scenario, title in zip(axes, ("hexapod", "humanoid"),
+                                   ("hexapod, tripod at 2 Hz, held planar", "humanoid on one foot, 30.4 cm boards")):
+        mine = [r for r in rows if r["scenario"] == scenario and r["status"] == "ok" and r["config"] != "reference"]
+        for factor, (m, c) in marks.items():
+            pts = [r for r in mine if r["factor"] == factor]
+            ax.scatter([float(r["cost_ratio"]) for r in pts], [100 * float(r["err_rms_force"]) for r in pts],
+                       marker=m, color=c, label=factor.replace("_", " "), s=28)
+        for r in mine:
+            name = r["config"].replace("resolution", "res")
+            cost, err = float(r["cost_ratio"]), 100 * float(r["err_rms_force"])
+            if r["config"].startswith(("default", "preset", "resolution x4")):
+                ax.scatter([cost], [err], marker="D", color="k", s=40, zorder=3)
+                ax.annotate(name, (cost, err), xytext=(4, 4), textcoords="offset points", fontsize=8)
+                lines.append(f"{scenario}: {r['config']}: cost {cost:.2f}x bare, RMS force error {err:.2f} %")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("cost per simulated second (x the same robot on rigid ground)")
+        ax.set_ylabel("RMS net granular force error (%)")
+        ax.set_title(title, fontsize=10)
+        ax.grid(True, which="both", lw=0.3)
+        ax.legend(fontsize=7, title="varied", title_fontsize=7)
+    fig.tight_layout()
+    fig.savefig(out)
+    plt.close(fig)
+    _record("tradeoff", ["read from benchmarks/results/trade_study.csv (python benchmarks/trade_study.py)", *lines])
+    return out
+
+
+FIGURES = {"hero": hero, "element_model": element_model, "laws": laws, "media": media, "rest": rest, "tradeoff": tradeoff}
 
 
 def main(argv=None) -> int:
