@@ -6,7 +6,7 @@
 Every figure is computed here from mjrft itself; nothing is drawn by hand. The rendered frames use
 MuJoCo's offscreen ``mujoco.Renderer`` through EGL (``MUJOCO_GL=egl``, set below unless the caller chose
 a backend; Mesa's software EGL works without a GPU). Each figure also writes the numbers it shows to
-``benchmarks/results/figures.txt`` (appended per run: one block per figure).
+``benchmarks/results/figures.txt`` (one block per figure, replaced when the figure is made again).
 """
 
 from __future__ import annotations
@@ -51,10 +51,10 @@ def _record(name: str, lines: list[str]) -> None:
             if line.startswith("== "):
                 current = line[3:].split(" ", 1)[0]
                 blocks[current] = [line]
-            elif current is not None:
+            elif current is not None and line.strip():
                 blocks[current].append(line)
-    blocks[name] = [f"== {name} (python docs/figures.py {name})", *lines, ""]
-    NUMBERS.write_text("\n".join(line for key in sorted(blocks) for line in blocks[key]).rstrip() + "\n")
+    blocks[name] = [f"== {name} (python docs/figures.py {name})", *lines]
+    NUMBERS.write_text("\n\n".join("\n".join(blocks[key]) for key in sorted(blocks)) + "\n")
 
 
 def _walk(seconds: float, *, medium: str = "poppy_cp", gait: str = "tripod:f=2", **kwargs):
@@ -340,7 +340,8 @@ def media(out: Path = IMG / "media.png") -> Path:
     fig.tight_layout()
     fig.savefig(out)
     plt.close(fig)
-    _record("media", [f"{n}: fit {f:.3f}, measured {m:.3f} N/cm^3" for n, f, m in zip(names, fit, measured)]
+    _record("media", [f"{n}: fit {f:.3f} N/cm^3, measured " + ("none" if np.isnan(m) else f"{m:.3f} N/cm^3")
+                      for n, f, m in zip(names, fit, measured)]
             + [f"calibrate on the simulated poppy_lp plate test (depth_only law = table S3's measured plate): slope {cal.alpha_z_measured / 1e6:.4f} N/cm^3, "
                f"zeta {zeta:.4f} N/cm^3 (catalogue {ref:.4f}, {100 * (zeta / ref - 1):+.1f} %)"])
     return out
