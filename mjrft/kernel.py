@@ -82,6 +82,7 @@ BAD_STATE = 2
 HELD_STEPS = 3  # consecutive steps beyond the stability limit that warn (module docstring)
 SPIKE_GROWTH = 2.0  # growth of a perturbation in a single step that warns even for a shorter spike
 LAW_WATER = LAW_IDS["water"]  # a region of open water: no sand law below it
+LAW_RFT = LAW_IDS["rft"]  # Li RFT: the law whose elements are gathered for one vectorised call
 
 
 @njit(cache=True, error_model="numpy")
@@ -394,8 +395,130 @@ def _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth
     return fx, fy, fz, kk, cw, ci, ok
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _scene(reg_law, reg_params, reg_rho):
+    """(deepest water layer of any region, whether some region has the inertial regime on, the batched
+    region: the first dry Li-RFT region, or -1). Li RFT on a dry region is gathered for one vectorised law
+    call (with several regions the first dry Li-RFT one: a scene's dry strip keeps the batched cost)."""
+    wmax = 0.0
+    inertia = False
+    breg = -1
+    for r in range(reg_law.shape[0]):
+        hw = reg_params[r, P_WATER_DEPTH]
+        wmax = max(wmax, hw)
+        inertia = inertia or reg_params[r, P_INERTIA] > 0.0
+        if breg < 0 and reg_law[r] == LAW_RFT and not (hw > 0.0 or reg_rho[r] > 0.0):
+            breg = r
+    return wmax, inertia, breg
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _region_constants(reg, reg_law, reg_params, reg_rho):
+    """(parameter vector, law id, water depth, dry) of region ``reg``; dry: no water layer and no buoyancy."""
+    p = reg_params[reg]
+    hw = p[P_WATER_DEPTH]
+    return p, reg_law[reg], hw, not (hw > 0.0 or reg_rho[reg] > 0.0)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _zero_body_sums(wrench, stiff, damp, inert, inertia):
+    """Zero every body's wrench, stiffness moments, damping and (with the inertial regime) inertial moments."""
+    for b in range(wrench.shape[0]):
+        for j in range(6):
+            wrench[b, j] = 0.0
+        for j in range(10):
+            stiff[b, j] = 0.0
+        damp[b] = 0.0
+        if inertia:
+            for j in range(10):
+                inert[b, j] = 0.0
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _lowest_corner(geom_xpos, G, g_aabb, g, gid):
+    """World height of the lowest corner of cull group ``g``'s box (geom ``gid``, rotation ``G``)."""
+    return (geom_xpos[gid, 2] + G[6] * g_aabb[g, 0] + G[7] * g_aabb[g, 1] + G[8] * g_aabb[g, 2]
+            - abs(G[6]) * g_aabb[g, 3] - abs(G[7]) * g_aabb[g, 4] - abs(G[8]) * g_aabb[g, 5])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _inside_strip(geom_xpos, G, g_aabb, g, gid, reg_bounds, breg, blend):
+    """Whether cull group ``g``'s box lies wholly inside strip ``breg``, farther than ``blend / 2`` from its edges."""
+    gxc = geom_xpos[gid, 0] + G[0] * g_aabb[g, 0] + G[1] * g_aabb[g, 1] + G[2] * g_aabb[g, 2]
+    gxh = abs(G[0]) * g_aabb[g, 3] + abs(G[1]) * g_aabb[g, 4] + abs(G[2]) * g_aabb[g, 5]
+    xlo = gxc - gxh - 0.5 * blend
+    xhi = gxc + gxh + 0.5 * blend
+    greg = _strip(xlo, reg_bounds)
+    return greg == breg and (greg == reg_bounds.shape[0] or xhi < reg_bounds[greg])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, dt_d, inv_d, delta, tau, v_eps,
+              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, scr_f, scr_i):
+    """Pass 2 of a dry group (one dry Li-RFT region everywhere, or a group inside such a strip): the listed
+    elements ``scr_i[0, nbat:nlist]`` through the rest memory into the law's batch, without the region and
+    water branches of the general pass (about 9% of the kernel's time; tested equal to it). ``rot``, ``com``,
+    ``spin``, ``lin``: body ``b``'s rotation and velocity (see :func:`_normal_velocity`). Returns (status, new
+    batch size)."""
+    for q in range(nbat, nlist):
+        i = scr_i[0, q]
+        nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
+        if not _isfinite3(vx, vy, vz):
+            return BAD_STATE, nbat
+        if nreg > 1:
+            out_region[i] = breg
+        if e_area[i] <= 0.0:
+            _clear(u, out_force, i)
+            continue
+        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
+        mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
+        nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, out_depth[i])
+    return OK, nbat
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _map_cell(px, py, frame, nx, ny, blend):
+    """Cell (i, j) of a region map (``frame`` = x_min, y_min, cell_x, cell_y; ``nx`` x ``ny`` cells) holding
+    ``(px, py)``, clamped onto the grid (NaN -> 0, reported as a bad state by the caller), and whether the
+    point lies within ``blend / 2`` of an edge to another cell (where the regions are blended)."""
+    x0, y0, cx, cy = frame
+    fx = (px - x0) / cx
+    fy = (py - y0) / cy
+    ci = min(int(fx), nx - 1) if fx > 0.0 else 0
+    cj = min(int(fy), ny - 1) if fy > 0.0 else 0
+    hx = 0.5 * blend / cx
+    hy = 0.5 * blend / cy
+    near = ((ci > 0 and fx - ci < hx) or (ci < nx - 1 and ci + 1 - fx < hx)
+            or (cj > 0 and fy - cj < hy) or (cj < ny - 1 and cj + 1 - fy < hy))
+    return ci, cj, near
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _heaviest(regs, wts):
+    """The region of the largest of the four weights (:func:`region_weights`), the one an element reports."""
+    top_q = 0
+    for slot in range(1, 4):
+        if wts[slot] > wts[top_q]:
+            top_q = slot
+    return regs[top_q]
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _with_water_damping(kk, cw, delta, tau):
+    """(stiffness, damping) of an element whose sand part has stiffness ``kk`` and whose water drag has damping
+    ``cw``: with the rest memory (``delta > 0``) the drag adds to the damping only; in the viscous mode the
+    sand's "stiffness" is itself a damping and the drag adds to it."""
+    if delta > 0.0:
+        return kk, kk * tau + cw
+    kk += cw
+    return kk, kk
+
+
 # contract (FMA), arcp (multiply by reciprocals), nsz: a few % faster; no nnan/ninf, so the finiteness
-# checks stay exact.
+# checks stay exact. Pass 1 and the general pass 2 stay written out in terrain_kernel: an inlined numba
+# helper takes a reference (an atomic increment and decrement) on each array it is given per call, which the
+# reference-count pruning does not remove around a loop; as helpers they cost 2-5 % of the kernel
+# (benchmarks/kernel_ab.py). The helpers above are the ones measured free of that cost.
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    e_lpos, e_lnrm, e_area,
@@ -450,59 +573,34 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     nb = reg_bounds.shape[0]
     has_hf = hf_z.shape[0] > 0
     has_map = reg_map.shape[0] > 0
-    wmax = 0.0  # the deepest water layer of any region
-    inertia = False  # the inertial regime on in some region
-    for r in range(nreg):
-        wmax = max(wmax, reg_params[r, P_WATER_DEPTH])
-        inertia = inertia or reg_params[r, P_INERTIA] > 0.0
+    wmax, inertia, breg = _scene(reg_law, reg_params, reg_rho)
     # the current single region's constants, switched only when an element lies in another region
     cur_reg = 0
-    p = reg_params[0]
-    law = reg_law[0]
-    hw = p[P_WATER_DEPTH]
-    dry = not (hw > 0.0 or reg_rho[0] > 0.0)
-    # Li RFT on a dry region: its single-region elements are gathered for one vectorised law call (with
-    # several regions, the first dry Li-RFT one: e.g. a scene's dry strip keeps the batched cost)
-    breg = -1
-    for r in range(nreg):
-        if breg < 0 and reg_law[r] == 0 and not (reg_params[r, P_WATER_DEPTH] > 0.0 or reg_rho[r] > 0.0):
-            breg = r
-    pb = reg_params[max(breg, 0)]
+    p, law, hw, dry = _region_constants(0, reg_law, reg_params, reg_rho)
+    map_ny, map_nx = reg_map.shape[0], reg_map.shape[1]
+    map_frame = (reg_map_frame[0], reg_map_frame[1], reg_map_frame[2], reg_map_frame[3]) if has_map else (
+        0.0, 0.0, 1.0, 1.0)
     one_dry_rft = nreg == 1 and breg == 0
     dt_d = dt / delta if delta > 0.0 else 0.0
     inv_d = 1.0 / delta if delta > 0.0 else 0.0
     nbat = 0
     regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
-    for b in range(wrench.shape[0]):
-        for j in range(6):
-            wrench[b, j] = 0.0
-        for j in range(10):
-            stiff[b, j] = 0.0
-        damp[b] = 0.0
-        if inertia:
-            for j in range(10):
-                inert[b, j] = 0.0
+    _zero_body_sums(wrench, stiff, damp, inert, inertia)
     for g in range(g_geom.shape[0]):
         e0 = g_start[g]
         e1 = g_start[g + 1]
         gid = g_geom[g]
         G = geom_xmat[gid]
-        lowest = (geom_xpos[gid, 2] + G[6] * g_aabb[g, 0] + G[7] * g_aabb[g, 1] + G[8] * g_aabb[g, 2]
-                  - abs(G[6]) * g_aabb[g, 3] - abs(G[7]) * g_aabb[g, 4] - abs(G[8]) * g_aabb[g, 5])
+        lowest = _lowest_corner(geom_xpos, G, g_aabb, g, gid)
         # A group lying wholly inside the dry Li-RFT strip (farther than blend / 2 from its edges) is
         # treated as the one-region scene: no water over it, so it is culled at the sand's top, only
         # buried elements are within reach, and it takes the short pass 2.
         dry_group = one_dry_rft
         if not dry_group and breg >= 0 and nb > 0 and not has_map and lowest < top:
-            gxc = geom_xpos[gid, 0] + G[0] * g_aabb[g, 0] + G[1] * g_aabb[g, 1] + G[2] * g_aabb[g, 2]
-            gxh = abs(G[0]) * g_aabb[g, 3] + abs(G[1]) * g_aabb[g, 4] + abs(G[2]) * g_aabb[g, 5]
-            xlo = gxc - gxh - 0.5 * blend
-            xhi = gxc + gxh + 0.5 * blend
-            greg = _strip(xlo, reg_bounds)
-            dry_group = greg == breg and (greg == nb or xhi < reg_bounds[greg])
+            dry_group = _inside_strip(geom_xpos, G, g_aabb, g, gid, reg_bounds, breg, blend)
         reach = 0.0 if dry_group else wmax
         if lowest >= top - wmax + reach:
-            if g_active[g]:
+            if g_active[g]:  # first step out of reach: no force, memory or depth
                 for i in range(e0, e1):
                     _clear(u, out_force, i)
                     out_depth[i] = 0.0
@@ -510,21 +608,19 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             continue
         g_active[g] = True
         b = g_body[g]
-        ox, oy, oz = xpos[b, 0], xpos[b, 1], xpos[b, 2]
         R = xmat[b]
-        wx, wy, wz = cvel[b, 0], cvel[b, 1], cvel[b, 2]
-        lx, ly, lz = cvel[b, 3], cvel[b, 4], cvel[b, 5]
         r = rootid[b]
-        cx, cy, cz = subtree_com[r, 0], subtree_com[r, 1], subtree_com[r, 2]
+        rot = (R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8])
+        com = (subtree_com[r, 0], subtree_com[r, 1], subtree_com[r, 2])
+        spin, lin = (cvel[b, 0], cvel[b, 1], cvel[b, 2]), (cvel[b, 3], cvel[b, 4], cvel[b, 5])
         bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
         # Pass 1, every element of the group: its position and depth, with no branch the processor could
         # mispredict; the elements within reach of grains or water (depth > -reach) are listed in
         # scr_i[0] (from nbat on, so that the batch gathered in pass 2 can overwrite the list behind it).
         # Force and memory are cleared here only for an element out of reach that may have had them
         # (within reach of the deepest water on its last step); the others' are zero already.
-        r0, r1, r2, r3, r4, r5, r6, r7, r8 = R[0], R[1], R[2], R[3], R[4], R[5], R[6], R[7], R[8]
-        rot = (r0, r1, r2, r3, r4, r5, r6, r7, r8)
-        com, spin, lin = (cx, cy, cz), (wx, wy, wz), (lx, ly, lz)
+        ox, oy, oz = xpos[b, 0], xpos[b, 1], xpos[b, 2]
+        r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
         nlist = nbat
         bad = 0.0
         for i in range(e0, e1):
@@ -549,20 +645,13 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         # everywhere, or the group inside such a strip): the general loop's steps for it, without the
         # region and water branches (about 9% of the kernel's time); tested equal to the general loop.
         if dry_group:
-            for q in range(nbat, nlist):
-                i = scr_i[0, q]
-                nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
-                if not _isfinite3(vx, vy, vz):
-                    return BAD_STATE, b
-                if nreg > 1:
-                    out_region[i] = breg
-                if e_area[i] <= 0.0:
-                    _clear(u, out_force, i)
-                    continue
-                speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
-                nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, out_depth[i])
+            status, nbat = _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, dt_d, inv_d,
+                                     delta, tau, v_eps, u, out_pos, out_vel, out_nrm, out_depth, out_force,
+                                     out_region, scr_f, scr_i)
+            if status != OK:
+                return status, b
             continue
+        # Pass 2 of any other group: each listed element's region(s), memory and force.
         for q in range(nbat, nlist):
             i = scr_i[0, q]
             px, py, pz = out_pos[i, 0], out_pos[i, 1], out_pos[i, 2]
@@ -570,16 +659,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             single = True  # the element lies in one region (no blending)
             reg = 0
             if nreg > 1:
-                if has_map:  # the cell inline; the blend only within blend / 2 of an edge to another cell
-                    mx_n, my_n = reg_map.shape[1], reg_map.shape[0]
-                    fx = (px - reg_map_frame[0]) / reg_map_frame[2]
-                    fy = (py - reg_map_frame[1]) / reg_map_frame[3]
-                    ci = min(int(fx), mx_n - 1) if fx > 0.0 else 0  # NaN -> 0 (reported as a bad state below)
-                    cj = min(int(fy), my_n - 1) if fy > 0.0 else 0
-                    hx = 0.5 * blend / reg_map_frame[2]
-                    hy = 0.5 * blend / reg_map_frame[3]
-                    if ((ci > 0 and fx - ci < hx) or (ci < mx_n - 1 and ci + 1 - fx < hx)
-                            or (cj > 0 and fy - cj < hy) or (cj < my_n - 1 and cj + 1 - fy < hy)):
+                if has_map:  # the blend only within blend / 2 of an edge to another cell
+                    ci, cj, near = _map_cell(px, py, map_frame, map_nx, map_ny, blend)
+                    if near:
                         regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
                         reg = regs[0]
                         single = wts[0] >= 1.0
@@ -592,11 +674,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                         regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
                         single = False
                 if not single:  # report the region with the largest weight
-                    top_q = 0
-                    for slot in range(1, 4):
-                        if wts[slot] > wts[top_q]:
-                            top_q = slot
-                    reg = regs[top_q]
+                    reg = _heaviest(regs, wts)
             if single and reg != cur_reg:
                 cur_reg = reg
                 p = reg_params[reg]
@@ -622,14 +700,14 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0
             else:
                 mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
-            fx = 0.0
-            fy = 0.0
-            fz = 0.0
-            kk = 0.0
             if single and reg == breg:
                 # gathered; force, wrench and stiffness after the loop (_scatter_batch)
                 nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth)
                 continue
+            fx = 0.0
+            fy = 0.0
+            fz = 0.0
+            kk = 0.0
             if single and dry:  # one dry region, written out: costs what the kernel cost before regions and water
                 if ml > 0.0:
                     iml = 1.0 / ml
@@ -653,7 +731,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     if ci > 0.0:
                         damp[b] += ci
                         _add_moments(inert, b, px - bx, py - by, pz - bz, ci)
-            else:
+            else:  # water, buoyancy or several regions
                 if single:
                     fx, fy, fz, kk, cw, ci, ok = _element_force(law, p, reg_rho[reg], gravity, e_area[i], depth, nx, ny,
                                                             nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta, v_eps)
@@ -663,17 +741,15 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                                                             vy, vz, speed, delta, v_eps)
                 if not (ok and _isfinite3(fx, fy, fz)):
                     return BAD_FORCE, b
-                if delta > 0.0:
-                    damp[b] += kk * tau + cw
-                else:
-                    kk += cw
-                    damp[b] += kk
+                kk, cd = _with_water_damping(kk, cw, delta, tau)
+                damp[b] += cd
                 if ci > 0.0:
                     damp[b] += ci
                     _add_moments(inert, b, px - bx, py - by, pz - bz, ci)
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
             _add_to_body(wrench, stiff, b, fx, fy, fz, px - bx, py - by, pz - bz, kk)
     if nbat > 0:
+        pb = reg_params[max(breg, 0)]
         rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
         return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
                               wrench, stiff, damp, pb if inertia and pb[P_INERTIA] > 0.0 else pb[:0], out_vel,
