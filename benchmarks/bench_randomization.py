@@ -31,7 +31,7 @@ import numpy as np
 
 import mjrft
 import mjrft.envs  # noqa: F401  (registers the environments)
-from mjrft.gaits import make_gait
+from mjrft.tools.gaits import make_gait
 
 HEX = "mjrft/HexapodSand-v0"
 MEDIA = ["poppy_cp", "poppy_lp", "glass3_cp"]

@@ -99,7 +99,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", default="benchmarks/results/learning")
     args = parser.parse_args(argv)
 
-    from mjrft.outputs import output_dir
+    from mjrft.tools.outputs import output_dir
     from mjrft.train.evaluate import load_policy
 
     policies = []

@@ -22,7 +22,7 @@ import gymnasium
 import numpy as np
 
 import mjrft.envs  # noqa: F401  (registers the environments)
-from mjrft.gaits import make_gait
+from mjrft.tools.gaits import make_gait
 from mjrft.models.hexapod import R_PRIME, TRIPOD_A, TRIPOD_B
 
 

@@ -15,7 +15,7 @@ import argparse
 import os
 import time
 
-from mjrft import tradeoff
+from mjrft.tools import tradeoff
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 

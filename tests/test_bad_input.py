@@ -14,7 +14,7 @@ import mujoco
 import pytest
 
 import mjrft
-from mjrft import cli
+from mjrft.tools import cli
 
 ENV = "mjrft/HexapodSand-v0"
 CLI = [
@@ -79,20 +79,21 @@ CONSTRUCTORS = [
     ("GranularTerrain model type", lambda: mjrft.GranularTerrain("hexapod.xml"), "model must be a mujoco.MjModel"),
     ("medium_3d", lambda: mjrft.medium_3d("x", -1.0, 0.5, 0.3), "must be finite and > 0"),
     ("calibrate", lambda: mjrft.calibrate([0.01, 0.02], [1.0]), "depth and stress must have the same length, got 2 and 1"),
-    ("plate_intrusion", lambda: mjrft.rigs.plate_intrusion(depth=0), "depth must be finite and > 0, got 0"),
-    ("rotating_leg", lambda: mjrft.rigs.rotating_leg("blob"), "unknown leg shape 'blob'"),
+    ("plate_intrusion", lambda: mjrft.tools.rigs.plate_intrusion(depth=0), "depth must be finite and > 0, got 0"),
+    ("rotating_leg", lambda: mjrft.tools.rigs.rotating_leg("blob"), "unknown leg shape 'blob'"),
     ("env kwarg value", lambda: __import__("gymnasium").make(ENV, medium="mud"), "unknown medium 'mud'"),
     ("env kwarg name", lambda: __import__("gymnasium").make(ENV, bogus=1), "unexpected keyword argument(s): bogus"),
-    ("gait spec", lambda: mjrft.gaits.parse_gait_spec("tripod:f=-1"), "parameter f=-1.0 out of range; valid: (0, inf]"),
-    ("published datum", lambda: mjrft.validation.published("li2013", "nosuch"), "valid choices"),
+    ("gait spec", lambda: mjrft.tools.gaits.parse_gait_spec("tripod:f=-1"),
+     "parameter f=-1.0 out of range; valid: (0, inf]"),
+    ("published datum", lambda: mjrft.tools.validation.published("li2013", "nosuch"), "valid choices"),
 ]
 
 
 @pytest.mark.parametrize("name,make,message", CONSTRUCTORS, ids=[c[0] for c in CONSTRUCTORS])
 def test_public_constructors_name_the_bad_value(name, make, message):
-    import mjrft.gaits  # noqa: F401
-    import mjrft.rigs  # noqa: F401
-    import mjrft.validation  # noqa: F401
+    import mjrft.tools.gaits  # noqa: F401
+    import mjrft.tools.rigs  # noqa: F401
+    import mjrft.tools.validation  # noqa: F401
 
     with pytest.raises((ValueError, TypeError)) as e:
         make()

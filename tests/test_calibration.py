@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import mjrft
-from mjrft.calibration import fit_hybrid_constants, fit_wet_speed_coefficient, read_columns
+from mjrft.tools.calibration import fit_hybrid_constants, fit_wet_speed_coefficient, read_columns
 from mjrft.laws import wet
 from mjrft.laws.hybrid import HybridModel, rotating_leg_profile, semi_ellipse_leg
 

@@ -11,9 +11,9 @@ pytest.importorskip("rerun")
 pytest.importorskip("datafusion")
 gymnasium = pytest.importorskip("gymnasium")
 
-from mjrft.cli import main as cli  # noqa: E402
+from mjrft.tools.cli import main as cli  # noqa: E402
 from mjrft.errors import TerrainStabilityWarning  # noqa: E402
-from mjrft.rerun_log import read_table  # noqa: E402
+from mjrft.tools.rerun_log import read_table  # noqa: E402
 from mjrft.train.rollout import rollout  # noqa: E402
 
 
@@ -107,15 +107,15 @@ def test_rollout_argument_checks():
 
 
 def test_log_every_has_one_default_for_demo_rollout_and_eval():
-    from mjrft import cli
-    from mjrft.rerun_log import LOG_EVERY
+    from mjrft.tools import cli
+    from mjrft.tools.rerun_log import LOG_EVERY
 
     argvs = (["demo"], ["rollout", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod"], ["eval", "--policy", "tripod"])
     assert {cli.build_parser(a[0]).parse_args(a).log_every for a in argvs} == {LOG_EVERY}
 
 
 def test_rollout_and_eval_show_progress_on_stderr(capsys, tmp_path):
-    from mjrft import cli
+    from mjrft.tools import cli
 
     assert cli.main(["rollout", "--env", "mjrft/HexapodRigid-v0", "--policy", "tripod", "--seconds", "0.3",
                      "--rrd", str(tmp_path / "r.rrd")]) == 0
@@ -134,7 +134,7 @@ def test_spawn_viewer_without_a_display_fails_fast(monkeypatch, tmp_path, capsys
     import sys
     import time
 
-    from mjrft import cli
+    from mjrft.tools import cli
 
     if not sys.platform.startswith("linux"):
         pytest.skip("the display check applies to Linux/BSD")

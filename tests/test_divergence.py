@@ -93,7 +93,7 @@ def test_vector_env_ends_only_the_diverged_episode():
 
 
 def test_rollout_and_eval_say_a_run_diverged_instead_of_printing_numbers(capsys):
-    from mjrft import cli
+    from mjrft.tools import cli
     from mjrft.train.evaluate import evaluate
     from mjrft.train.rollout import rollout
 

@@ -351,7 +351,7 @@ def test_compiled_rate_matches_numpy():
 def test_bundled_robots_at_their_1ms_defaults_do_not_warn(env_id, gait, kwargs):
     gymnasium = pytest.importorskip("gymnasium")
     import mjrft.envs  # noqa: F401  (registers the ids)
-    from mjrft.gaits import make_gait
+    from mjrft.tools.gaits import make_gait
 
     env = gymnasium.make(env_id, **kwargs)
     assert env.unwrapped.model.opt.timestep == 1e-3

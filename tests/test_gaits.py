@@ -1,4 +1,4 @@
-"""Open-loop gaits (mjrft.gaits): spec parsing, kinematics, and every gait running on its robot."""
+"""Open-loop gaits (mjrft.tools.gaits): spec parsing, kinematics, and every gait running on its robot."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ gymnasium = pytest.importorskip("gymnasium")
 
 import mjrft.envs  # noqa: E402,F401
 from mjrft.errors import TerrainStabilityWarning  # noqa: E402
-from mjrft.gaits import (GAITS, GaitWarning, biped_leg_ik, buehler_angle, humanoid_leg_ik,  # noqa: E402
+from mjrft.tools.gaits import (GAITS, GaitWarning, biped_leg_ik, buehler_angle, humanoid_leg_ik,  # noqa: E402
                          is_gait_spec, make_gait, parse_gait_spec, rect_path, shift_pose)
 from mjrft.models import biped as bm  # noqa: E402
 from mjrft.models import humanoid as hm  # noqa: E402

@@ -21,7 +21,7 @@ pytest.importorskip("imageio")  # gymnasium.envs.mujoco needs it (gymnasium[mujo
 import mujoco  # noqa: E402
 
 import mjrft.envs  # noqa: E402,F401
-from mjrft.gaits import make_gait, tripod_angles  # noqa: E402
+from mjrft.tools.gaits import make_gait, tripod_angles  # noqa: E402
 
 
 def _run(phase: float, steps: int = 60):

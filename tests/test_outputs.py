@@ -1,4 +1,4 @@
-"""Output paths are checked before any work starts, by one helper (mjrft.outputs), in every command."""
+"""Output paths are checked before any work starts, by one helper (mjrft.tools.outputs), in every command."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import time
 
 import pytest
 
-from mjrft import cli
-from mjrft.outputs import output_dir, output_file
+from mjrft.tools import cli
+from mjrft.tools.outputs import output_dir, output_file
 
 
 @pytest.fixture
@@ -65,7 +65,7 @@ def test_every_command_refuses_an_unwritable_output_before_working(argv, option,
 
 
 def test_printed_numbers_show_round_off_and_negative_zero_as_zero():
-    from mjrft.outputs import number
+    from mjrft.tools.outputs import number
 
     assert number(2.582e-16, ".4g", scale=3.2) == "0"
     assert number(2.582e-16, ".4g") == "2.582e-16"  # no scale: a tiny value is not noise by itself
@@ -75,7 +75,7 @@ def test_printed_numbers_show_round_off_and_negative_zero_as_zero():
 
 
 def test_rig_prints_no_round_off(tmp_path, capsys):
-    from mjrft import cli
+    from mjrft.tools import cli
 
     assert cli.main(["rig", "plate", "--depth", "0.02", "--step", "0.002", "--out", str(tmp_path)]) == 0
     out = capsys.readouterr().out

@@ -19,7 +19,7 @@ pytest.importorskip("matplotlib")
 
 from matplotlib.image import imread  # noqa: E402
 
-from mjrft.cli import main as cli  # noqa: E402
+from mjrft.tools.cli import main as cli  # noqa: E402
 from mjrft.errors import TerrainStabilityWarning, ValidityRangeWarning  # noqa: E402
 from mjrft.train.plot import load_run, plot_runs, read_monitor, rolling_mean  # noqa: E402
 from mjrft.train.vecenv import KINDS, make_vec_env, resolve_kind  # noqa: E402

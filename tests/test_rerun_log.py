@@ -15,9 +15,9 @@ gymnasium = pytest.importorskip("gymnasium")
 import mjrft.envs  # noqa: E402,F401
 from mjrft.coupler import GranularTerrain  # noqa: E402
 from mjrft.errors import TerrainStabilityWarning  # noqa: E402
-from mjrft.gaits import make_gait  # noqa: E402
+from mjrft.tools.gaits import make_gait  # noqa: E402
 from mjrft.models import hexapod_model  # noqa: E402
-from mjrft.rerun_log import RerunLogger, episode_logger, read_table, stress_colors  # noqa: E402
+from mjrft.tools.rerun_log import RerunLogger, episode_logger, read_table, stress_colors  # noqa: E402
 
 
 def _col(table, name):

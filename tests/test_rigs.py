@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import mjrft
-from mjrft import rigs
-from mjrft.cli import main as cli_main
+from mjrft.tools import rigs
+from mjrft.tools.cli import main as cli_main
 from mjrft.geometry import geom_elements
 from mjrft.geometry.curved_leg import (arc_length, arc_points, curved_leg_boxes, curved_leg_mesh, leg_mesh,
                                        semi_ellipse_boxes, semi_ellipse_family, semi_ellipse_length,

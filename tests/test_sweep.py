@@ -10,7 +10,7 @@ import types
 import pytest
 
 import mjrft.train.sweep as sw
-from mjrft import cli
+from mjrft.tools import cli
 
 HEX = "mjrft/HexapodSand-v0"
 

@@ -332,7 +332,7 @@ def test_bundled_and_many_triangle_meshes_estimate_exactly():
                                   "humanoid_cutout", "plate_rig", "leg_rig"])
 def test_bundled_scenes_keep_every_geom_of_their_granular_bodies(name):
     """The collision-geoms-only rule changes no bundled scene: each selects every supported geom of the bodies its
-    <custom> (or, for the kinematic rigs whose geoms collide with nothing, mjrft.rigs) names."""
+    <custom> (or, for the kinematic rigs whose geoms collide with nothing, mjrft.tools.rigs) names."""
     from mjrft.coupler import _SUPPORTED_GEOMS, _custom
     from mjrft.models import model_path
 

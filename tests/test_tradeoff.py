@@ -1,4 +1,5 @@
-"""Tests of the speed/accuracy trade study (mjrft.tradeoff), `mjrft bench` and the presets (mjrft.presets)."""
+"""Tests of the speed/accuracy trade study (mjrft.tools.tradeoff), `mjrft bench` and the presets
+(mjrft.tools.presets)."""
 
 from __future__ import annotations
 
@@ -10,8 +11,8 @@ import mujoco
 import numpy as np
 import pytest
 
-from mjrft import cli, presets
-from mjrft import tradeoff as T
+from mjrft.tools import cli, presets
+from mjrft.tools import tradeoff as T
 from mjrft.media import MEDIA, generic
 
 C = T.Config

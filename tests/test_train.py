@@ -19,7 +19,7 @@ import gymnasium  # noqa: E402
 from stable_baselines3 import PPO, SAC  # noqa: E402
 from stable_baselines3.common.callbacks import BaseCallback  # noqa: E402
 
-from mjrft.cli import main as cli  # noqa: E402
+from mjrft.tools.cli import main as cli  # noqa: E402
 from mjrft.envs import ENV_IDS  # noqa: E402
 from mjrft.errors import TerrainStabilityWarning  # noqa: E402
 from mjrft.train.evaluate import COLUMNS, evaluate, format_table, load_policy  # noqa: E402
@@ -243,7 +243,7 @@ def test_cli_errors_exit_2(tmp_path, capsys):
 # ---------------------------------------------------------------------------------------------- evaluation
 def test_metrics_match_a_manual_rollout():
     """The row's definitions, recomputed from a plain rollout of the same gait and seed."""
-    from mjrft.gaits import make_gait
+    from mjrft.tools.gaits import make_gait
 
     kw = {**ENV_KW, "max_episode_steps": 40}
     rows, _ = evaluate("tripod:f=2", HEX, episodes=1, seed=4, env_kwargs=kw)
@@ -302,7 +302,7 @@ def test_eval_cli_writes_csv_json_and_rrd(tmp_path, capsys):
     assert data["summary"]["speed"] == pytest.approx(float(table[2]["speed"]))
     assert rrd.is_file() and rrd.stat().st_size > 0
     try:
-        from mjrft.rerun_log import read_table
+        from mjrft.tools.rerun_log import read_table
 
         frames = read_table(rrd, "/world/contacts")
     except ImportError:  # the dataframe reader needs datafusion (rerun extra)
@@ -336,7 +336,7 @@ def test_hyperparameter_values_of_the_right_kind_pass():
 
 
 def test_train_command_reports_a_bad_hyperparameter_in_one_line(tmp_path, capsys):
-    from mjrft import cli
+    from mjrft.tools import cli
 
     with pytest.raises(SystemExit) as e:
         cli.main(["train", "--env", "mjrft/HexapodSand-v0", "--out", str(tmp_path / "run"), "--hp", "n_steps=1.5"])

@@ -7,7 +7,7 @@ import pytest
 pytest.importorskip("stable_baselines3")
 pytest.importorskip("yaml")
 
-from mjrft.cli import main as cli  # noqa: E402
+from mjrft.tools.cli import main as cli  # noqa: E402
 from mjrft.train.config import (KEYS, check_training_config, load_training_config, named_configs,  # noqa: E402
                                 save_training_config)
 

@@ -11,11 +11,11 @@ import os
 import pytest
 
 import mjrft
-from mjrft import cli, validation
-from mjrft.validation.case import CASES, CaseResult, Line, Panel, check_band, check_close, check_outcome
-from mjrft.validation.report import write_report
+from mjrft.tools import cli, validation
+from mjrft.tools.validation.case import CASES, CaseResult, Line, Panel, check_band, check_close, check_outcome
+from mjrft.tools.validation.report import write_report
 
-case_mod = importlib.import_module("mjrft.validation.case")  # the module (the package exports the decorator `case`)
+case_mod = importlib.import_module("mjrft.tools.validation.case")  # the module (the package exports `case`)
 
 
 @pytest.fixture

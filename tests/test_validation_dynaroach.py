@@ -5,7 +5,7 @@ import math
 import pytest
 
 from mjrft.laws.inertial import INERTIAL_DRAG
-from mjrft.validation import published, run_case
+from mjrft.tools.validation import published, run_case
 
 
 def outcomes(r):

@@ -1,11 +1,11 @@
-"""Validation cases of the hybrid curved-leg paper (mjrft.validation.cases.hybrid), quick settings."""
+"""Validation cases of the hybrid curved-leg paper (mjrft.tools.validation.cases.hybrid), quick settings."""
 
 import math
 
 import pytest
 
-from mjrft import validation
-from mjrft.validation import published
+from mjrft.tools import validation
+from mjrft.tools.validation import published
 
 # the rig's checks that the per-element law cannot meet: they need the undisturbed-grain (shadow) rule
 SHADOW_GAP = ("bent / semicircle", "vanishes long before it leaves", "goes most negative")

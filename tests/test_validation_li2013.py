@@ -6,9 +6,9 @@ import math
 
 import pytest
 
-from mjrft import validation
+from mjrft.tools import validation
 from mjrft.media import MEDIA, N_CM3
-from mjrft.validation import published
+from mjrft.tools.validation import published
 
 
 @pytest.fixture(scope="module")

@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 import mjrft.envs  # noqa: F401
-from mjrft import validation
-from mjrft.gaits import make_gait, tripod_angles
+from mjrft.tools import validation
+from mjrft.tools.gaits import make_gait, tripod_angles
 from mjrft.models.hexapod import hexapod_xml
-from mjrft.validation.cases.li2013_robot import UPSIDE_DOWN, _lowest_point, start_on_gait
+from mjrft.tools.validation.cases.li2013_robot import UPSIDE_DOWN, _lowest_point, start_on_gait
 
 
 @pytest.fixture(scope="module")

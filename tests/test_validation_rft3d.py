@@ -1,6 +1,6 @@
-"""Fast test of the 3D-RFT validation case (mjrft.validation.cases.rft3d)."""
+"""Fast test of the 3D-RFT validation case (mjrft.tools.validation.cases.rft3d)."""
 
-from mjrft.validation import run_case
+from mjrft.tools.validation import run_case
 
 
 def test_rft3d_generic():

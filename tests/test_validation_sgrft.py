@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from mjrft.validation import published, run_case
+from mjrft.tools.validation import published, run_case
 
 
 def outcomes(r):

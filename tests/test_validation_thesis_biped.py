@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from mjrft import validation
-from mjrft.validation import published
+from mjrft.tools import validation
+from mjrft.tools.validation import published
 
 SIM_VF = "55 deg: denser bed, shorter step (simulation)"
 SIM_VF_CAUSE = ("mjrft shortens the 55 deg step on the looser bed, as the thesis' experiment did (sec. 2.5.2): on "

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import mjrft.envs  # noqa: F401  (registers the envs)
-from mjrft import validation
-from mjrft.gaits import (GAITS, humanoid_com_sole, humanoid_static_targets, make_gait, parse_gait_spec,
+from mjrft.tools import validation
+from mjrft.tools.gaits import (GAITS, humanoid_com_sole, humanoid_static_targets, make_gait, parse_gait_spec,
                          shift_fraction, stance_pose)
-from mjrft.validation import published
+from mjrft.tools.validation import published
 
 STANCE_CAUSE = ("RFT foot at its yield load resists a CoM offset only through depth hardening (alpha_z I, "
                 "560 W N m/rad in pitch), below the robot's toppling stiffness m g h ~ 340 N m/rad; the cut-out "
@@ -83,7 +83,7 @@ def test_stance_pose_puts_the_com_over_the_sole():
         p["com_x"] = cx
         ox, oy = stance_pose(u.model, p)
         assert oy < -0.15  # the pelvis moves well over the wide right board
-        from mjrft.gaits import _humanoid_dims, _leg_height, humanoid_leg_ik
+        from mjrft.tools.gaits import _humanoid_dims, _leg_height, humanoid_leg_ik
         th, sh = _humanoid_dims()
         h = _leg_height(p["crouch"], th, sh)
         t = {}

@@ -83,7 +83,7 @@ def test_hexapod_default_scene_warns_only_that_its_legs_pass_li_speed_bound():
     (measured 1.04 m/s); nothing else leaves a range."""
     import gymnasium
 
-    from mjrft.gaits import make_gait
+    from mjrft.tools.gaits import make_gait
 
     with warnings.catch_warnings(record=True) as rec:
         warnings.simplefilter("always", mjrft.ValidityRangeWarning)

@@ -54,7 +54,7 @@ import mujoco
 import numpy as np
 
 from ...gaits import make_gait, tripod_angles
-from ...media import MEDIA, generic
+from mjrft.media import MEDIA, generic
 from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
 
 PAPER = "li2013_robot"
@@ -127,7 +127,7 @@ def trial(curvature: float, f: float, law: str, strides: int, phase: float = 0.0
     strides after the first second, the realised stride frequency (Hz) there, the largest torso tilt (rad) over the
     whole run and over the measured strides, the mean torso height (m) and the mean vertical force on the legs,
     vertical force on the torso and horizontal force on the torso (N; every physics step of the measured strides)."""
-    from ...models.hexapod import LEG_NAMES, R_PRIME
+    from mjrft.models.hexapod import LEG_NAMES, R_PRIME
 
     env = gymnasium.make("mjrft/HexapodSand-v0", planar=True, curvature=curvature / R_PRIME["rhex"],
                          max_hip_speed=MAX_HIP_SPEED, terminate_when_unhealthy=False, reset_noise_scale=0.0,

@@ -4,7 +4,7 @@ Two cases on :class:`mjrft.envs.humanoid.HumanoidSand` (HUBO-class, 1.2 m, 50 kg
 poppy seeds, Li RFT; published data: ``mjrft/validation/data/thesis_hubo.json``):
 
 ``thesis_hubo_stance``
-    One-foot stance (:mod:`mjrft.gaits` ``stance``: bend the knees, put the whole-body CoM over the
+    One-foot stance (:mod:`mjrft.tools.gaits` ``stance``: bend the knees, put the whole-body CoM over the
     right sole's centre, lift the left foot 10 cm, hold; open loop) on the natural 22.9 x 15.2 cm
     foot, boards 17.8 to 30.4 cm wide and the cut-out 30.4 cm board (same outline, half the area).
     The thesis ran three trials per width and reports that slight variations in how HUBO was placed
@@ -27,7 +27,7 @@ poppy seeds, Li RFT; published data: ``mjrft/validation/data/thesis_hubo.json``)
 
 Choices where the thesis is silent: the medium is the humanoid's default ``poppy_cp`` (the bed was
 raked level; no packing is given); the gait timing (6 s steps, 5 cm steps, 17 cm sway to put the
-pelvis near the wide boards' centres, crouch 0.8 rad) is :mod:`mjrft.gaits`'s ``shift``; the
+pelvis near the wide boards' centres, crouch 0.8 rad) is :mod:`mjrft.tools.gaits`'s ``shift``; the
 intrusion phase is the stepping foot's descent from its lift height to 1 cm below the standing sole
 level.
 """
@@ -51,8 +51,8 @@ WIDTHS = (0.152, 0.178, 0.203, 0.229, 0.254, 0.304)
 
 
 def _env(foot_width: float, cutout: bool, yield_displacement: float | None = None):
-    from ...coupler import GranularTerrain
-    from ...envs.humanoid import HumanoidSand
+    from mjrft.coupler import GranularTerrain
+    from mjrft.envs.humanoid import HumanoidSand
 
     env = HumanoidSand(terminate_when_unhealthy=False, foot_width=foot_width, foot_cutout=cutout)
     if yield_displacement is not None:
@@ -190,7 +190,7 @@ def run_stance(quick: bool) -> CaseResult:
                "4x stiffer range below yield (0.25 mm) only lets the centred trial on the 22.9 cm board stand as well; the offset trials still fall." + extra),
         notes=("Three placements per width stand for the thesis's three trials (CoM -1, 0, +1 cm along the foot); "
                "the stance policy is open loop with the CoM computed from the model and the servos' static sag "
-               "fed forward (mjrft.gaits 'stance'); medium poppy_cp (the bed's packing is not given)."),
+               "fed forward (mjrft.tools.gaits 'stance'); medium poppy_cp (the bed's packing is not given)."),
     )
 
 

@@ -1,6 +1,6 @@
 """Measurement rigs: a plate intruder and a rotating leg, run through MuJoCo and :class:`GranularTerrain`.
 
->>> from mjrft import rigs
+>>> from mjrft.tools import rigs
 >>> p = rigs.plate_intrusion(beta=0.0, gamma=math.pi / 2, depth=0.05)   # horizontal plate pushed down
 >>> p.depth, p.lift, p.drag, p.torque                                   # numpy arrays, one row per sample
 >>> leg = rigs.rotating_leg("c", omega=0.2)                              # Li 2013's C-leg rig
@@ -74,11 +74,12 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from .coupler import GranularTerrain
+from mjrft.coupler import GranularTerrain
+from mjrft.errors import TerrainStabilityWarning, check_finite, check_positive, unknown
+from mjrft.laws import law_id
+from mjrft.media import MEDIA, Medium, get_medium
+
 from .outputs import number, output_dir
-from .errors import TerrainStabilityWarning, check_finite, check_positive, unknown
-from .laws import law_id
-from .media import MEDIA, Medium, get_medium
 
 __all__ = ["LegProfile", "PlateProfile", "plate_intrusion", "plot_leg", "plot_plate", "rotating_leg",
            "rotating_leg_family", "write_csv", "add_arguments", "main"]
@@ -193,7 +194,7 @@ def plate_intrusion(*, beta: float = 0.0, gamma: float = math.pi / 2, speed: flo
     Defaults: Li 2013's plate (3.81 x 2.54 x 0.64 cm) pushed straight down at 1 cm/s to 7.6 cm.
     ``step`` is the travel between samples (m); ``resolution`` the element size (m).
     """
-    from .models.rigs import PLATE_LENGTH, PLATE_THICKNESS, PLATE_WIDTH, plate_rig_xml
+    from mjrft.models.rigs import PLATE_LENGTH, PLATE_THICKNESS, PLATE_WIDTH, plate_rig_xml
 
     length = check_positive("plate length", PLATE_LENGTH if length is None else length)
     width = check_positive("plate width", PLATE_WIDTH if width is None else width)
@@ -276,7 +277,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     ``dtheta`` is the angle between samples; ``axle_height`` defaults per shape (2 cm, or 5 cm for
     ``semi_ellipse``).
     """
-    from .models.rigs import default_axle_height, leg_geometry, leg_rig_xml
+    from mjrft.models.rigs import default_axle_height, leg_geometry, leg_rig_xml
 
     geo = leg_geometry(shape, **leg)
     omega = LI_LEG_OMEGA if omega is None else check_finite("omega", omega)
@@ -332,7 +333,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
 def rotating_leg_family(a: float | None = None, **kw) -> dict[str, LegProfile]:
     """:func:`rotating_leg` for each of the hybrid paper's five semi-elliptic legs (a fixed, default
     4.5 cm; b = a/9 ... 2a, :func:`mjrft.geometry.curved_leg.semi_ellipse_family`), by name."""
-    from .geometry.curved_leg import semi_ellipse_family
+    from mjrft.geometry.curved_leg import semi_ellipse_family
 
     if "shape" in kw or "b" in kw:
         raise ValueError("rotating_leg_family sets the shape ('semi_ellipse') and b itself")
@@ -454,7 +455,7 @@ def add_arguments(parser) -> None:
                    help="intrusion angle(s), degrees; 90 = straight down, 0 = horizontal toward +x (default 90)")
     p.add_argument("--speed", type=float, default=0.01, help="m/s (default 0.01)")
     p.add_argument("--depth", type=float, default=0.076, help="deepest plate-centre depth of the path, m")
-    p.add_argument("--distance", type=float, default=None, help="path length, m (default: see mjrft.rigs)")
+    p.add_argument("--distance", type=float, default=None, help="path length, m (default: see mjrft.tools.rigs)")
     p.add_argument("--length", type=float, default=None, help="plate length in the plane of motion, m (0.0381)")
     p.add_argument("--width", type=float, default=None, help="plate width across the plane of motion, m (0.0254)")
     p.add_argument("--thickness", type=float, default=None, help="plate thickness, m (0.0064)")
@@ -522,7 +523,7 @@ def main(args) -> int:
                 raise ValueError("--b is set by the family (b = a / ratio); drop it or use --shape semi_ellipse")
             profs = rotating_leg_family(**kw)
         else:
-            from .models.rigs import LEG_SHAPES
+            from mjrft.models.rigs import LEG_SHAPES
 
             if args.shape not in LEG_SHAPES:
                 raise unknown("leg shape", args.shape, [*LEG_SHAPES, "family"])

@@ -4,20 +4,20 @@ Each subcommand lives in its own module, which provides ``add_arguments(parser)`
 ``main(args) -> int``; the module is imported only when its command runs, so ``mjrft --help`` and
 the light commands stay fast and work without the optional extras.
 
-=========  =============================  =====================================================
-command    module                         what it does
-=========  =============================  =====================================================
-demo       ``mjrft.demo``                 hexapod tripod gait on poppy seeds, logged to rerun
-settle     ``mjrft.settle``               drop a box foot and a legged body; sinkage vs analytic
-rig        ``mjrft.rigs``                 plate-intruder and rotating-leg rigs; arrays + plots
-train      ``mjrft.train.train``          stable-baselines3 training (PPO/SAC), resumable
-eval       ``mjrft.train.evaluate``       deterministic evaluation of a policy or gait
-plot       ``mjrft.train.plot``           learning curves of training runs (return, speed)
-rollout    ``mjrft.train.rollout``        any policy or gait, any env, headless, to a rerun file
-bench      ``mjrft.tradeoff``             the speed/accuracy trade study
-sweep      ``mjrft.train.sweep``          parameter grids, local processes or Ray, resumable
-validate   ``mjrft.validation.report``    rerun the papers' experiments; Markdown report + plots
-=========  =============================  =====================================================
+========  =================================  =====================================================
+command   module                             what it does
+========  =================================  =====================================================
+demo      ``mjrft.tools.demo``               hexapod tripod gait on poppy seeds, logged to rerun
+settle    ``mjrft.tools.settle``             drop a box foot and a legged body; sinkage vs analytic
+rig       ``mjrft.tools.rigs``               plate-intruder and rotating-leg rigs; arrays + plots
+train     ``mjrft.train.train``              stable-baselines3 training (PPO/SAC), resumable
+eval      ``mjrft.train.evaluate``           deterministic evaluation of a policy or gait
+plot      ``mjrft.train.plot``               learning curves of training runs (return, speed)
+rollout   ``mjrft.train.rollout``            any policy or gait, any env, headless, to a rerun file
+bench     ``mjrft.tools.tradeoff``           the speed/accuracy trade study
+sweep     ``mjrft.train.sweep``              parameter grids, local processes or Ray, resumable
+validate  ``mjrft.tools.validation.report``  rerun the papers' experiments; Markdown report + plots
+========  =================================  =====================================================
 """
 
 from __future__ import annotations
@@ -27,16 +27,16 @@ import importlib
 import sys
 
 COMMANDS = {
-    "demo": ("mjrft.demo", "hexapod tripod gait on poppy seeds, headless, logged to a rerun file"),
-    "settle": ("mjrft.settle", "drop a box foot and a legged body onto sand; print sinkage vs analytic"),
-    "rig": ("mjrft.rigs", "run the plate-intruder or rotating-leg rig; save force profiles and plots"),
+    "demo": ("mjrft.tools.demo", "hexapod tripod gait on poppy seeds, headless, logged to a rerun file"),
+    "settle": ("mjrft.tools.settle", "drop a box foot and a legged body onto sand; print sinkage vs analytic"),
+    "rig": ("mjrft.tools.rigs", "run the plate-intruder or rotating-leg rig; save force profiles and plots"),
     "train": ("mjrft.train.train", "train a policy with stable-baselines3 (PPO or SAC), resumable"),
     "eval": ("mjrft.train.evaluate", "evaluate a trained policy or an open-loop gait; print a table"),
     "plot": ("mjrft.train.plot", "plot learning curves (episode return, forward speed) of training runs"),
     "rollout": ("mjrft.train.rollout", "roll out a policy or gait headless and log it to a rerun file"),
-    "bench": ("mjrft.tradeoff", "measure the speed/accuracy trade of resolution, law and timestep"),
+    "bench": ("mjrft.tools.tradeoff", "measure the speed/accuracy trade of resolution, law and timestep"),
     "sweep": ("mjrft.train.sweep", "run a parameter grid (local processes or Ray), resumable"),
-    "validate": ("mjrft.validation.report", "rerun the source papers' experiments and write a validation report"),
+    "validate": ("mjrft.tools.validation.report", "rerun the source papers' experiments and write a validation report"),
 }
 
 

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from importlib import resources
 from typing import Callable, Sequence
 
-from ..errors import unknown
+from mjrft.errors import unknown
 
 __all__ = ["CASES", "Case", "CaseResult", "Check", "Datum", "Line", "Panel", "case", "check_band", "check_close",
            "check_outcome", "papers", "published"]
@@ -52,7 +52,7 @@ class Datum:
 @functools.lru_cache(maxsize=None)
 def _data(paper: str) -> dict:
     try:
-        text = resources.files("mjrft.validation").joinpath("data", f"{paper}.json").read_text()
+        text = resources.files("mjrft.tools.validation").joinpath("data", f"{paper}.json").read_text()
     except FileNotFoundError:
         raise unknown("paper", paper, papers()) from None
     raw = json.loads(text)
@@ -61,7 +61,7 @@ def _data(paper: str) -> dict:
 
 def papers() -> list[str]:
     """The papers that have a published-data file."""
-    folder = resources.files("mjrft.validation").joinpath("data")
+    folder = resources.files("mjrft.tools.validation").joinpath("data")
     return sorted(p.name[:-5] for p in folder.iterdir() if p.name.endswith(".json"))
 
 

@@ -22,7 +22,7 @@ region boundary, the 4.5 deg psi grid, the leg family, h, omega) and its stated 
     Fig. 10: the five semi-elliptic legs (a = 4.5 cm, a/b = 9, 2, 1, 0.67, 0.5, convex side leading),
     axle 5 cm above the sand, omega = 1 rad/s, (a) from the whole-leg model
     (:func:`mjrft.laws.hybrid.leg_family_profiles`, with the undisturbed-grain rule) and (b) from the
-    per-element law through the rig (:func:`mjrft.rigs.rotating_leg_family` with ``law="hybrid"``, a
+    per-element law through the rig (:func:`mjrft.tools.rigs.rotating_leg_family` with ``law="hybrid"``, a
     2.54 x 0.64 cm leg section, the paper's river sand). Checked, for each: the published trend of the
     peak forces across the family, the F_s peak ahead of the F_f peak, the torque growing with b, the
     legs entering at different moments and leaving together, and the very bent leg losing its force
@@ -51,10 +51,10 @@ import math
 import numpy as np
 
 from ... import rigs
-from ...laws.hybrid import (AXLE_HEIGHT, LEG_FAMILY, LEG_WIDTH, PHI, PSI_BREAK, HybridModel,
+from mjrft.laws.hybrid import (AXLE_HEIGHT, LEG_FAMILY, LEG_WIDTH, PHI, PSI_BREAK, HybridModel,
                             active_angle, c_perp, hybrid_leg_forces, hybrid_stress, leg_family, leg_family_profiles,
                             leg_pose, rotating_leg_profile, semi_ellipse_leg, stroke_depth, wedge_force)
-from ...media import G, get_medium
+from mjrft.media import G, get_medium
 from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
 
 PAPER = "hybrid"

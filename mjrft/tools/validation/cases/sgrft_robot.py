@@ -26,9 +26,9 @@ import mujoco
 import numpy as np
 
 from ... import rigs
-from ...coupler import GranularTerrain
-from ...laws.wet import dry_reference, speed_factor
-from ...media import get_medium
+from mjrft.coupler import GranularTerrain
+from mjrft.laws.wet import dry_reference, speed_factor
+from mjrft.media import get_medium
 from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
 
 PAPER = "sgrft_robot"
@@ -205,7 +205,7 @@ def propeller_leg(quick: bool) -> CaseResult:
 def _robot_speed(rpm, medium, law, water, mass, quick):
     """Mean forward speed (m/s) of the robot with both hubs at ``rpm``, measured after START_TIME over the
     paper's 720 mm or MAX_WINDOW s, whichever comes first; also the mean hub speed (rpm)."""
-    from ...models.propeller_robot import propeller_robot_xml
+    from mjrft.models.propeller_robot import propeller_robot_xml
 
     xml = propeller_robot_xml(mass=mass, medium=SAND if law == "wet" else "poppy_cp", law=law, water_depth=water,
                               resolution=ROBOT_RESOLUTION)
@@ -235,7 +235,7 @@ def robot(quick: bool) -> CaseResult:
     half and twice its mass, and saturated sand without the speed factor (the same sand, law rft), to measure
     what the outcome depends on.
     """
-    from ...models.propeller_robot import default_mass
+    from mjrft.models.propeller_robot import default_mass
 
     rpms = ROBOT_RPM_QUICK if quick else ROBOT_RPM_FULL
     m0 = default_mass()

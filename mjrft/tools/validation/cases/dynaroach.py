@@ -8,7 +8,7 @@ coefficient and why it is taken from the paper's 12 Hz numbers rather than fig. 
     A horizontal plate with the projected area of a DynaRoACH tripod (3 x 1.4 cm^2, a 2.05 cm square,
     0.2 cm thick: the paper's "~1.4 cm^2" per leg) on the paper's 3 mm glass (catalogue ``glass3_cp``,
     law ``rft``), pushed straight down through the real coupler (:class:`mjrft.GranularTerrain`, kinematic
-    sweep as :mod:`mjrft.rigs` does) and read where its quasi-static lift equals the robot's weight
+    sweep as :mod:`mjrft.tools.rigs` does) and read where its quasi-static lift equals the robot's weight
     (the fit's "+1": the legs sink until the grains carry the body), at intrusion speeds 0 to 1.2 m/s,
     with the inertial regime off and on. Compared with fig. 5's quadratic ``F_z / mg = alpha v^2 + 1``,
     v_c = 25 cm/s and the text's 12 Hz peak (6-7 mg at ~1 m/s, fig. 2J and 4B). Also the regime's
@@ -49,9 +49,9 @@ import warnings
 import mujoco
 import numpy as np
 
-from ... import GranularTerrain
-from ...laws.inertial import INERTIAL_DRAG
-from ...media import MEDIA
+from mjrft import GranularTerrain
+from mjrft.laws.inertial import INERTIAL_DRAG
+from mjrft.media import MEDIA
 from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
 
 PAPER = "dynaroach"
@@ -218,7 +218,7 @@ def robot_run(freq: float, inertial: bool, seconds: float, warm: float, resoluti
     speed (m/s), stride (m), deepest leg element (m), fastest downward buried leg element (m/s), peak tripod
     A lift (N), mean torso height (m), duty factor (fraction of the time tripod A carries more than 2 % of
     the weight)."""
-    from ...models.hexapod import LEG_NAMES, TRIPOD_A, hexapod_xml
+    from mjrft.models.hexapod import LEG_NAMES, TRIPOD_A, hexapod_xml
 
     xml = hexapod_xml(variant="small", medium=MEDIUM, law="rft", resolution=resolution)
     model = mujoco.MjModel.from_xml_string(xml)

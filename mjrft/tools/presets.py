@@ -13,7 +13,7 @@ Each preset sets:
   keep the control period ``timestep x frame_skip`` at 10 ms, so a policy sees the same task under
   every preset.
 
-How they were chosen (``mjrft bench`` / ``python benchmarks/trade_study.py``, :mod:`mjrft.tradeoff`; the
+How they were chosen (``mjrft bench`` / ``python benchmarks/trade_study.py``, :mod:`mjrft.tools.tradeoff`; the
 committed run is ``benchmarks/results/trade_study.md``). Cost is the wall time per simulated second
 relative to the bare MuJoCo model (robots: their rigid-ground twin with the same controller); errors are
 against the reference (1/4 of the model's resolution, 0.5 ms, the medium's own fit), RMS and peak of the
@@ -30,7 +30,7 @@ accurate  0.5    rft     0.5 ms x 20  9.93x, RMS 0.68 %, peak 0.11 %, 0.36 mm | 
 (Rigs, same order: plate 3.62x / 6.77x / 23.6x, C-leg 4.50x / 40.6x / 193x against a bare rig of a few
 microseconds per step, force errors <= 0.74 %; ``accurate`` is their reference.)
 
-The rules (:func:`mjrft.tradeoff.recommend_presets`; candidates use ``rft``, a 10 ms control period and
+The rules (:func:`mjrft.tools.tradeoff.recommend_presets`; candidates use ``rft``, a 10 ms control period and
 warn no more than the default; cost is the geometric mean over the scenarios that choose presets, errors
 the worst case): *fast* is the cheapest with RMS force error <= 20 % and peak <= 10 % (4x coarser: worst
 11.4 % RMS, on the hexapod); *accurate* the cheapest non-reference configuration with RMS and peak force
@@ -56,8 +56,8 @@ from __future__ import annotations
 
 import mujoco
 
-from .coupler import CUSTOM_PREFIX, default_resolution
-from .errors import unknown
+from mjrft.coupler import CUSTOM_PREFIX, default_resolution
+from mjrft.errors import unknown
 
 PRESETS: dict[str, dict] = {
     "fast": {"resolution_scale": 4.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},

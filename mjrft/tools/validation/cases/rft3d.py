@@ -9,7 +9,7 @@ and leading faces at beta = +-pi/4 dragged horizontally. mjrft computes each val
 * the laws: :func:`mjrft.laws.rft3d_alpha_generic` on the leading face, and
   :func:`mjrft.media.fourier_alpha` with the ``generic`` medium's coefficients (which are also
   compared with table S2);
-* the plate rig (:func:`mjrft.rigs.plate_intrusion`, medium ``generic``, laws ``rft3d`` and ``rft``):
+* the plate rig (:func:`mjrft.tools.rigs.plate_intrusion`, medium ``generic``, laws ``rft3d`` and ``rft``):
   the MuJoCo-coupled force on a plate moved along the published path, divided by the stress scale
   (``xi_n`` or ``zeta``), the plate centre's depth and the face area.
 
@@ -35,8 +35,9 @@ import math
 
 import numpy as np
 
-from ... import laws, rigs
-from ...media import N_CM3, fourier_alpha, generic
+from mjrft import laws
+from ... import rigs
+from mjrft.media import N_CM3, fourier_alpha, generic
 from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
 
 PAPER = "rft3d"

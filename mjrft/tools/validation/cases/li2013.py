@@ -33,7 +33,7 @@ Three cases, each rerunning a published experiment under the paper's setup (publ
 
 ``li2013_leg_rig``
     Li's leg rotation rig (legs 7.62 x 2.54 x 0.64 cm, axle 2 cm above the surface, 0.2 rad/s over
-    -3pi/4 .. 3pi/4; :func:`mjrft.rigs.rotating_leg`, shapes ``"c"`` (convex side leading, Li's
+    -3pi/4 .. 3pi/4; :func:`mjrft.tools.rigs.rotating_leg`, shapes ``"c"`` (convex side leading, Li's
     C-leg), ``"flat"``, ``"reversed_c"``) in each medium under (a) the medium's fit, (b) the scaled
     generic profile and (c) the depth-only law. The measured curves of figs. S2, S5 and S8 are not in
     the text, so the medium's fit (a) stands in for the measurement (the paper: RFT "predicted" the
@@ -50,8 +50,9 @@ import math
 
 import numpy as np
 
-from ... import laws, rigs
-from ...media import CHI, MEDIA, N_CM3, calibrate, generic
+from mjrft import laws
+from ... import rigs
+from mjrft.media import CHI, MEDIA, N_CM3, calibrate, generic
 from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
 
 PAPER = "li2013"

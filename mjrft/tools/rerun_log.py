@@ -1,6 +1,6 @@
 """Log a MuJoCo simulation with granular terrain to rerun (``.rrd`` file, or a viewer on request).
 
->>> from mjrft.rerun_log import RerunLogger
+>>> from mjrft.tools.rerun_log import RerunLogger
 >>> with RerunLogger(model, terrain, "run.rrd") as log:      # headless: writes run.rrd
 ...     for _ in range(100):
 ...         terrain.step(data, 10)

@@ -51,14 +51,14 @@ medium's own Li fit, 1 ms x 10 steps per control period):
   ``wet`` (SGRFT speed factor on the medium's own fit; on the rigs: the plate's 40 mm/s lies inside
   its 10-50 mm/s calibration, the C-leg's elements move up to 12 cm/s, where the factor is held at its
   50 mm/s value) and ``hybrid`` (curved-leg model, with the leg's width and maximum depth as
-  :mod:`mjrft.rigs` gives them; C-leg rig only); ``rft_inertial`` (the medium's own fit plus the dry
+  :mod:`mjrft.tools.rigs` gives them; C-leg rig only); ``rft_inertial`` (the medium's own fit plus the dry
   inertial regime, :mod:`mjrft.laws.inertial`; RHex-class hexapod: its legs pass poppy seeds' critical
   speed sqrt(2 g d) = 11.7 cm/s) and ``rft_quasistatic`` (the small hexapod's scene with the regime
   off). Rows of ``wet``, ``hybrid``, ``rft_inertial`` and ``rft_quasistatic`` measure a different
   physics, not a discretisation error;
 * timestep: 2, 1, 0.5 ms at a fixed control period of 10 ms (frame skip 5, 10, 20);
 * frame skip at 1 ms: 1, 5, 10, 20 (the control period changes with it);
-* the presets of :mod:`mjrft.presets` (``fast``, ``accurate``; ``default`` is the default row).
+* the presets of :mod:`mjrft.tools.presets` (``fast``, ``accurate``; ``default`` is the default row).
 
 Reference (error zero by definition): the scenario's finest resolution (robots 1/4 x, rigs 1/2 x) with
 the smallest timestep (0.5 ms x 20) and the medium's own Li fit.
@@ -103,9 +103,10 @@ from typing import Callable
 import mujoco
 import numpy as np
 
-from .coupler import DEFAULTS, GranularTerrain, _custom
-from .errors import NonFiniteError, TerrainStabilityWarning, check_positive, unknown
-from .media import generic, get_medium
+from mjrft.coupler import DEFAULTS, GranularTerrain, _custom
+from mjrft.errors import NonFiniteError, TerrainStabilityWarning, check_positive, unknown
+from mjrft.media import generic, get_medium
+
 from .outputs import output_dir
 from .presets import model_resolution
 
@@ -175,7 +176,7 @@ class Scenario:
 
 
 def _rigs():
-    from .models import rigs  # the rig builders (imported lazily: mjrft.models imports nothing heavy)
+    from mjrft.models import rigs  # the rig builders (imported lazily: mjrft.models imports nothing heavy)
 
     return rigs
 
@@ -185,7 +186,7 @@ def _hexapod_model(sand: bool = True) -> mujoco.MjModel:
     """The hexapod held in the sagittal plane (``planar=True``, as in Li 2013's robot simulation). Choice: the
     free body's heading is set by its start transient and nothing restores it (:mod:`mjrft.envs.hexapod`), so
     a free walk's errors would measure how far two nearly equal runs turn apart, not the numerics."""
-    from .models import hexapod_model
+    from mjrft.models import hexapod_model
 
     return hexapod_model(sand=sand, planar=True)
 
@@ -210,7 +211,7 @@ SMALL_FREQ = 10.0  # Hz, above the paper's ~6 Hz walk-to-run transition
 
 
 def _small_hexapod_model(sand: bool = True) -> mujoco.MjModel:
-    from .models import hexapod_model
+    from mjrft.models import hexapod_model
 
     return hexapod_model(variant="small", sand=sand, medium=SMALL_MEDIUM)
 
@@ -224,7 +225,7 @@ BOARD_WIDTH = 0.304  # m, the widest board of the HUBO experiments (reference se
 
 
 def _humanoid_model(sand: bool = True) -> mujoco.MjModel:
-    from .models import humanoid_model
+    from mjrft.models import humanoid_model
 
     return humanoid_model(foot_width=BOARD_WIDTH, sand=sand)
 
@@ -312,7 +313,8 @@ def _leg_model() -> mujoco.MjModel:
 
 
 def _leg_hybrid_extra() -> dict:
-    """The hybrid law's leg width and maximum penetration depth of the C-leg over the sweep (as ``mjrft.rigs``)."""
+    """The hybrid law's leg width and maximum penetration depth of the C-leg over the sweep (as
+    ``mjrft.tools.rigs``)."""
     rigs = _rigs()
     geo = rigs.leg_geometry("c")
     v = np.asarray(geo["vertices"], float)

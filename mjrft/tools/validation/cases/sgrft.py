@@ -1,6 +1,6 @@
 """SGRFT (saturated wet sand, Machines 2022): plate drags and presses, and the R/V/T legs at 2, 30 and 40 rpm.
 
-Every case runs the paper's setup through mjrft's own rigs (:mod:`mjrft.rigs`: kinematic plate and
+Every case runs the paper's setup through mjrft's own rigs (:mod:`mjrft.tools.rigs`: kinematic plate and
 rotating leg through :class:`mjrft.GranularTerrain`) with the catalogue medium ``sea_sand_saturated``
 and the law ``wet`` (:mod:`mjrft.laws.wet`: Li RFT x the paper's linear velocity coefficient); the
 dry comparisons use :func:`mjrft.laws.wet.dry_reference` with the law ``rft``. Published numbers come
@@ -22,8 +22,8 @@ import math
 import numpy as np
 
 from ... import rigs
-from ...laws.wet import dry_reference
-from ...media import get_medium
+from mjrft.laws.wet import dry_reference
+from mjrft.media import get_medium
 from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
 
 PAPER = "sgrft"

@@ -1,14 +1,14 @@
 """Validation against the source papers: ``mjrft validate`` reruns their experiments and writes a report.
 
->>> from mjrft import validation
+>>> from mjrft.tools import validation
 >>> validation.case_names()                       # every registered case
 >>> r = validation.run_case("li2013_plate", quick=True)
 >>> r.verdict, [(c.name, c.published, c.simulated, c.verdict) for c in r.checks]
 >>> validation.write_report(validation.run_cases(), "benchmarks/results/validation")
 
-Layout: :mod:`~mjrft.validation.case` defines a case, its checks and figures and the published-data
-files (``data/<paper>.json``); :mod:`~mjrft.validation.cases` holds one module per paper, each
-registering its cases; :mod:`~mjrft.validation.report` runs them and writes the Markdown report, one
+Layout: :mod:`~mjrft.tools.validation.case` defines a case, its checks and figures and the published-data
+files (``data/<paper>.json``); :mod:`~mjrft.tools.validation.cases` holds one module per paper, each
+registering its cases; :mod:`~mjrft.tools.validation.report` runs them and writes the Markdown report, one
 PNG per case and a CSV of every number (``mjrft validate``).
 """
 
@@ -24,7 +24,7 @@ __all__ = ["CASES", "Case", "CaseResult", "Check", "Datum", "Line", "Panel", "ca
 
 
 def load_cases() -> dict[str, Case]:
-    """Import every module of :mod:`mjrft.validation.cases` (each registers its cases); returns the registry."""
+    """Import every module of :mod:`mjrft.tools.validation.cases` (each registers its cases); returns the registry."""
     from . import cases
 
     for info in pkgutil.iter_modules(cases.__path__):

@@ -4,7 +4,7 @@ A gait is built from a spec string ``"name:key=value,key=value"`` and bound to t
 drives::
 
     import gymnasium, mjrft.envs
-    from mjrft.gaits import make_gait
+    from mjrft.tools.gaits import make_gait
     env = gymnasium.make("mjrft/HexapodSand-v0")
     gait = make_gait("tripod:f=2.0,duty=0.5", env)
     obs, _ = env.reset(seed=0)
@@ -25,7 +25,7 @@ shift      humanoid                    quasi-static walk that shifts the CoM ``a
                                        stepping foot from ``start`` of its intrusion phase
 =========  ==========================  ============================================================
 
-``mjrft.gaits.describe()`` lists every gait with its parameters, defaults and units.
+``mjrft.tools.gaits.describe()`` lists every gait with its parameters, defaults and units.
 
 Time
 ----

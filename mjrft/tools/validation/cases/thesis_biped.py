@@ -5,7 +5,7 @@ One case on :class:`mjrft.envs.biped.BipedSand` (published data: ``mjrft/validat
 ``thesis_biped``
     The planarised biped (30.3 cm, 1.6 kg, four torque-limited position servos per leg, torso pitch held
     as by the thesis' air bearings: ``pitch_free=False``) walks the thesis' rectangle gait
-    (:mod:`mjrft.gaits` ``rect``: each sole centre traces a 16 x 3 cm rectangle, period 6 s, 5/8 on the
+    (:mod:`mjrft.tools.gaits` ``rect``: each sole centre traces a 16 x 3 cm rectangle, period 6 s, 5/8 on the
     bottom edge at uniform speed, the toe turning to the presentation angle on intrusion) on poppy seeds
     under Li's RFT, with the experiment's conical foot (``cone``, circular 8.5 cm sole) and the thesis
     simulation's wedge (8.5 x 8.5 x 7.5 cm), at presentation angles from -30 to 55 deg, on closely
@@ -49,7 +49,7 @@ import math
 import numpy as np
 
 from ..case import CaseResult, Line, Panel, case, check_band, check_outcome, published
-from ...models.biped import RESOLUTION as BIPED_RESOLUTION
+from mjrft.models.biped import RESOLUTION as BIPED_RESOLUTION
 
 PAPER = "thesis_biped"
 CITE = "Robophysics PhD thesis, ch. II-III (planar biped)"
@@ -87,9 +87,9 @@ def walk(foot: str, angle: float, medium: str = "poppy_cp", sand: bool = True, s
     """Walk the thesis' rect gait at ``angle`` (deg) and measure each step starting at the times ``steps``
     (s; multiples of half the period). Returns the step averages (cm, mm, N s) and one step's trace.
     ``model_kw`` goes to the model (e.g. the servos' ``kp``, ``kv``)."""
-    from ...envs.biped import BipedSand
+    from mjrft.envs.biped import BipedSand
     from ...gaits import make_gait
-    from ...models.biped import TORSO_BOTTOM
+    from mjrft.models.biped import TORSO_BOTTOM
 
     period = published(PAPER, "period").value
     env = BipedSand(sand=sand, foot=foot, foot_size=foot_size, pitch_free=False, medium=medium,

@@ -13,7 +13,7 @@ import math
 import mujoco
 import numpy as np
 
-from .coupler import GranularTerrain
+from mjrft.coupler import GranularTerrain
 
 BOX_FOOT = """<mujoco model="box foot"><option timestep="0.002"/>
 <worldbody><light pos="0 0 1"/>
@@ -80,7 +80,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from .media import get_medium
+    from mjrft.media import get_medium
 
     get_medium(args.medium)  # unknown name -> error listing the valid ones
     if not (math.isfinite(args.drop) and args.drop >= 0):

@@ -17,7 +17,7 @@ import argparse
 import os
 import warnings
 
-from mjrft.rerun_log import LOG_EVERY
+from mjrft.tools.rerun_log import LOG_EVERY
 
 ENV_ID = "mjrft/HexapodSand-v0"
 DEFAULT_OUT = "mjrft-demo.rrd"
@@ -27,7 +27,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seconds", type=float, default=4.0, help="simulated seconds (default 4)")
     parser.add_argument("--out", default=DEFAULT_OUT, metavar="FILE", help=f"rerun file to write (default {DEFAULT_OUT})")
     parser.add_argument("--gait", default="tripod:f=2", metavar="SPEC",
-                        help="hexapod gait spec (default tripod:f=2; see mjrft.gaits)")
+                        help="hexapod gait spec (default tripod:f=2; see mjrft.tools.gaits)")
     parser.add_argument("--medium", default="poppy_cp", help="granular medium (default poppy_cp: closely packed poppy seeds)")
     parser.add_argument("--log-every", type=int, default=LOG_EVERY, metavar="N",
                         help=f"log every N-th env step (default {LOG_EVERY})")
@@ -39,11 +39,11 @@ def main(args) -> int:
     from mjrft.errors import TerrainStabilityWarning, ValidityRangeWarning
     from mjrft.train.rollout import format_summary, open_hint, rollout
 
-    from mjrft.outputs import output_file
+    from mjrft.tools.outputs import output_file
 
     out = os.path.abspath(output_file(args.out))
     if args.spawn_viewer:
-        from mjrft.rerun_log import check_viewer_display
+        from mjrft.tools.rerun_log import check_viewer_display
 
         check_viewer_display()
     print(f"mjrft demo: RHex-class hexapod, gait {args.gait}, on {args.medium}, {args.seconds:g} s simulated "

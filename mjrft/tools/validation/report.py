@@ -18,7 +18,8 @@ import sys
 import time
 import warnings
 
-from ..errors import unknown
+from mjrft.errors import unknown
+
 from ..outputs import output_dir
 from .case import CaseResult
 

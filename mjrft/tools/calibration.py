@@ -30,9 +30,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import check_positive
-from .laws.hybrid import COS_BREAK, SIN_BREAK
-from .laws.wet import DV, V_BASE, speed_factor
+from mjrft.errors import check_positive
+from mjrft.laws.hybrid import COS_BREAK, SIN_BREAK
+from mjrft.laws.wet import DV, V_BASE, speed_factor
 
 __all__ = ["HybridFit", "WetSpeedFit", "fit_hybrid_constants", "fit_wet_speed_coefficient", "read_columns"]
 

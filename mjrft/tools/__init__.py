@@ -1,0 +1,28 @@
+"""mjrft's tools: what is built on the physics core (:mod:`mjrft.coupler`, :mod:`mjrft.kernel`,
+:mod:`mjrft.batch`, :mod:`mjrft.media`, :mod:`mjrft.laws`, :mod:`mjrft.geometry`, :mod:`mjrft.errors`).
+The core imports none of them.
+
+===============  ============================================================================
+module           what it is
+===============  ============================================================================
+``cli``          the ``mjrft`` command line: one subcommand per task, each in its own module
+``demo``         ``mjrft demo``: the hexapod's open-loop tripod on poppy seeds, logged to rerun
+``settle``       ``mjrft settle``: a box foot and a legged body dropped on sand, sinkage vs analytic
+``rigs``         the plate-intruder and rotating-leg measurement rigs (``mjrft rig``)
+``gaits``        the papers' open-loop gaits, as policies with the stable-baselines3 interface
+``presets``      the environments' speed/accuracy presets: fast, default, accurate
+``tradeoff``     the speed/accuracy trade study (``mjrft bench``)
+``calibration``  fits of the wet-sand speed factor and the hybrid law's bar-drag constants
+``rerun_log``    logging a simulation with its terrain to a rerun file or viewer
+``outputs``      output paths checked before any work starts; numbers printed without noise
+``validation``   the source papers' experiments and the validation report (``mjrft validate``)
+===============  ============================================================================
+
+>>> from mjrft.tools import gaits, rigs
+>>> import mjrft.tools.validation
+
+This package imports none of them itself: each is imported when it is used.
+"""
+
+__all__ = ["calibration", "cli", "demo", "gaits", "outputs", "presets", "rerun_log", "rigs", "settle", "tradeoff",
+           "validation"]

@@ -1,1 +1,0 @@
-"""One module per source paper; each registers its validation cases with :func:`mjrft.validation.case`."""
