@@ -17,7 +17,7 @@ from pathlib import Path
 
 OUT = Path(__file__).resolve().parent / "cli.md"
 WIDTH = "100"
-#: commands that have subcommands of their own (the commands themselves come from ``mjrft.cli.COMMANDS``)
+#: commands that have subcommands of their own (the commands themselves come from ``mjrft.tools.cli.COMMANDS``)
 NESTED = {"rig": ("plate", "leg")}
 
 HEADER = """# Command-line reference
@@ -30,7 +30,7 @@ The user guide explains the commands: [index](index.md).
 
 def help_text(argv: list[str]) -> str:
     """What ``mjrft *argv --help`` prints, at ``WIDTH`` columns."""
-    from mjrft.cli import main
+    from mjrft.tools.cli import main
 
     old = os.environ.get("COLUMNS")
     os.environ["COLUMNS"] = WIDTH
@@ -47,7 +47,7 @@ def help_text(argv: list[str]) -> str:
 
 
 def commands() -> list[str]:
-    from mjrft.cli import COMMANDS
+    from mjrft.tools.cli import COMMANDS
 
     return list(COMMANDS)
 

@@ -15,7 +15,7 @@ Common keyword arguments (all environments):
 ``resolution``             surface element size (m, > 0); default from the model.
 ``frame_skip``             physics steps per ``step()`` (int >= 1); default 10 (or the preset's).
 ``timestep``               physics step (s, > 0); default the model's 1 ms (or the preset's).
-``preset``                 ``"fast"``, ``"default"`` or ``"accurate"`` (:mod:`mjrft.presets`, chosen by the
+``preset``                 ``"fast"``, ``"default"`` or ``"accurate"`` (:mod:`mjrft.tools.presets`, chosen by the
                            speed/accuracy study ``mjrft bench``): fills ``law``, ``resolution`` (as a
                            multiple of the model's own: x4, x1, x0.5), ``timestep`` and ``frame_skip``
                            (1 ms x 10, 1 ms x 10, 0.5 ms x 20: always a 10 ms control period) where
@@ -79,8 +79,8 @@ from mjrft.errors import NonFiniteError, check_positive
 from mjrft.laws import law_id
 from mjrft.media import get_medium
 from mjrft.models import model_path
-from mjrft.presets import model_resolution
-from mjrft.presets import resolve as resolve_preset
+from mjrft.tools.presets import model_resolution
+from mjrft.tools.presets import resolve as resolve_preset
 
 from .randomization import TerrainRandomization, TerrainRandomizer
 
@@ -130,7 +130,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         for name, val in (("width", width), ("height", height)):
             if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
                 raise ValueError(f"{name} must be an integer >= 1 (pixels), got {val!r}")
-        # a preset fills what was left as None (mjrft.presets); explicit keyword arguments win
+        # a preset fills what was left as None (mjrft.tools.presets); explicit keyword arguments win
         chosen = resolve_preset(preset, law=law, resolution=resolution, timestep=timestep, frame_skip=frame_skip)
         law, timestep = chosen["law"], chosen["timestep"]
         frame_skip = check_frame_skip(10 if chosen["frame_skip"] is None else chosen["frame_skip"])

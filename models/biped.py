@@ -40,7 +40,7 @@ The ankle axis is ``foot_size/2`` above the sole, so the default robot (every fo
 from sole to torso top: ankle 4.25 cm + shank 7 cm + knee link 2.5 cm + thigh 7 cm + torso top
 9.55 cm above the hip. Other foot sizes change the height by the change in ``foot_size/2``.
 The site ``<side>_sole`` marks the sole centre (the point the ``rect`` gait moves on its
-rectangle, :mod:`mjrft.gaits`). The legs sit at y = +-(foot_width/2 + 5 mm) so the feet do not
+rectangle, :mod:`mjrft.tools.gaits`). The legs sit at y = +-(foot_width/2 + 5 mm) so the feet do not
 overlap.
 
 Masses (sum 1.6 kg): torso 0.56 kg (electronics, battery), per leg thigh

@@ -1,6 +1,6 @@
 """MJCF builders of the two measurement rigs: a plate intruder and a rotating-leg rig.
 
-Both rigs are *kinematic*: :mod:`mjrft.rigs` prescribes ``qpos``/``qvel`` exactly at every sample
+Both rigs are *kinematic*: :mod:`mjrft.tools.rigs` prescribes ``qpos``/``qvel`` exactly at every sample
 (no integration, no actuators), recomputes the kinematics and reads the granular wrench from
 :class:`mjrft.GranularTerrain`. The sand is the usual visual-only bed with its top at ``surface``
 (default z = 0); the rig geoms have ``contype = conaffinity = 0``. Frame: x forward, y left, z up;
@@ -100,7 +100,7 @@ PROPELLER_SINKAGE = 0.030  # default tip sinkage on the rig: SGRFT's 30 / 40 rpm
 ALUMINIUM = 2700.0  # kg/m^3, only for the (unused) inertia of the kinematic bodies
 RIG_RESOLUTION = 0.005
 NO_CONTACT = 'contype="0" conaffinity="0"'
-NO_ACTUATORS = "    <!-- none: mjrft.rigs drives the joints kinematically (qpos and qvel prescribed) -->"
+NO_ACTUATORS = "    <!-- none: mjrft.tools.rigs drives the joints kinematically (qpos and qvel prescribed) -->"
 
 
 def _scene(medium, law, resolution, surface, bodies, bed_length, bed_width, bed_depth) -> SceneOptions:
@@ -133,7 +133,7 @@ def plate_rig_xml(length: float = PLATE_LENGTH, width: float = PLATE_WIDTH, thic
     ])
     comment = (
         f"Plate intruder rig: plate {length * 100:g} x {width * 100:g} x {thickness * 100:g} cm "
-        "(length in the plane of motion x width x thickness), moved kinematically by mjrft.rigs.plate_intrusion.\n"
+        "(length in the plane of motion x width x thickness), moved kinematically by mjrft.tools.rigs.plate_intrusion.\n"
         "Joints (qpos order): plate_x slide +x, plate_z slide +z, plate_attack hinge about -y (= beta).\n"
         "See mjrft/models/rigs.py."
     )
@@ -348,7 +348,7 @@ def leg_rig_xml(shape: str = "c", *, axle_height: float | None = None, medium: s
     comment = (
         f"Rotating-leg rig: leg {what}, width {geo['width'] * 100:g} cm, thickness {geo['thickness'] * 100:g} cm;\n"
         f"axle {h * 100:g} cm above the sand surface, hinge 'axle' about +y (qpos = leg angle from straight down,\n"
-        "positive = tip swung toward -x). Driven kinematically by mjrft.rigs.rotating_leg. See mjrft/models/rigs.py."
+        "positive = tip swung toward -x). Driven kinematically by mjrft.tools.rigs.rotating_leg. See mjrft/models/rigs.py."
     )
     custom = "\n".join([
         '    <text name="rig:kind" data="leg"/>',

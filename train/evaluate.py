@@ -33,7 +33,7 @@ Metrics (one row per episode; the summary holds their mean and standard deviatio
                     the fall rate is the fraction of such episodes
 ==================  =====================================================================================
 
-A policy is a gait spec (``tripod:f=2.0``, see :mod:`mjrft.gaits`), a stable-baselines3 ``.zip``
+A policy is a gait spec (``tripod:f=2.0``, see :mod:`mjrft.tools.gaits`), a stable-baselines3 ``.zip``
 saved by :mod:`mjrft.train.train` (or by ``PPO.save``/``SAC.save``), a run folder (its ``model.zip``),
 a policy shipped with mjrft (``pretrained:HexapodSand-v0``: :func:`pretrained_names`), or any object
 with SB3's ``predict``. For a zip the ``config.json`` of its run (its folder, or the
@@ -53,8 +53,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mjrft.outputs import number
-from mjrft.rerun_log import LOG_EVERY
+from mjrft.tools.outputs import number
+from mjrft.tools.rerun_log import LOG_EVERY
 
 from .rollout import progress_bar
 from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, algo_class, check_env_id, default_hyperparams,
@@ -86,7 +86,7 @@ class LoadedPolicy:
     def bind(self, env):
         """A ``predict``-able policy for ``env`` (gaits are bound to the env's simulation clock)."""
         if self.kind == "gait":
-            from mjrft.gaits import make_gait
+            from mjrft.tools.gaits import make_gait
 
             return make_gait(self.source, env)
         space = getattr(self.model, "observation_space", None)
@@ -134,7 +134,7 @@ def pretrained_path(spec: str) -> Path:
 
 def trained_env(policy) -> tuple[str, dict]:
     """(env id, env kwargs) a model zip / run folder / ``pretrained:`` policy was trained on (its config.json)."""
-    from mjrft.gaits import is_gait_spec
+    from mjrft.tools.gaits import is_gait_spec
 
     if isinstance(policy, str) and is_gait_spec(policy):
         raise ValueError(f"give the env id (--env) for the gait {policy!r}")
@@ -148,12 +148,12 @@ def trained_env(policy) -> tuple[str, dict]:
 
 def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
     """A gait spec, an SB3 zip / run folder (see the module doc), or an object with ``predict``."""
-    from mjrft.gaits import is_gait_spec
+    from mjrft.tools.gaits import is_gait_spec
 
     if hasattr(policy, "predict") and not isinstance(policy, (str, Path)):
         return LoadedPolicy(type(policy).__name__, "object", model=policy)
     if isinstance(policy, str) and is_gait_spec(policy):
-        from mjrft.gaits import parse_gait_spec
+        from mjrft.tools.gaits import parse_gait_spec
 
         parse_gait_spec(policy)  # a bad parameter fails here, before any env is built
         return LoadedPolicy(policy, "gait")
@@ -163,7 +163,7 @@ def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
     if not path.is_file() and path.suffix != ".zip" and path.with_name(path.name + ".zip").is_file():
         path = path.with_name(path.name + ".zip")
     if not path.is_file():
-        from mjrft.gaits import GAITS
+        from mjrft.tools.gaits import GAITS
 
         raise ValueError(f"policy {str(policy)!r} is neither a file nor a gait spec; give a model .zip, a run "
                          f"folder or a gait ({', '.join(sorted(GAITS))}, e.g. tripod:f=2.0)")
@@ -312,7 +312,7 @@ def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed
 
     ``env_id`` / ``env_kwargs`` default to those of the run a model zip belongs to (given kwargs
     override the saved ones); a gait needs ``env_id``. ``rrd``: log the first episode to this rerun
-    file (every ``log_every``-th step) with :mod:`mjrft.rerun_log`. ``progress``: a progress bar (tqdm,
+    file (every ``log_every``-th step) with :mod:`mjrft.tools.rerun_log`. ``progress``: a progress bar (tqdm,
     on stderr) over the episodes' env steps (an episode that ends early jumps to its end).
     """
     from .train import _check_int
@@ -375,7 +375,7 @@ def _episode(env, policy, meter, ep, seed, deterministic, logger, log_every, bar
 
 
 def _open_logger(rrd, env, source):
-    """The rerun logger of :mod:`mjrft.rerun_log` writing ``rrd`` (see that module)."""
+    """The rerun logger of :mod:`mjrft.tools.rerun_log` writing ``rrd`` (see that module)."""
     from mjrft import rerun_log
 
     return rerun_log.episode_logger(rrd, env, name=f"mjrft eval {source}")
@@ -470,7 +470,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from mjrft.outputs import output_file
+    from mjrft.tools.outputs import output_file
 
     env_kwargs = parse_kwargs(args.env_kwargs, "env kwarg")
     for option in ("csv", "json", "rrd"):

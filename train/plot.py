@@ -25,7 +25,7 @@ figure has the return panel only.
 
 Baselines (``--baseline``, repeatable), drawn as horizontal lines:
 
-* a gait spec (``tripod:f=2.5``, :mod:`mjrft.gaits`): evaluated with :func:`mjrft.train.evaluate.evaluate`
+* a gait spec (``tripod:f=2.5``, :mod:`mjrft.tools.gaits`): evaluated with :func:`mjrft.train.evaluate.evaluate`
   on each distinct env of the runs (env id and kwargs from ``config.json``) for ``episodes`` episodes
   (seeds ``seed``, ``seed + 1``, ...); the line is the mean return / mean speed of those episodes;
 * numbers ``return=R,speed=S`` (either key alone works): drawn as given.
@@ -45,7 +45,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mjrft.outputs import number
+from mjrft.tools.outputs import number
 
 MONITOR = "monitor.csv"
 CONFIG = "config.json"
@@ -177,7 +177,7 @@ def rolling_mean(values, window: int) -> np.ndarray:
 # ---------------------------------------------------------------------------------------------- baselines
 def parse_baseline(text: str) -> str | Baseline:
     """A gait spec (returned as the string, evaluated later) or ``return=R,speed=S`` (a :class:`Baseline`)."""
-    from mjrft.gaits import GAITS, is_gait_spec, parse_gait_spec
+    from mjrft.tools.gaits import GAITS, is_gait_spec, parse_gait_spec
 
     if is_gait_spec(text):
         parse_gait_spec(text)  # a bad parameter fails here, before anything is read or run
@@ -321,7 +321,7 @@ def plot_runs(runs, out, baselines=(), labels=None, window: int = WINDOW, csv_pa
               seed: int = 0) -> PlotResult:
     """Plot the learning curves of the run folders ``runs`` to ``out`` (module doc); every input is checked
     before any gait is evaluated or file written."""
-    from mjrft.outputs import output_file
+    from mjrft.tools.outputs import output_file
 
     from .train import _check_int
 

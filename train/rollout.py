@@ -9,7 +9,7 @@ Command line::
     mjrft rollout --env mjrft/HexapodSand-v0 --policy tripod:f=2 --seconds 5 --rrd hex.rrd medium=poppy_lp
     mjrft rollout --env mjrft/BipedSand-v0 --policy runs/biped/model.zip --seconds 10 --rrd biped.rrd --spawn-viewer
 
-A policy is a gait spec (:mod:`mjrft.gaits`, e.g. ``tripod:f=2.0``), a stable-baselines3 ``.zip`` saved
+A policy is a gait spec (:mod:`mjrft.tools.gaits`, e.g. ``tripod:f=2.0``), a stable-baselines3 ``.zip`` saved
 by ``mjrft train`` or by ``PPO.save`` / ``SAC.save`` (the algorithm is read from the run's
 ``config.json`` or from the zip; saved observation-normalisation statistics are applied), a run
 folder, or any object with SB3's ``predict``. Env keyword arguments are ``key=value`` (JSON values,
@@ -18,7 +18,7 @@ else text: ``medium=poppy_lp resolution=0.01 pitch_free=false``).
 The rollout starts from ``env.reset(seed=seed)``, acts deterministically, and runs ``seconds`` of
 simulated time (rounded up to whole env steps; the registration's 10 s time limit is lifted to fit)
 or until the episode terminates (the robot fell: ``fell`` in the summary). Frame 0 (after the reset)
-and every ``log_every``-th env step are logged (:mod:`mjrft.rerun_log`).
+and every ``log_every``-th env step are logged (:mod:`mjrft.tools.rerun_log`).
 
 Summary (a dict; ``format_summary`` prints it):
 
@@ -47,8 +47,8 @@ from pathlib import Path
 import numpy as np
 
 from mjrft.errors import check_positive
-from mjrft.outputs import number
-from mjrft.rerun_log import LOG_EVERY
+from mjrft.tools.outputs import number
+from mjrft.tools.rerun_log import LOG_EVERY
 
 
 def _check_int(name: str, value, minimum: int) -> int:
@@ -74,7 +74,7 @@ NO_LIMIT = 2 ** 62
 
 def bind_policy(policy_or_spec, env):
     """A ``predict``-able policy for ``env``: gait spec, SB3 zip / run folder, or an object with ``predict``."""
-    from mjrft.gaits import is_gait_spec, make_gait
+    from mjrft.tools.gaits import is_gait_spec, make_gait
 
     if isinstance(policy_or_spec, str) and is_gait_spec(policy_or_spec):
         return make_gait(policy_or_spec, env)
@@ -103,7 +103,7 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
     log_every = _check_int("log_every", log_every, 1)
     seed = _check_int("seed", seed, 0)
     if isinstance(policy_or_spec, str):  # fail on a bad spec / path before building anything
-        from mjrft.gaits import is_gait_spec, parse_gait_spec
+        from mjrft.tools.gaits import is_gait_spec, parse_gait_spec
 
         if is_gait_spec(policy_or_spec):
             parse_gait_spec(policy_or_spec)
@@ -121,7 +121,7 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
             steps = max(1, math.ceil(seconds / u.dt - 1e-9))
         policy = bind_policy(policy_or_spec, env)
         if rrd_path is not None or spawn_viewer:
-            from mjrft.rerun_log import episode_logger
+            from mjrft.tools.rerun_log import episode_logger
 
             source = policy_or_spec if isinstance(policy_or_spec, (str, Path)) else type(policy_or_spec).__name__
             logger = episode_logger(rrd_path, env, spawn=spawn_viewer, name=f"mjrft-rollout-{Path(str(source)).name}")
@@ -227,13 +227,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args) -> int:
-    from mjrft.outputs import output_file
+    from mjrft.tools.outputs import output_file
 
     from .train import parse_kwargs
 
     output_file(args.rrd, "--rrd")
     if args.spawn_viewer:
-        from mjrft.rerun_log import check_viewer_display
+        from mjrft.tools.rerun_log import check_viewer_display
 
         check_viewer_display()
     env_id, env_kwargs = args.env, parse_kwargs(args.env_kwargs)

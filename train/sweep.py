@@ -17,7 +17,7 @@ values from START to STOP); the points are every combination, in the order given
 like ``mjrft train`` kwargs (numbers, ``true``/``false``, otherwise text such as a medium name).
 
 * Environment sweeps (``--env`` with ``--gait``): a name is a parameter of the gait (``f``, ``duty``,
-  ... see ``mjrft.gaits.describe()``) or a keyword argument of the environment (``curvature``,
+  ... see ``mjrft.tools.gaits.describe()``) or a keyword argument of the environment (``curvature``,
   ``medium``, ``resolution``, ...); ``gait.NAME`` / ``env.NAME`` say which when both have it. The
   hexapod's ``curvature`` is signed 1/r in 1/m within [-1/R', 1/R'] (R' = 2.05 cm, 1/R' = 48.78):
   positive is Li 2013's C-leg, negative the reversed C-leg (convention:
@@ -28,8 +28,8 @@ like ``mjrft train`` kwargs (numbers, ``true``/``false``, otherwise text such as
   ``fall_rate`` and ``return`` (means over the episodes; definitions in :mod:`mjrft.train.evaluate`).
   ``--gait`` also takes a model zip (then only environment names can vary).
 * Rig sweeps (``--rig leg`` or ``--rig plate``): a name is a keyword argument of
-  :func:`mjrft.rigs.rotating_leg` (with the leg shape's ``chord``, ``curvature``, ``a``, ``b``, ...) or
-  :func:`mjrft.rigs.plate_intrusion` (angles in radians, as in the Python API); each point records the
+  :func:`mjrft.tools.rigs.rotating_leg` (with the leg shape's ``chord``, ``curvature``, ``a``, ``b``, ...) or
+  :func:`mjrft.tools.rigs.plate_intrusion` (angles in radians, as in the Python API); each point records the
   peak (largest magnitude, signed) force and torque and the deepest point: ``forward_peak_N``,
   ``support_peak_N``, ``torque_peak_Nm``, ``depth_max_mm`` for the leg, ``lift_peak_N``, ``drag_peak_N``,
   ``torque_peak_Nm``, ``depth_max_mm`` for the plate.
@@ -171,7 +171,7 @@ def point_key(params: dict) -> str:
 # ---------------------------------------------------------------------------------------------- settings
 def _gait_params(gait: str) -> tuple[str | None, dict]:
     """(gait name, parameters) of a gait spec, or (None, {}) for a model zip / run folder."""
-    from mjrft.gaits import GAITS, is_gait_spec, parse_gait_spec
+    from mjrft.tools.gaits import GAITS, is_gait_spec, parse_gait_spec
 
     if not is_gait_spec(gait):
         if not Path(gait).exists():
@@ -209,7 +209,7 @@ def roles(settings: dict, names) -> dict[str, str]:
     gait_name, _ = _gait_params(settings["gait"])
     gait_valid = []
     if gait_name is not None:
-        from mjrft.gaits import GAITS
+        from mjrft.tools.gaits import GAITS
 
         gait_valid = list(GAITS[gait_name].params)
     env_valid = [k for k in valid_env_kwargs(settings["env"]) if k not in ("max_episode_steps", "episode_seconds")]
@@ -572,7 +572,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from mjrft.outputs import output_dir
+    from mjrft.tools.outputs import output_dir
 
     from .train import parse_kwargs
 

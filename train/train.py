@@ -64,7 +64,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from mjrft.errors import unknown
-from mjrft.outputs import output_dir
+from mjrft.tools.outputs import output_dir
 
 from .vecenv import KINDS, check_kind, make_vec_env, resolve_kind
 

@@ -62,7 +62,7 @@ What is implemented, and every choice where the paper is ambiguous
    would contradict. *C_perp^h* (psi = 0, the bar sliding along its own axis) has no such
    constraint; the default is 0, the paper's own explanation of fig. 3d (F_perp grows with psi
    "for the bar needed to push away more sand blocking its way"; at psi = 0 it blocks none).
-   Measured values replace both through :func:`mjrft.calibration.fit_hybrid_constants` /
+   Measured values replace both through :func:`mjrft.tools.calibration.fit_hybrid_constants` /
    :meth:`HybridModel.from_fit`, or ``c_perp_h_coef`` / ``c_par_h_coef`` (N/m^3: C^h = coef x d x W).
 
 3. **Only elements moving into undisturbed grains count.** Leading surface: the normal force acts on
@@ -97,7 +97,7 @@ What is implemented, and every choice where the paper is ambiguous
    element have identical inputs (tested), and only the second counts. The rule needs the rest of
    the leg, so it lives in the whole-leg functions (:func:`rotating_leg_profile`,
    :func:`hybrid_leg_forces` with an ``axle``); through the coupler a bent leg's shadowed part
-   pushes (``mjrft.rigs`` docstring). :func:`hybrid_leg_forces` without an axle applies only the
+   pushes (``mjrft.tools.rigs`` docstring). :func:`hybrid_leg_forces` without an axle applies only the
    leading-surface rule.
 
 4. **Density correction** k = lambda x (maximum penetration depth Delta d), lambda = 0.0325 (forward
@@ -408,7 +408,7 @@ class HybridModel:
 
     @classmethod
     def from_fit(cls, fit, **kw) -> "HybridModel":
-        """A model using measured bar-drag constants (:func:`mjrft.calibration.fit_hybrid_constants`)."""
+        """A model using measured bar-drag constants (:func:`mjrft.tools.calibration.fit_hybrid_constants`)."""
         return cls(c_par_ratio=fit.c_par_ratio, c_perp_table=(fit.depth, fit.c_perp),
                    c_perp_h_table=(fit.depth, fit.c_perp_h), c_par_h_table=(fit.depth, fit.c_par_h), **kw)
 

@@ -56,7 +56,7 @@ validity-range checks report against.
 Medium constants (``Medium.extra``; defaults in parentheses, used by any medium that lacks them, so
 ``wet`` on e.g. ``poppy_cp`` is that medium's RFT times the SGRFT speed factor):
 ``wet_eps_v`` (0.16), ``wet_v_base`` (0.030 m/s), ``wet_dv`` (0.010 m/s), ``wet_v_cap`` (1.0 m/s),
-``wet_v_min`` (0.010 m/s), ``wet_v_max`` (0.050 m/s). :func:`mjrft.calibration.fit_wet_speed_coefficient`
+``wet_v_min`` (0.010 m/s), ``wet_v_max`` (0.050 m/s). :func:`mjrft.tools.calibration.fit_wet_speed_coefficient`
 fits eps_v the paper's way (a straight line of force per depth against speed).
 
 Stress scale of the catalogue medium ``sea_sand_saturated`` (``mjrft.media``): table 3 gives
