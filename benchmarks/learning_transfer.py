@@ -5,8 +5,8 @@
 
 1. The tripod's best frequency on each of the two training grounds (``mjrft/HexapodSand-v0`` on
    poppy seeds and ``mjrft/HexapodRigid-v0``): the open-loop ``tripod`` gait at each of ``--frequencies``,
-   ``--episodes`` deterministic episodes each, best = highest mean forward speed
-   (``tripod_sweep.csv``).
+   ``--episodes`` deterministic episodes each, best = highest mean forward speed among the frequencies
+   without a fall (``tripod_sweep.csv``).
 2. Every policy, and the tripod at its best frequency on sand, evaluated with ``mjrft eval``'s metrics
    (:mod:`mjrft.train.evaluate`: speed, cost of transport, sinkage, foot slip, falls) on rigid ground and
    on each dry medium of :data:`MEDIA` (``transfer.csv``, ``transfer.md``). A policy trained with terrain
@@ -49,6 +49,13 @@ def _evaluate(job: tuple) -> dict:
     row = {"policy": label, "spec": spec, "ground": ground}
     row.update({m: summary[m] for m in METRICS})
     return row
+
+
+def best_frequency(rows: list[dict]) -> float:
+    """The tripod frequency with the highest mean speed among those whose episodes never fell (among all of
+    them when every frequency falls)."""
+    standing = [r for r in rows if r["fall_rate"] == 0.0] or rows
+    return max(standing, key=lambda r: r["speed"])["f_hz"]
 
 
 def _run(jobs: list[tuple], workers: int) -> list[dict]:
@@ -120,8 +127,7 @@ def main(argv=None) -> int:
     for row, f in zip(sweep, [f for _ in (SAND, RIGID) for f in args.frequencies]):
         row["f_hz"] = f
     _write_csv(out / "tripod_sweep.csv", sweep)
-    best = {env_id: max((r for r in sweep if r["ground"] == env_id), key=lambda r: r["speed"])["f_hz"]
-            for env_id in (SAND, RIGID)}
+    best = {env_id: best_frequency([r for r in sweep if r["ground"] == env_id]) for env_id in (SAND, RIGID)}
     for env_id in (SAND, RIGID):
         print(f"tripod on {env_id}: " + ", ".join(f"{r['f_hz']:g} Hz {r['speed']:.3f} m/s (CoT {r['cot']:.2f})"
                                                   for r in sweep if r["ground"] == env_id)

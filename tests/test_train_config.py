@@ -47,7 +47,7 @@ def test_train_with_the_named_config_writes_the_run_and_round_trips(tmp_path, ca
     out = tmp_path / "run"
     # the named recipe, shortened on the command line (the overrides are part of the run's settings)
     rc = cli(["train", "--config", "hexapod-sand", "--out", str(out), "--timesteps", "1024", "--n-envs", "1",
-              "--checkpoint-every", "512", "--hp", "n_steps=512", "--hp", "batch_size=128", "--no-progress",
+              "--checkpoint-every", "512", "--vec-env", "dummy", "--hp", "n_steps=512", "--hp", "batch_size=128", "--no-progress",
               "resolution=0.02"])
     assert rc == 0
     for name in ("model.zip", "model_vecnormalize.pkl", "config.json", "monitor.csv", "warnings.csv"):
@@ -56,7 +56,7 @@ def test_train_with_the_named_config_writes_the_run_and_round_trips(tmp_path, ca
     run = json.loads((out / "config.json").read_text())
     assert run["config"] == "hexapod-sand" and run["num_timesteps"] >= 1024
     expected = load_training_config("hexapod-sand")
-    expected.update(timesteps=1024, n_envs=1, checkpoint_every=512, description="")
+    expected.update(timesteps=1024, n_envs=1, checkpoint_every=512, vec_env="dummy", description="")
     expected["hyperparams"].update(n_steps=512, batch_size=128)
     expected["env_kwargs"] = {"resolution": 0.02}
     # the run's config.json is itself a training config holding exactly these settings

@@ -24,6 +24,10 @@ Keys (all but ``env_id`` optional; :data:`DEFAULTS` gives the defaults):
 ``hyperparams``        constructor arguments of the SB3 algorithm (``n_steps``, ``learning_rate``, ...)
 ``env_kwargs``         keyword arguments of the environment (``max_episode_steps`` included)
 ``checkpoint_every``   steps between checkpoints
+``vec_env``            how the environments are stepped (:mod:`mjrft.train.vecenv`): ``auto``, ``subproc``,
+                       ``dummy`` or ``batched``. Each kind adds up the physics in its own order, and PPO
+                       amplifies the last-bit differences, so a recipe names the kind that reproduces its
+                       policy bit for bit (with the same kind, seed and n_envs a run is repeatable).
 ``description``        free text (why the recipe is as it is)
 =====================  =================================================================================
 """
@@ -38,10 +42,10 @@ from mjrft.errors import unknown
 #: folder of the named configurations shipped in the package (``<name>.yaml``)
 CONFIG_DIR = Path(__file__).resolve().parent / "configs"
 DEFAULTS = {"algo": "ppo", "timesteps": 100_000, "n_envs": 1, "seed": 0, "normalize": False, "hyperparams": {},
-            "env_kwargs": {}, "checkpoint_every": 10_000, "description": ""}
+            "env_kwargs": {}, "checkpoint_every": 10_000, "vec_env": "auto", "description": ""}
 KEYS = ("env_id", *DEFAULTS)
 #: keys of a run folder's config.json that are bookkeeping, not training settings
-RUN_KEYS = ("policy", "hyperparams_given", "device", "torch_threads", "vec_env", "start_method", "versions",
+RUN_KEYS = ("policy", "hyperparams_given", "device", "torch_threads", "start_method", "versions",
             "created", "num_timesteps", "model", "runs", "checkpoint", "config")
 
 
@@ -101,6 +105,9 @@ def check_training_config(data: dict, source: str = "training config") -> dict:
         value = cfg[key]
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):
             raise ValueError(f"{source}: {key!r} must be an integer >= {0 if key == 'seed' else 1}, got {value!r}")
+    from .vecenv import check_kind
+
+    check_kind(cfg["vec_env"])
     if not isinstance(cfg["normalize"], bool):
         raise ValueError(f"{source}: 'normalize' must be true or false, got {cfg['normalize']!r}")
     return {k: cfg[k] for k in KEYS}

@@ -687,7 +687,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "--hp 'policy_kwargs={\"net_arch\": [64, 64]}'")
     parser.add_argument("--normalize", action="store_true", default=None,
                         help="VecNormalize observations and rewards (statistics saved with the model)")
-    parser.add_argument("--vec-env", default="auto", choices=KINDS,
+    parser.add_argument("--vec-env", default=None, choices=KINDS,
                         help="how the environments are stepped: subproc, dummy, batched or auto (default; "
                              "mjrft.train.vecenv)")
     parser.add_argument("--device", default="cpu", help="torch device: cpu (default), cuda, auto")
@@ -710,7 +710,8 @@ def run_settings(args) -> dict:
                                                                    "normalize": None, "hyperparams": {},
                                                                    "env_kwargs": {}}
     given = {"env_id": args.env_id, "algo": args.algo, "timesteps": args.timesteps, "n_envs": args.n_envs,
-             "seed": args.seed, "checkpoint_every": args.checkpoint_every, "normalize": args.normalize}
+             "seed": args.seed, "checkpoint_every": args.checkpoint_every, "normalize": args.normalize,
+             "vec_env": args.vec_env}
     cfg.update({k: v for k, v in given.items() if v is not None})
     cfg["hyperparams"] = {**cfg["hyperparams"], **parse_kwargs(args.hp, "--hp")}
     cfg["env_kwargs"] = {**cfg["env_kwargs"], **parse_kwargs(args.env_kwargs, "env kwarg")}
@@ -727,7 +728,7 @@ def main(args) -> int:
                    cfg["env_kwargs"] or None, cfg["checkpoint_every"], args.resume,
                    hyperparams=cfg["hyperparams"] or None, normalize=cfg["normalize"], device=args.device,
                    torch_threads=args.torch_threads, progress_bar=args.progress, verbose=args.verbose,
-                   config_name=args.config, vec_env=args.vec_env)
+                   config_name=args.config, vec_env=cfg["vec_env"] or "auto")
     cfg = load_config(result.config_path)
     if result.interrupted:
         print(f"interrupted at {result.num_timesteps} steps; saved {result.model_path} and a checkpoint. "
