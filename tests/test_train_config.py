@@ -46,7 +46,7 @@ def test_bad_configs_name_the_problem(tmp_path):
 def test_train_with_the_named_config_writes_the_run_and_round_trips(tmp_path, capsys):
     out = tmp_path / "run"
     # the named recipe, shortened on the command line (the overrides are part of the run's settings)
-    rc = cli(["train", "--config", "hexapod-sand", "--out", str(out), "--timesteps", "1024", "--n-envs", "1",
+    rc = cli(["train", "--config", "hexapod-sand", "--out", str(out), "--timesteps", "2048", "--n-envs", "1",
               "--checkpoint-every", "512", "--vec-env", "dummy", "--hp", "n_steps=512", "--hp", "batch_size=128", "--no-progress",
               "resolution=0.02"])
     assert rc == 0
@@ -54,9 +54,9 @@ def test_train_with_the_named_config_writes_the_run_and_round_trips(tmp_path, ca
         assert (out / name).is_file(), name
     assert list((out / "checkpoints").glob("step_*.zip"))
     run = json.loads((out / "config.json").read_text())
-    assert run["config"] == "hexapod-sand" and run["num_timesteps"] >= 1024
+    assert run["config"] == "hexapod-sand" and run["num_timesteps"] >= 2048
     expected = load_training_config("hexapod-sand")
-    expected.update(timesteps=1024, n_envs=1, checkpoint_every=512, vec_env="dummy", description="")
+    expected.update(timesteps=2048, n_envs=1, checkpoint_every=512, vec_env="dummy", description="")
     expected["hyperparams"].update(n_steps=512, batch_size=128)
     expected["env_kwargs"] = {"resolution": 0.02}
     # the run's config.json is itself a training config holding exactly these settings
