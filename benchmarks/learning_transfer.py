@@ -39,11 +39,11 @@ def grounds() -> list[tuple[str, str, dict]]:
 
 def _evaluate(job: tuple) -> dict:
     label, spec, ground, env_id, env_kwargs, episodes = job
-    from mjrft.train.evaluate import evaluate, load_policy
+    from mjrft.tools.gaits import is_gait_spec
+    from mjrft.train.evaluate import evaluate, trained_env
 
     kwargs = dict(env_kwargs)
-    loaded = load_policy(spec)
-    if loaded.config and (loaded.config.get("env_kwargs") or {}).get("terrain_randomization") is not None:
+    if not is_gait_spec(spec) and trained_env(spec)[1].get("terrain_randomization") is not None:
         kwargs["terrain_randomization"] = None  # each ground of the table is one fixed terrain
     _, summary = evaluate(spec, env_id, episodes=episodes, seed=0, env_kwargs=kwargs)
     row = {"policy": label, "spec": spec, "ground": ground}

@@ -132,14 +132,28 @@ def pretrained_path(spec: str) -> Path:
     return PRETRAINED_DIR / name
 
 
+def model_file(policy) -> Path:
+    """The model zip of a zip path (``.zip`` may be left out), a run folder or ``pretrained:<name>``."""
+    path = pretrained_path(policy) if isinstance(policy, str) and policy.startswith(PRETRAINED) else Path(policy)
+    if path.is_dir():
+        path = path / MODEL_NAME
+    if not path.is_file() and path.suffix != ".zip" and path.with_name(path.name + ".zip").is_file():
+        path = path.with_name(path.name + ".zip")
+    if not path.is_file():
+        from mjrft.tools.gaits import GAITS
+
+        raise ValueError(f"policy {str(policy)!r} is neither a file nor a gait spec; give a model .zip, a run "
+                         f"folder or a gait ({', '.join(sorted(GAITS))}, e.g. tripod:f=2.0)")
+    return path
+
+
 def trained_env(policy) -> tuple[str, dict]:
     """(env id, env kwargs) a model zip / run folder / ``pretrained:`` policy was trained on (its config.json)."""
     from mjrft.tools.gaits import is_gait_spec
 
     if isinstance(policy, str) and is_gait_spec(policy):
         raise ValueError(f"give the env id (--env) for the gait {policy!r}")
-    path = pretrained_path(policy) if str(policy).startswith(PRETRAINED) else Path(policy)
-    cfg_path = find_config(path / MODEL_NAME if path.is_dir() else path)
+    cfg_path = find_config(model_file(policy))
     if cfg_path is None:
         raise ValueError(f"{str(policy)!r} has no config.json of its run to take the env from; give the env id (--env)")
     cfg = load_config(cfg_path)
@@ -157,16 +171,7 @@ def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
 
         parse_gait_spec(policy)  # a bad parameter fails here, before any env is built
         return LoadedPolicy(policy, "gait")
-    path = pretrained_path(policy) if isinstance(policy, str) and policy.startswith(PRETRAINED) else Path(policy)
-    if path.is_dir():
-        path = path / MODEL_NAME
-    if not path.is_file() and path.suffix != ".zip" and path.with_name(path.name + ".zip").is_file():
-        path = path.with_name(path.name + ".zip")
-    if not path.is_file():
-        from mjrft.tools.gaits import GAITS
-
-        raise ValueError(f"policy {str(policy)!r} is neither a file nor a gait spec; give a model .zip, a run "
-                         f"folder or a gait ({', '.join(sorted(GAITS))}, e.g. tripod:f=2.0)")
+    path = model_file(policy)
     cfg_path = find_config(path)
     config = load_config(cfg_path) if cfg_path else None
     algo = config["algo"] if config and "algo" in config else algo_of_zip(path)
