@@ -39,6 +39,8 @@ def test_bad_configs_name_the_problem(tmp_path):
         load_training_config(bad)
     with pytest.raises(ValueError, match="'env_id'.*required"):
         check_training_config({"algo": "ppo"})
+    with pytest.raises(ValueError, match="'hyperparams' must be a mapping"):
+        check_training_config({"env_id": "x", "hyperparams": [1, 2]})
     with pytest.raises(ValueError, match="'timesteps' must be an integer"):
         check_training_config({"env_id": "x", "timesteps": 1.5})
 

@@ -96,11 +96,11 @@ def check_training_config(data: dict, source: str = "training config") -> dict:
         raise ValueError(f"{source}: unknown key(s) {', '.join(map(repr, bad))}; valid keys: {', '.join(KEYS)}")
     if not isinstance(data.get("env_id"), str):
         raise ValueError(f"{source}: 'env_id' (a registered environment id) is required, got {data.get('env_id')!r}")
-    cfg = {**DEFAULTS, **{k: v for k, v in data.items() if v is not None}}
-    cfg["hyperparams"], cfg["env_kwargs"] = dict(cfg["hyperparams"]), dict(cfg["env_kwargs"])
     for key in ("hyperparams", "env_kwargs"):
         if not isinstance(data.get(key, {}) or {}, dict):
             raise ValueError(f"{source}: {key!r} must be a mapping, got {data[key]!r}")
+    cfg = {**DEFAULTS, **{k: v for k, v in data.items() if v is not None}}
+    cfg["hyperparams"], cfg["env_kwargs"] = dict(cfg["hyperparams"]), dict(cfg["env_kwargs"])
     for key in ("timesteps", "n_envs", "seed", "checkpoint_every"):
         value = cfg[key]
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):

@@ -706,9 +706,9 @@ def run_settings(args) -> dict:
     """The run's settings from ``--config`` (if given) overridden by the options given on the command line."""
     from .config import DEFAULTS, load_training_config
 
+    # without a file, None leaves env id, algorithm and normalisation to a resumed run's saved ones
     cfg = load_training_config(args.config) if args.config else {**DEFAULTS, "env_id": None, "algo": None,
-                                                                   "normalize": None, "hyperparams": {},
-                                                                   "env_kwargs": {}}
+                                                                   "normalize": None}
     given = {"env_id": args.env_id, "algo": args.algo, "timesteps": args.timesteps, "n_envs": args.n_envs,
              "seed": args.seed, "checkpoint_every": args.checkpoint_every, "normalize": args.normalize,
              "vec_env": args.vec_env}
@@ -728,7 +728,7 @@ def main(args) -> int:
                    cfg["env_kwargs"] or None, cfg["checkpoint_every"], args.resume,
                    hyperparams=cfg["hyperparams"] or None, normalize=cfg["normalize"], device=args.device,
                    torch_threads=args.torch_threads, progress_bar=args.progress, verbose=args.verbose,
-                   config_name=args.config, vec_env=cfg["vec_env"] or "auto")
+                   config_name=args.config, vec_env=cfg["vec_env"])
     cfg = load_config(result.config_path)
     if result.interrupted:
         print(f"interrupted at {result.num_timesteps} steps; saved {result.model_path} and a checkpoint. "
