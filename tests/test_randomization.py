@@ -21,6 +21,7 @@ from gymnasium.utils.env_checker import data_equivalence  # noqa: E402
 
 from mjrft.envs import make_vector  # noqa: E402
 from mjrft.envs.randomization import TerrainRandomization, rough_field  # noqa: E402
+from test_vector import run_both  # noqa: E402  (same seeds and actions into two vector envs)
 
 HEX = "mjrft/HexapodSand-v0"
 SAND = "sea_sand_saturated"
@@ -370,13 +371,7 @@ def test_vector_env_with_randomization_equals_the_single_envs():
     assert data_equivalence(a, b, exact=True)
     single = gymnasium.make(HEX, **kw)
     assert single.reset(seed=5)[1]["terrain"] == {k: v[1] for k, v in a[1]["terrain"].items() if not k.startswith("_")}
-    rng = np.random.default_rng(0)
-    ended = 0
-    for _ in range(14):
-        act = rng.uniform(-1, 1, size=ours.action_space.shape).astype(np.float32)
-        x, y = ours.step(act), sync.step(act)
-        assert all(data_equivalence(p, q, exact=True) for p, q in zip(x, y))
-        ended += int(np.sum(x[2] | x[3]))
+    ended = run_both(ours, sync, 14, seed=0, reset_seed=4)  # the same draws again, then 14 identical steps
     assert ended >= 3  # episodes ended and were reset with new terrains, in both alike
     ours.close()
     sync.close()
