@@ -32,15 +32,9 @@ import math
 import warnings
 from dataclasses import dataclass, replace
 
-import ctypes
-import glob
-import os
-
 import mujoco
 import numpy as np
-from llvmlite import ir
-from numba import njit, types
-from numba.extending import intrinsic
+from numba import njit
 
 from . import kernel
 from .errors import (NonFiniteError, TerrainStabilityWarning, UnknownNameError, ValidityRangeWarning, check_finite,
@@ -106,41 +100,14 @@ STRESS_SLOTS = np.array([*range(P_COEFF, P_COEFF + 9), P_XI, P_ZETA, P_AZ_DOWN, 
                          P_HYB_E1, P_HYB_E2, P_HYB_PERP_H, P_HYB_PAR_H, P_INERTIA], dtype=np.int64)
 _STEP_FUNCTIONS = kernel.mujoco_step_functions()  # None -> the plain Python stepping loop is used
 _max_stable_dt = njit(cache=True, error_model="numpy")(kernel.max_stable_dt)  # the same formula, callable compiled
-
-
-def _mujoco_jacobian_functions():
-    """Addresses of MuJoCo's ``mj_jacBodyCom`` and ``mj_solveM`` in the library the bindings loaded, or None
-    (then :meth:`GranularTerrain.stable_timestep` calls them through the bindings)."""
-    try:
-        lib = ctypes.CDLL(sorted(glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*")))[0])
-        return tuple(ctypes.cast(getattr(lib, n), ctypes.c_void_p).value for n in ("mj_jacBodyCom", "mj_solveM"))
-    except (IndexError, OSError, AttributeError):
-        return None
-
-
-_JACOBIAN_FUNCTIONS = _mujoco_jacobian_functions()
-
-
-@intrinsic
-def _call_mj_arrays(typingctx, fptr, m_addr, d_addr, a_addr, b_addr, n):
-    """Call ``void f(const mjModel*, mjData*, mjtNum* a, mjtNum* b, int n)`` at address ``fptr`` (the shape of
-    both ``mj_jacBodyCom(m, d, jacp, jacr, body)`` and ``mj_solveM(m, d, x, y, n)``)."""
-    sig = types.void(types.intp, types.intp, types.intp, types.intp, types.intp, types.intp)
-
-    def codegen(context, builder, signature, args):
-        f, m, d, a, b, k = args
-        vp, dp, i32 = ir.IntType(8).as_pointer(), ir.DoubleType().as_pointer(), ir.IntType(32)
-        fn = builder.inttoptr(f, ir.FunctionType(ir.VoidType(), [vp, vp, dp, dp, i32]).as_pointer())
-        builder.call(fn, [builder.inttoptr(m, vp), builder.inttoptr(d, vp), builder.inttoptr(a, dp),
-                          builder.inttoptr(b, dp), builder.trunc(k, i32)])
-        return context.get_dummy_value()
-
-    return sig, codegen
+_JACOBIAN_FUNCTIONS = kernel.mujoco_functions("mj_jacBodyCom", "mj_solveM")  # None -> through the bindings
+_IMPLICIT_FUNCTIONS = kernel.mujoco_functions(*kernel.IMPLICIT_FUNCTIONS)  # None -> implicit=True is refused
+_call_mj_arrays = kernel._call_mj_arrays
 
 
 @njit(cache=True, error_model="numpy")
-def _stable_timesteps(f_jac, f_solve, m_addr, d_addr, bodies, stiff, inert, use_inert, delta, tau, jac, minv_jac,
-                      rows, out):
+def _stable_timesteps(f_jac, f_solve, m_addr, d_addr, bodies, stiff, inert, use_inert, delta, tau, vertical, jac,
+                      minv_jac, rows, out):
     """:meth:`GranularTerrain.stable_timestep` in one compiled call: each buried body's CoM jacobian
     (``mj_jacBodyCom``) stacked in ``jac``, one ``mj_solveM`` of all rows, then :func:`_stable_dts`."""
     nv = jac.shape[1]
@@ -155,7 +122,7 @@ def _stable_timesteps(f_jac, f_solve, m_addr, d_addr, bodies, stiff, inert, use_
     if n == 0:
         return
     _call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, 6 * n)
-    _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, out)
+    _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, vertical, out)
 
 
 _RESET_WARNINGS = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQACC)
@@ -177,14 +144,20 @@ def _reset_count(numbers: np.ndarray) -> int:
 
 
 @njit(cache=True, error_model="numpy")
-def _stable_dts(jac, minv_jac, rows, stiff, inert, use_inert, delta, tau, out):
+def _stable_dts(jac, minv_jac, rows, stiff, inert, use_inert, delta, tau, vertical, out):
     """``out[b]`` for each body ``b = rows[i]``: the largest stable timestep of its granular stiffness
     (``stiff[b]``) and, with ``use_inert``, its inertial dampers (``inert[b]``), from its 6 x nv jacobian rows
     ``jac[6 i:6 i + 6]`` and ``minv_jac`` (= ``(M^-1 jac^T)^T``): what :meth:`GranularTerrain.stable_timestep`
-    computes body by body (kernel.largest_rate, :func:`spring`, kernel.max_stable_dt), in one call."""
+    computes body by body (kernel.largest_rate, :func:`spring`, kernel.max_stable_dt), in one call. With
+    ``vertical``, ``stiff`` holds the moments of undamped vertical springs (the implicit step's depth stiffness):
+    ``2 / omega``."""
     for i in range(rows.shape[0]):
         b = rows[i]
         jac_b, minv_b = jac[6 * i:6 * i + 6], minv_jac[6 * i:6 * i + 6]
+        if vertical:
+            if stiff[b, 0] > 0:
+                out[b] = _max_stable_dt(kernel.largest_rate(jac_b, minv_b, stiff[b], True), 0.0, 1.0)
+            continue
         lam_c = kernel.largest_rate(jac_b, minv_b, inert[b]) if use_inert and inert[b, 0] > 0 else 0.0
         if stiff[b, 0] > 0 or lam_c > 0:
             lam = kernel.largest_rate(jac_b, minv_b, stiff[b]) if stiff[b, 0] > 0 else 0.0
@@ -1076,9 +1049,16 @@ class GranularTerrain:
     def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, floor=None,
                  surface=None, resolution=None, yield_displacement=None, damping_time=None, v_eps=None,
                  water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
-                 water_density=None, inertial=None, inertial_drag=None, max_elements=None):
+                 water_density=None, inertial=None, inertial_drag=None, max_elements=None, implicit=False):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
+        if not isinstance(implicit, (bool, np.bool_)):
+            raise TypeError(f"implicit must be True or False, got {implicit!r}")
+        if implicit and (_IMPLICIT_FUNCTIONS is None or _STEP_FUNCTIONS is None):
+            raise RuntimeError("implicit=True calls MuJoCo's C functions (mj_step1, mj_step2, "
+                               f"{', '.join(kernel.IMPLICIT_FUNCTIONS)}) and they were not found in the library the "
+                               "mujoco bindings loaded; use implicit=False")
+        self.implicit = bool(implicit)
         self.model = model
         cfg = _custom(model)
         check_custom_keys(cfg)
@@ -1147,6 +1127,12 @@ class GranularTerrain:
         self._dt_scratch = np.full(model.nbody, np.inf)  # min_stable_timestep's
         self._rows_scratch = np.zeros(len(self.body_ids), dtype=np.int64)
         self._damp_max = np.zeros(model.nbody)
+        self._imp = np.zeros((model.nbody if self.implicit else 0, 20))  # the implicit step's moments (kernel)
+        self._imp_max = np.zeros((model.nbody if self.implicit else 0, 10))  # kernel.track_depth_springs
+        nb = len(self.body_ids) if self.implicit else 0  # the implicit step's scratch (kernel.implicit_wrench)
+        self._implicit_scratch = (np.zeros((6 * nb, model.nv)), np.zeros((6 * nb, model.nv)), np.zeros((nb, 6, 6)),
+                                  np.zeros((6 * nb, 6 * nb)), np.zeros(6 * nb), np.zeros(nb, dtype=np.int64))
+        self._implicit_functions = np.array(_IMPLICIT_FUNCTIONS if self.implicit else (0, 0, 0, 0), dtype=np.int64)
         self._inert = np.zeros((model.nbody, 10))  # moments of the inertial regime's dampers (kernel)
         self._inert_max = np.zeros((model.nbody, 10))  # ... of the step with the most of it (track_stiffness)
         self._data = None
@@ -1308,6 +1294,7 @@ class GranularTerrain:
             dt = self.model.opt.timestep
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
         kernel.track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max, self._inert, self._inert_max)
+        kernel.track_depth_springs(self._imp, self._imp_max)
         self._finish(data, status, body, dt, 1)
         return self.wrench
 
@@ -1318,13 +1305,14 @@ class GranularTerrain:
                 self._hf_z, self._hf_frame, self._reg_map, self._reg_map_frame, self._reg_rho, self.transition,
                 max(0.0, -float(self.model.opt.gravity[2])), dt, self.yield_displacement, self.damping_time, self.v_eps,
                 self._u, self.pos, self.vel, self.normal, self.depth, self.force, self.region,
-                self.wrench, self._stiff, self._damp, self._inert, self._scr_f, self._scr_i)
+                self.wrench, self._stiff, self._damp, self._inert, self._scr_f, self._scr_i, self._imp)
 
     def _step_args(self, data, dt) -> tuple:
         """Arguments of ``kernel.run_steps`` after ``(nstep, f_step1, f_step2, m_addr, d_addr)`` (also used by
         :mod:`mjrft.batch`, which keeps one such tuple per environment: the only list of them is here)."""
         return (data.xfrc_applied, self.body_ids, self._saved, *self._kernel_args(dt), self._stiff_max,
-                self._damp_max, self._inert_max)
+                self._damp_max, self._inert_max, self._imp_max, self.implicit, self._implicit_functions,
+                data.qacc_smooth, self.inertial, *self._implicit_scratch)
 
     def _begin(self, data) -> None:
         """Before evaluating on ``data``: bind to it, raise if MuJoCo reset it after a divergence since the
@@ -1362,7 +1350,10 @@ class GranularTerrain:
         before = self._steps
         self._steps += nstep
         if before == 0 or before // STABILITY_CHECK_EVERY != self._steps // STABILITY_CHECK_EVERY:
-            self._check_stability(data, dt)
+            if self.implicit:  # the explicit limit of the springs does not bound the implicit step (kernel docstring)
+                self._check_depth_springs(data, dt)
+            else:
+                self._check_stability(data, dt)
             if self._validity.dynamic:
                 self._validity.check(self.depth, self.vel, self.region, data.time)
 
@@ -1390,6 +1381,8 @@ class GranularTerrain:
                                                   *self._step_args(data, dt))
             self._finish(data, status, body, dt, done)
             return
+        if self.implicit:
+            raise RuntimeError("implicit=True steps through MuJoCo's C functions, which were not found")
         for _ in range(nstep):
             mujoco.mj_step1(m, data)
             self.compute(data)
@@ -1419,6 +1412,10 @@ class GranularTerrain:
         unchanged ``data.time`` (e.g. ``mj_forward``) recompute the force without advancing memory.
         """
         self._check_integrator("install")
+        if self.implicit:
+            raise ValueError("GranularTerrain.install does not support implicit=True: the implicit wrench needs "
+                             "MuJoCo's smooth acceleration (actuators included), which the passive callback runs "
+                             "before; step with terrain.step(data, n), or build the terrain with implicit=False")
         current = mujoco.get_mjcb_passive()
         if current is not None and current != self._callback:
             raise RuntimeError("another MuJoCo passive callback is installed; call its uninstall first")
@@ -1473,6 +1470,25 @@ class GranularTerrain:
             if mode is not None:
                 self._warn(data, int(b), dt, mode[0], damp[b], mode[1], mode[2])
 
+    def _check_depth_springs(self, data, dt) -> None:
+        """With the implicit step: warn once per body when dt exceeds the explicit limit of what stays explicit, the
+        depth stiffness ``|F| / depth`` of its elements (vertical springs, kernel docstring), ``dt < 2 / omega`` with
+        ``omega^2 = lambda_max(W6 Kd6)``, for the stiffest step since the last check."""
+        peak = self._imp_max.copy()
+        self._imp_max[:] = 0.0
+        for b in self.body_ids:
+            if peak[b, 0] <= 0 or b in self._warned:
+                continue
+            lam = kernel.largest_rate(*self._jacobians(data, int(b)), peak[b], True)
+            if lam > 0 and dt * math.sqrt(lam) >= 2.0:
+                self._warned.add(int(b))
+                name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
+                warnings.warn(TerrainStabilityWarning(
+                    f"mjrft: at t = {data.time:.6g} s the timestep {dt:.3g} s exceeds the stability limit "
+                    f"{2.0 / math.sqrt(lam):.3g} s of the grains' depth stiffness on body '{name}' (its force grows "
+                    "with depth and is explicit also in the implicit step: a light body on a large buried area); "
+                    "use a smaller timestep (GranularWrapper: substeps)"), stacklevel=4)
+
     def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float, lam_c: float = 0.0) -> None:
         self._warned.add(b)
         name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
@@ -1482,38 +1498,49 @@ class GranularTerrain:
                                         "set_medium: the stiffness grows with the scale)")
         warnings.warn(w, stacklevel=4)
 
-    def stable_timestep(self, data: mujoco.MjData) -> np.ndarray:
+    def stable_timestep(self, data: mujoco.MjData, part: str = "step") -> np.ndarray:
         """Largest stable timestep (s) of each body for the granular stiffness of the last step, shape (nbody,).
 
-        The limit the stability check warns about (see :mod:`mjrft.kernel`; with the inertial regime on,
-        its dampers included), evaluated now; ``inf`` for bodies with nothing below the surface.
+        ``part``: ``"step"`` (default), the limit of what this terrain's step integrates explicitly, the one its
+        stability check warns about: the springs with ``implicit=False``, the depth stiffness with
+        ``implicit=True`` (see :mod:`mjrft.kernel`); ``"springs"``, the explicit limit of the grains' springs
+        (with the inertial regime on, its dampers included) in either mode; ``"depth"`` (``implicit=True``
+        only), that of the depth stiffness. Evaluated now; ``inf`` for bodies with nothing below the surface.
         """
         out = np.full(self.model.nbody, np.inf)
-        self._stable_into(data, out, "stable_timestep")
+        self._stable_into(data, out, "stable_timestep", part)
         return out
 
-    def min_stable_timestep(self, data: mujoco.MjData) -> float:
+    def min_stable_timestep(self, data: mujoco.MjData, part: str = "step") -> float:
         """The smallest of :meth:`stable_timestep` over the selected bodies (s; ``inf`` when nothing is buried),
         without allocating: the per-step query of a caller that picks its timestep from it."""
         out = self._dt_scratch
         out[:] = np.inf
-        self._stable_into(data, out, "min_stable_timestep")
+        self._stable_into(data, out, "min_stable_timestep", part)
         return float(out.min())
 
-    def _stable_into(self, data, out: np.ndarray, what: str) -> None:
+    def _stable_into(self, data, out: np.ndarray, what: str, part: str) -> None:
         """Write each buried body's stable timestep into ``out`` (nbody): its CoM jacobian rows are stacked,
         solved with ``M^-1`` in one ``mj_solveM`` and reduced in one compiled call (:func:`_stable_dts`)."""
         if data is not self._data:
             raise ValueError(f"{what} needs the MjData this terrain last stepped")
+        if part not in ("step", "springs", "depth"):
+            raise unknown(f"{what} part", part, ["step", "springs", "depth"])
+        if part == "depth" and not self.implicit:
+            raise ValueError(f"{what}(part='depth') needs a terrain built with implicit=True (the depth stiffness is "
+                             "summed only for the implicit step; with implicit=False the springs bound the step)")
+        vertical = part == "depth" or (part == "step" and self.implicit)
+        stiff = self._imp[:, 10:] if vertical else self._stiff
+        use_inert = self.inertial and not vertical
         jac, minv_jac = self._jac_rows
         if _JACOBIAN_FUNCTIONS is not None:
-            _stable_timesteps(*_JACOBIAN_FUNCTIONS, self.model._address, data._address, self.body_ids, self._stiff,
-                              self._inert, self.inertial, float(self.yield_displacement), float(self.damping_time),
-                              jac, minv_jac, self._rows_scratch, out)
+            _stable_timesteps(*_JACOBIAN_FUNCTIONS, self.model._address, data._address, self.body_ids, stiff,
+                              self._inert, use_inert, float(self.yield_displacement), float(self.damping_time),
+                              vertical, jac, minv_jac, self._rows_scratch, out)
             return
         bodies = self.body_ids
-        buried = self._stiff[bodies, 0] > 0
-        if self.inertial:
+        buried = stiff[bodies, 0] > 0
+        if use_inert:
             buried |= self._inert[bodies, 0] > 0
         rows = bodies[buried]
         n = rows.shape[0]
@@ -1523,8 +1550,8 @@ class GranularTerrain:
         for i in range(n):
             mujoco.mj_jacBodyCom(m, data, jac[6 * i:6 * i + 3], jac[6 * i + 3:6 * i + 6], int(rows[i]))
         mujoco.mj_solveM(m, data, minv_jac[:6 * n], jac[:6 * n])
-        _stable_dts(jac, minv_jac, rows, self._stiff, self._inert, self.inertial, float(self.yield_displacement),
-                    float(self.damping_time), out)
+        _stable_dts(jac, minv_jac, rows, stiff, self._inert, use_inert, float(self.yield_displacement),
+                    float(self.damping_time), vertical, out)
 
     def critical_rate(self, data, body: int, moments) -> float:
         """Largest eigenvalue of ``W6 K6`` for ``body``: omega^2 (1/s^2), or 1/s in the viscous mode.

@@ -45,6 +45,38 @@ eigenvalue of ``W6 C6``, and adds it to the damping of the stiffest spring mode 
 lambda_c``; viscous mode: ``lambda + lambda_c``), as if the stiffest and the most damped mode were one:
 a conservative bound, and exactly the damper's limit ``lambda_c dt < 2`` without stiffness.
 
+Implicit step (``GranularTerrain(implicit=True)``, the default of :class:`mjrft.envs.GranularWrapper`).
+The stiff part of the linearisation is integrated implicitly instead of limiting the step. Below
+yield an element's force is ``-k (u + tau v)`` with ``k = |F_yield| / delta``, and a change ``dv`` of
+its velocity over the step moves ``m = u + tau v`` by ``T dv``, ``T = tau + delta (1 - exp(-|v| dt /
+delta)) / |v|`` (``tau + dt`` at rest: the memory's own response, :func:`_rest_memory`). Per body the
+kernel sums the moments of ``T k`` of its elements below yield (``imp``; in the viscous mode the
+dampers ``c`` below ``v_eps``), i.e. the 6x6 ``G`` by which the body's wrench changes with its velocity
+change ``dV`` (6-vector: CoM velocity, angular velocity); the inertial regime adds its ``C6``. With
+``J`` the stacked CoM jacobians of those bodies, ``W = J M^-1 J^T`` their mobility (their coupling
+through the joints included) and ``dV_o = dt J qacc_smooth`` the velocity change every other force
+would make (MuJoCo's smooth acceleration: gravity, actuators, passive and bias forces)::
+
+    F' = F - G (dV_o + dt W F')      =>      (I + dt G W) F' = F - G dV_o
+
+is solved for the applied wrench ``F'`` (6 n unknowns for n bodies with springs; ``I + dt G W`` has
+eigenvalues with real part >= 1, so it is never singular). This is linearly implicit Euler for the
+grains' springs: they are stable at every timestep, and a body resting on the grains keeps
+``F' = F`` (its weight) exactly. Elements that yield stay explicit: their force keeps its size and
+only turns with the motion, and a spring turning it as if it were parallel to the motion would be
+the wrong linearisation (RFT's force is not parallel to the motion: it has lift) and would damp the
+motion where the grains do not. Not made implicit either: constraint forces (joint limits, rigid
+contacts) in ``dV_o``, the water layer's drag, an element entering the grains within the step, and
+the growth of the force with depth: RFT's stresses are proportional to depth, a vertical spring
+``|F| / depth`` per element (``imp[:, 10:20]``), soft next to ``|F| / delta`` for a robot's feet sunk centimetres deep (a body resting at
+sinkage ``z`` has ``omega^2 = g / z``: 64 ms at 1 cm), stiff only for a light body on a large area
+sunk less than ``delta``. The coupler checks it every ``STABILITY_CHECK_EVERY`` steps (the stiffest
+step since the last check, ``dt omega < 2`` with the body's mobility) and warns as for the explicit
+step. The elements' memory and forces (``force``) are those of the explicit evaluation; ``wrench``
+holds the applied ``F'``. The springs' explicit limit no longer bounds the step; their timestep
+becomes a matter of accuracy (:mod:`mjrft.envs.wrapper` picks it, ``benchmarks/implicit_accuracy.py``
+measures it).
+
 What the coupler warns about: beyond the limit the step multiplies a perturbation by
 :func:`step_growth` ``> 1`` each step. A state held for ``HELD_STEPS`` consecutive steps beyond the
 limit warns; a shorter spike (a leg's impact) warns only if one step more than doubles a
@@ -313,6 +345,48 @@ def _add_moments(arr, b, rx, ry, rz, kk):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _memory_time(speed, dt, delta, tau):
+    """How much a velocity change ``dv`` over the step moves an element's regularised motion ``m = u + tau v``,
+    ``dm = T dv`` (s): ``tau`` plus the memory's response ``delta (1 - exp(-|v| dt / delta)) / |v|`` (``dt`` at
+    rest, ``delta / |v|`` in fast sliding; :func:`_rest_memory`); 1 in the viscous mode (``m = v``)."""
+    if delta <= 0.0:
+        return 1.0
+    x = speed * dt / delta
+    if x < 1e-6:
+        return tau + dt
+    return tau + delta * (1.0 - math.exp(-x)) / speed
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_implicit(imp, b, rx, ry, rz, ml, kk, limit, t):
+    """The implicit step's spring of one element (module docstring): below yield (``|m| <= limit``) the moments
+    of ``t kk`` about body ``b``'s CoM are added to ``imp[b]`` (as :func:`_add_moments`); a yielding element
+    adds nothing (its force only turns, and stays explicit)."""
+    if ml <= limit and kk > 0.0:
+        _add_moments(imp, b, rx, ry, rz, t * kk)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_depth_spring(imp, b, rx, ry, rz, fx, fy, fz, depth):
+    """The implicit step's check of what stays explicit: an element's force grows with its depth (RFT's stresses
+    are proportional to it), a spring ``|F| / depth``; its moments about body ``b``'s CoM go to ``imp[b, 10:20]``
+    (as :func:`_add_moments`)."""
+    if depth > 0.0:
+        kd = math.sqrt(fx * fx + fy * fy + fz * fz) / depth
+        if kd > 0.0:
+            imp[b, 10] += kd
+            imp[b, 11] += kd * rx
+            imp[b, 12] += kd * ry
+            imp[b, 13] += kd * rz
+            imp[b, 14] += kd * rx * rx
+            imp[b, 15] += kd * rx * ry
+            imp[b, 16] += kd * rx * rz
+            imp[b, 17] += kd * ry * ry
+            imp[b, 18] += kd * ry * rz
+            imp[b, 19] += kd * rz * rz
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _add_to_body(wrench, stiff, b, fx, fy, fz, rx, ry, rz, kk):
     """Add an element's force (at ``r`` from body ``b``'s CoM) to its wrench, and the moments of its
     stiffness ``kk`` about the CoM (``sum k``, ``sum k r``, ``sum k r r^T``) to ``stiff``."""
@@ -421,8 +495,12 @@ def _region_constants(reg, reg_law, reg_params, reg_rho):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _zero_body_sums(wrench, stiff, damp, inert, inertia):
-    """Zero every body's wrench, stiffness moments, damping and (with the inertial regime) inertial moments."""
+def _zero_body_sums(wrench, stiff, damp, inert, inertia, imp):
+    """Zero every body's wrench, stiffness moments, damping, (with the inertial regime) inertial moments and
+    (for the implicit step) yield corrections."""
+    for b in range(imp.shape[0]):
+        for j in range(20):
+            imp[b, j] = 0.0
     for b in range(wrench.shape[0]):
         for j in range(6):
             wrench[b, j] = 0.0
@@ -527,7 +605,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                    dt, delta, tau, v_eps,
                    u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                   wrench, stiff, damp, inert, scr_f, scr_i):
+                   wrench, stiff, damp, inert, scr_f, scr_i, imp):
     """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
 
     Elements come in cull groups (``g_*``: runs of up to ``coupler.CULL_GROUP`` elements of one geom).
@@ -585,7 +663,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     inv_d = 1.0 / delta if delta > 0.0 else 0.0
     nbat = 0
     regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
-    _zero_body_sums(wrench, stiff, damp, inert, inertia)
+    _zero_body_sums(wrench, stiff, damp, inert, inertia, imp)
+    implicit = imp.shape[0] > 0
+    ylim = delta if delta > 0.0 else v_eps
     for g in range(g_geom.shape[0]):
         e0 = g_start[g]
         e1 = g_start[g + 1]
@@ -718,6 +798,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                         return BAD_FORCE, b
                     kk = _linear_stiffness(fx, fy, fz, ml, delta, v_eps)
                     damp[b] += kk * tau if delta > 0.0 else kk
+                    if implicit:
+                        _add_implicit(imp, b, px - bx, py - by, pz - bz, ml, kk, ylim,
+                                      _memory_time(speed, dt, delta, tau))
                     fx *= mob
                     fy *= mob
                     fz *= mob
@@ -741,6 +824,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                                                             vy, vz, speed, delta, v_eps)
                 if not (ok and _isfinite3(fx, fy, fz)):
                     return BAD_FORCE, b
+                if implicit:
+                    _add_implicit(imp, b, px - bx, py - by, pz - bz, ml, kk, ylim,
+                                  _memory_time(speed, dt, delta, tau))
                 kk, cd = _with_water_damping(kk, cw, delta, tau)
                 damp[b] += cd
                 if ci > 0.0:
@@ -748,18 +834,20 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     _add_moments(inert, b, px - bx, py - by, pz - bz, ci)
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
             _add_to_body(wrench, stiff, b, fx, fy, fz, px - bx, py - by, pz - bz, kk)
+            if implicit:
+                _add_depth_spring(imp, b, px - bx, py - by, pz - bz, fx, fy, fz, depth)
     if nbat > 0:
         pb = reg_params[max(breg, 0)]
         rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
         return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
                               wrench, stiff, damp, pb if inertia and pb[P_INERTIA] > 0.0 else pb[:0], out_vel,
-                              out_nrm, inert)
+                              out_nrm, inert, imp, dt)
     return OK, -1
 
 
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp,
-                   pin, out_vel, out_nrm, inert):
+                   pin, out_vel, out_nrm, inert, imp, dt):
     """The batched elements' forces, wrench and stiffness moments (what the element loop does inline).
 
     ``pin``: the batched region's parameter vector when its inertial regime is on (the inertial force is
@@ -789,6 +877,10 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             fy *= mob
             fz *= mob
             rx, ry, rz = out_pos[i, 0] - bx, out_pos[i, 1] - by, out_pos[i, 2] - bz
+            if imp.shape[0] > 0:
+                vx, vy, vz = out_vel[i, 0], out_vel[i, 1], out_vel[i, 2]
+                _add_implicit(imp, b, rx, ry, rz, scr_f[8, j], kk, delta if delta > 0.0 else v_eps,
+                              _memory_time(math.sqrt(vx * vx + vy * vy + vz * vz), dt, delta, tau))
             if pin.shape[0] > 0:
                 gx, gy, gz, ci = inertial_force(pin, scr_f[6, j], out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2],
                                                 out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], k)
@@ -801,6 +893,8 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
                     cin += ci
                     _add_moments(inert, b, rx, ry, rz, ci)
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
+            if imp.shape[0] > 0:
+                _add_depth_spring(imp, b, rx, ry, rz, fx, fy, fz, scr_f[6, j])
             f0 += fx
             f1 += fy
             f2 += fz
@@ -873,6 +967,16 @@ def track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max):
 
 
 @njit(cache=True, error_model="numpy")
+def track_depth_springs(imp, imp_max):
+    """With the implicit step: per body, keep in ``imp_max`` (nbody, 10) the depth-spring moments
+    ``imp[:, 10:20]`` of the step with the largest summed depth stiffness (since the coupler last cleared it)."""
+    for b in range(imp.shape[0]):
+        if imp[b, 10] > imp_max[b, 0]:
+            for j in range(10):
+                imp_max[b, j] = imp[b, 10 + j]
+
+
+@njit(cache=True, error_model="numpy")
 def add_rows(target, rows, values, saved):
     """saved[rows] = target[rows]; target[rows] += values[rows]."""
     for k in range(rows.shape[0]):
@@ -939,11 +1043,68 @@ def _largest_symmetric_eigenvalue(a):
     return top
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def add_k6(out, moments, scale):
+    """``out += scale K6``: the 6x6 stiffness (translation rows/columns 0-2, rotation 3-5, about the CoM) of
+    springs acting in every direction with the kernel's ``moments`` (``sum k``, ``sum k r``, ``sum k r r^T``)::
+
+        K6 = [[ s0 I,    -[S1]x           ],
+              [ [S1]x,   tr(S2) I - S2    ]]
+    """
+    s0 = scale * moments[0]
+    x, y, z = scale * moments[1], scale * moments[2], scale * moments[3]
+    sxx, sxy, sxz = scale * moments[4], scale * moments[5], scale * moments[6]
+    syy, syz, szz = scale * moments[7], scale * moments[8], scale * moments[9]
+    tr = sxx + syy + szz
+    for i in range(3):
+        out[i, i] += s0
+    # off-diagonal blocks: -[S1]x (upper right) and [S1]x (lower left)
+    out[0, 4] += z
+    out[0, 5] -= y
+    out[1, 3] -= z
+    out[1, 5] += x
+    out[2, 3] += y
+    out[2, 4] -= x
+    out[4, 0] += z
+    out[5, 0] -= y
+    out[3, 1] -= z
+    out[5, 1] += x
+    out[3, 2] += y
+    out[4, 2] -= x
+    out[3, 3] += tr - sxx
+    out[4, 4] += tr - syy
+    out[5, 5] += tr - szz
+    out[3, 4] -= sxy
+    out[4, 3] -= sxy
+    out[3, 5] -= sxz
+    out[5, 3] -= sxz
+    out[4, 5] -= syz
+    out[5, 4] -= syz
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def add_vertical_k6(out, moments):
+    """``out += K6`` of vertical springs with the kernel's ``moments`` (the same ten sums as :func:`add_k6`; those
+    with z do not enter): ``phi = (e_z, r x e_z)``, ``r x e_z = (r_y, -r_x, 0)``, ``K6 = sum k phi phi^T``."""
+    s0, x, y = moments[0], moments[1], moments[2]
+    sxx, sxy, syy = moments[4], moments[5], moments[7]
+    out[2, 2] += s0
+    out[2, 3] += y
+    out[3, 2] += y
+    out[2, 4] -= x
+    out[4, 2] -= x
+    out[3, 3] += syy
+    out[3, 4] -= sxy
+    out[4, 3] -= sxy
+    out[4, 4] += sxx
+
+
 @njit(cache=True, error_model="numpy")
-def largest_rate(jac, minv_jac, moments):
+def largest_rate(jac, minv_jac, moments, vertical=False):
     """Largest eigenvalue of ``W6 K6`` (module docstring): ``W6 = jac minv_jac^T`` (``jac`` the 6 x nv
     jacobian of a body's CoM translation and rotation, ``minv_jac = M^-1 jac^T`` transposed) and ``K6``
-    the stiffness of springs in every direction with the kernel's ``moments`` about the CoM."""
+    the stiffness of springs in every direction with the kernel's ``moments`` about the CoM (``vertical``:
+    of vertical springs, :func:`add_vertical_k6`)."""
     nv = jac.shape[1]
     w = np.empty((6, 6))
     for i in range(6):
@@ -953,20 +1114,11 @@ def largest_rate(jac, minv_jac, moments):
                 acc += jac[i, k] * minv_jac[j, k] + jac[j, k] * minv_jac[i, k]
             w[i, j] = 0.5 * acc
             w[j, i] = 0.5 * acc
-    s0 = moments[0]
-    x, y, z = moments[1], moments[2], moments[3]
-    sxx, sxy, sxz, syy, syz, szz = moments[4], moments[5], moments[6], moments[7], moments[8], moments[9]
-    tr = sxx + syy + szz
     k6 = np.zeros((6, 6))
-    for i in range(3):
-        k6[i, i] = s0
-    # off-diagonal blocks: -[S1]x (upper right) and [S1]x (lower left)
-    k6[0, 4], k6[0, 5], k6[1, 3], k6[1, 5], k6[2, 3], k6[2, 4] = z, -y, -z, x, y, -x
-    k6[4, 0], k6[5, 0], k6[3, 1], k6[5, 1], k6[3, 2], k6[4, 2] = z, -y, -z, x, y, -x
-    k6[3, 3], k6[4, 4], k6[5, 5] = tr - sxx, tr - syy, tr - szz
-    k6[3, 4] = k6[4, 3] = -sxy
-    k6[3, 5] = k6[5, 3] = -sxz
-    k6[4, 5] = k6[5, 4] = -syz
+    if vertical:
+        add_vertical_k6(k6, moments)
+    else:
+        add_k6(k6, moments, 1.0)
     # W6 = L L^T (a tiny ridge: a hinged body's W6 is singular), then the symmetric L^T K6 L
     ridge = 1e-12 * (w[0, 0] + w[1, 1] + w[2, 2] + w[3, 3] + w[4, 4] + w[5, 5]) + 1e-300
     low = np.zeros((6, 6))
@@ -1038,16 +1190,150 @@ def _call_mj(typingctx, fptr, m_addr, d_addr):
     return sig, codegen
 
 
-def mujoco_step_functions():
-    """Addresses of MuJoCo's ``mj_step1`` and ``mj_step2`` in the library the bindings loaded, or None."""
+@intrinsic
+def _call_mj_arrays(typingctx, fptr, m_addr, d_addr, a_addr, b_addr, n):
+    """Call ``void f(const mjModel*, mjData*, mjtNum* a, mjtNum* b, int n)`` at address ``fptr`` (the shape of
+    both ``mj_jacBodyCom(m, d, jacp, jacr, body)`` and ``mj_solveM(m, d, x, y, n)``)."""
+    sig = types.void(types.intp, types.intp, types.intp, types.intp, types.intp, types.intp)
+
+    def codegen(context, builder, signature, args):
+        f, m, d, a, b, k = args
+        vp, dp, i32 = ir.IntType(8).as_pointer(), ir.DoubleType().as_pointer(), ir.IntType(32)
+        fn = builder.inttoptr(f, ir.FunctionType(ir.VoidType(), [vp, vp, dp, dp, i32]).as_pointer())
+        builder.call(fn, [builder.inttoptr(m, vp), builder.inttoptr(d, vp), builder.inttoptr(a, dp),
+                          builder.inttoptr(b, dp), builder.trunc(k, i32)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+def _mujoco_library():
     import mujoco
 
+    path = sorted(glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*")))[0]
+    return ctypes.CDLL(path)
+
+
+def mujoco_functions(*names: str):
+    """Addresses of MuJoCo's C functions ``names`` in the library the bindings loaded, or None."""
     try:
-        path = sorted(glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*")))[0]
-        lib = ctypes.CDLL(path)
-        return (ctypes.cast(lib.mj_step1, ctypes.c_void_p).value, ctypes.cast(lib.mj_step2, ctypes.c_void_p).value)
+        lib = _mujoco_library()
+        return tuple(ctypes.cast(getattr(lib, n), ctypes.c_void_p).value for n in names)
     except (IndexError, OSError, AttributeError):
         return None
+
+
+def mujoco_step_functions():
+    """Addresses of MuJoCo's ``mj_step1`` and ``mj_step2`` in the library the bindings loaded, or None."""
+    return mujoco_functions("mj_step1", "mj_step2")
+
+
+#: MuJoCo functions the implicit step calls (:func:`implicit_wrench`), in the order of its first arguments
+IMPLICIT_FUNCTIONS = ("mj_fwdActuation", "mj_fwdAcceleration", "mj_jacBodyCom", "mj_solveM")
+
+
+@njit(cache=True, error_model="numpy")
+def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, bodies, wrench, imp, inert,
+                    use_inert, dt, jac, minv_jac, blocks, a, rhs, rows):
+    """Replace the explicit wrench of the buried bodies by the linearly implicit one (module docstring).
+
+    Called after ``mj_step1`` and :func:`terrain_kernel`, before the wrench is added to ``xfrc_applied``:
+    MuJoCo's ``mj_fwdActuation`` and ``mj_fwdAcceleration`` give ``qacc_smooth`` (every force but the
+    grains' and the constraints'), ``mj_jacBodyCom`` the buried bodies' 6 x nv CoM jacobians ``J`` (stacked),
+    ``mj_solveM`` ``M^-1 J^T``. Scratch: ``jac``, ``minv_jac`` (6 nb x nv), ``blocks`` (nb, 6, 6), ``a``
+    (6 nb x 6 nb), ``rhs`` (6 nb), ``rows`` (nb), with nb the number of selected bodies. Returns -1, or the
+    first body whose implicit wrench is not finite (its ``wrench`` row is then left as it is)."""
+    nv = jac.shape[1]
+    n = 0
+    for i in range(bodies.shape[0]):
+        b = bodies[i]
+        if imp[b, 0] > 0 or (use_inert and inert[b, 0] > 0):
+            rows[n] = b
+            n += 1
+    if n == 0:
+        return -1
+    _call_mj(f_act, m_addr, d_addr)
+    _call_mj(f_acc, m_addr, d_addr)
+    for i in range(n):
+        at = jac.ctypes.data + 6 * i * nv * 8
+        _call_mj_arrays(f_jac, m_addr, d_addr, at, at + 3 * nv * 8, rows[i])
+    m6 = 6 * n
+    _call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, m6)
+    # G_b: the 6x6 of the kernel's implicit spring moments + the inertial dampers' C6
+    for i in range(n):
+        g = blocks[i]
+        g[:, :] = 0.0
+        add_k6(g, imp[rows[i]], 1.0)
+        if use_inert and inert[rows[i], 0] > 0:
+            add_k6(g, inert[rows[i]], 1.0)
+    # rhs = F - G dV_other, dV_other = dt J qacc_smooth
+    for i in range(n):
+        dv = np.zeros(6)
+        for r in range(6):
+            acc = 0.0
+            for k in range(nv):
+                acc += jac[6 * i + r, k] * qacc_smooth[k]
+            dv[r] = dt * acc
+        g = blocks[i]
+        for r in range(6):
+            acc = wrench[rows[i], r]
+            for c in range(6):
+                acc -= g[r, c] * dv[c]
+            rhs[6 * i + r] = acc
+    # a = I + dt G W, W = J M^-1 J^T (symmetric; W[p, q] = jac[p] . minv_jac[q])
+    w = np.empty(m6)
+    for q in range(m6):
+        for p in range(m6):
+            acc = 0.0
+            for k in range(nv):
+                acc += jac[p, k] * minv_jac[q, k]
+            w[p] = acc
+        for i in range(n):
+            g = blocks[i]
+            for r in range(6):
+                acc = 0.0
+                for c in range(6):
+                    acc += g[r, c] * w[6 * i + c]
+                a[6 * i + r, q] = dt * acc
+        a[q, q] += 1.0
+    _solve_in_place(a, rhs, m6)
+    for i in range(n):
+        for r in range(6):
+            if not math.isfinite(rhs[6 * i + r]):
+                return rows[i]
+    for i in range(n):
+        for r in range(6):
+            wrench[rows[i], r] = rhs[6 * i + r]
+    return -1
+
+
+@njit(cache=True, error_model="numpy")
+def _solve_in_place(a, x, n):
+    """Solve ``a[:n, :n] y = x[:n]`` into ``x`` (Gaussian elimination with partial pivoting; ``a`` is
+    overwritten). ``a = I + dt G W`` is a P-matrix here (G, W positive semi-definite), so no pivot is 0."""
+    for k in range(n):
+        p = k
+        big = abs(a[k, k])
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > big:
+                big = abs(a[i, k])
+                p = i
+        if p != k:
+            for j in range(n):
+                a[k, j], a[p, j] = a[p, j], a[k, j]
+            x[k], x[p] = x[p], x[k]
+        piv = a[k, k]
+        for i in range(k + 1, n):
+            f = a[i, k] / piv
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    a[i, j] -= f * a[k, j]
+                x[i] -= f * x[k]
+    for k in range(n - 1, -1, -1):
+        acc = x[k]
+        for j in range(k + 1, n):
+            acc -= a[k, j] * x[j]
+        x[k] = acc / a[k, k]
 
 
 @njit(cache=True, error_model="numpy")
@@ -1057,8 +1343,12 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               surface, top, reg_bounds, reg_law, reg_params,
               hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity, dt, delta, tau, v_eps,
               u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp, inert, scr_f,
-              scr_i, stiff_max, damp_max, inert_max):
-    """``nstep`` x (mj_step1, terrain_kernel, xfrc += wrench, mj_step2, restore xfrc).
+              scr_i, imp, stiff_max, damp_max, inert_max, imp_max, implicit, f_implicit, qacc_smooth, use_inert,
+              imp_jac, imp_minv_jac, imp_blocks, imp_a, imp_rhs, imp_rows):
+    """``nstep`` x (mj_step1, terrain_kernel, [implicit_wrench], xfrc += wrench, mj_step2, restore xfrc).
+
+    With ``implicit`` the wrench of each step is made linearly implicit by :func:`implicit_wrench`
+    (``f_implicit`` the addresses of :data:`IMPLICIT_FUNCTIONS`; the ``imp_*`` arrays its scratch).
 
     Returns (status, body, steps completed); on a non-finite value it stops after mj_step1 of the
     failing step, before anything is written to xfrc_applied.
@@ -1071,10 +1361,17 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                       hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                                       dt, delta, tau, v_eps,
                                       u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                                      wrench, stiff, damp, inert, scr_f, scr_i)
+                                      wrench, stiff, damp, inert, scr_f, scr_i, imp)
         if status != OK:
             return status, body, s
         track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max)
+        track_depth_springs(imp, imp_max)
+        if implicit:
+            bad = implicit_wrench(f_implicit[0], f_implicit[1], f_implicit[2], f_implicit[3], m_addr, d_addr,
+                                  qacc_smooth, rows, wrench, imp, inert, use_inert, dt, imp_jac, imp_minv_jac,
+                                  imp_blocks, imp_a, imp_rhs, imp_rows)
+            if bad >= 0:
+                return BAD_FORCE, bad, s
         add_rows(xfrc, rows, wrench, saved)
         _call_mj(f_step2, m_addr, d_addr)
         restore_rows(xfrc, rows, saved)
