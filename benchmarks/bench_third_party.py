@@ -1,12 +1,14 @@
 """Gymnasium's five MuJoCo robots on sand (``mjrft.envs.GranularWrapper``), side by side in one run.
 
-For each robot (``Ant-v5``, ``HalfCheetah-v5``, ``Hopper-v5``, ``Walker2d-v5``, ``Humanoid-v5``) three
+For each robot (``Ant-v5``, ``HalfCheetah-v5``, ``Hopper-v5``, ``Walker2d-v5``, ``Humanoid-v5``) four
 environments are driven by the same seeded random action sequence and timed (only ``env.step``, in this
 process's CPU time, so the other processes of a shared machine do not count; resets after a termination are
-not timed; median of repeats, the three environments interleaved):
+not timed; median of repeats, the four environments interleaved):
 
 * ``sand``: ``GranularWrapper(gymnasium.make(id))`` with its defaults (``floor="auto"``,
-  ``resolution="auto"``, automatic sub-steps; RK4 run as semi-implicit Euler, see :mod:`mjrft.envs.wrapper`);
+  ``resolution="auto"``, the implicit granular step, automatic sub-steps; RK4 run as semi-implicit Euler, see
+  :mod:`mjrft.envs.wrapper`);
+* ``explicit``: the same with ``implicit=False`` (the explicit step and its stability rule);
 * ``rigid, same dt``: the same gymnasium env on its rigid floor with the same integrator and the SAME
   internal timestep in every env step (the sand run's sub-step counts replayed step by step): what the
   sand itself costs;
@@ -15,8 +17,11 @@ not timed; median of repeats, the three environments interleaved):
 Then, per robot, the sand's weight balance at rest: zero actions for ``--rest`` seconds (the robots without
 a standing controller fall and lie on the sand), then the vertical granular force summed over the bodies
 divided by the weight (target within 2 %), the largest body speed left, and the deepest sinkage.
-Also listed: element count and size, sub-steps per model step (min / mean / max of the timed run),
-and the stability warnings the terrain gave during the run.
+Also listed: element count and size, sub-steps per model step (min / mean / max of the timed run; the
+explicit step's mean), the stability warnings the terrain gave during the run, and per physics step the CPU
+time of the rigid env (MuJoCo's step and the env's own work, per physics step) and what the sand adds to it
+(``(sand - rigid) / physics steps``: the granular kernel and its bookkeeping); ``sand / rigid >= 0.7`` needs
+the second to be at most 0.43x the first.
 
     python benchmarks/bench_third_party.py [--steps N] [--repeats R] [--rest SECONDS] [--robots Ant-v5 ...]
 """
@@ -58,10 +63,10 @@ def timed(env, acts) -> tuple[float, list]:
     return spent, infos
 
 
-def make_sand(gym_id: str, stability: list) -> GranularWrapper:
+def make_sand(gym_id: str, stability: list, **options) -> GranularWrapper:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        env = GranularWrapper(gymnasium.make(gym_id))
+        env = GranularWrapper(gymnasium.make(gym_id), **options)
     stability.extend(w for w in caught if issubclass(w.category, mjrft.TerrainStabilityWarning))
     return env
 
@@ -135,26 +140,35 @@ def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0) ->
             rigid, restart = make_rigid_replay(gym_id, ks)
             stock = gymnasium.make(gym_id)
             timed(stock, acts[:20])
-            sand_t, rigid_t, stock_t = [], [], []
+            explicit = make_sand(gym_id, [], implicit=False)
+            timed(explicit, acts[:20])
+            sand_t, rigid_t, stock_t, explicit_t = [], [], [], []
             for _ in range(repeats):
                 sand_t.append(timed(sand, acts)[0])
                 restart()
                 rigid_t.append(timed(rigid, acts)[0])
                 stock_t.append(timed(stock, acts)[0])
+                spent, explicit_infos = timed(explicit, acts)
+                explicit_t.append(spent)
         stability.extend(w for w in caught if issubclass(w.category, mjrft.TerrainStabilityWarning))
         u = sand.unwrapped
         h = float(u.model.opt.timestep)
         sink = np.array([i["sinkage"].max() for i in infos])
+        physics_steps = steps * u.frame_skip * float(np.mean(ks))
         row = {
             "robot": gym_id, "elements": sand.terrain.n_elements, "resolution": sand.terrain.resolution,
             "h": h, "frame_skip": u.frame_skip, "k_min": min(ks), "k_mean": float(np.mean(ks)), "k_max": max(ks),
             "sand": steps / float(np.median(sand_t)), "rigid": steps / float(np.median(rigid_t)),
             "stock": steps / float(np.median(stock_t)), "stability_warnings": len(stability), "diverged": diverged,
+            "explicit": steps / float(np.median(explicit_t)),
+            "k_explicit": float(np.mean([int(i["substeps"]) for i in explicit_infos])),
+            "rigid_us": 1e6 * float(np.median(rigid_t)) / physics_steps,
+            "sand_us": 1e6 * (float(np.median(sand_t)) - float(np.median(rigid_t))) / physics_steps,
             "run_sinkage_mean": float(sink.mean()), "run_sinkage_max": float(sink.max()),
             **rest_balance(gym_id, rest),
         }
         rows.append(row)
-        for e in (sand, rigid, stock):
+        for e in (sand, rigid, stock, explicit):
             e.close()
     return rows
 
@@ -169,7 +183,7 @@ def main(argv=None) -> None:
     rows = run(args.robots, args.steps, args.repeats, args.rest)
     print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
           f"law {mjrft.coupler.DEFAULTS['law']}); {args.steps} random-action env steps, median of {args.repeats} "
-          "(CPU time of env.step, the three envs interleaved)")
+          "(CPU time of env.step, the four envs interleaved)")
     print()
     print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'k min/mean/max':>15} {'sand st/s':>9} "
           f"{'rigid same dt':>13} {'stock':>7} {'sand/rigid':>10} {'sand/stock':>10} {'stab.warn':>9} {'diverged':>8}")
@@ -178,6 +192,13 @@ def main(argv=None) -> None:
               f"{r['k_min']:>4d}/{r['k_mean']:>5.2f}/{r['k_max']:<4d} {r['sand']:>9.0f} {r['rigid']:>13.0f} "
               f"{r['stock']:>7.0f} {r['sand'] / r['rigid']:>10.2f} {r['sand'] / r['stock']:>10.2f} "
               f"{r['stability_warnings']:>9d} {r['diverged']:>8d}")
+    print()
+    print("the implicit step against the explicit one, and the cost per physics step (us of CPU time)")
+    print(f"{'robot':<15} {'explicit k mean':>15} {'explicit st/s':>13} {'sand/explicit':>13} {'rigid us':>8} "
+          f"{'sand adds us':>12} {'adds/rigid':>10}")
+    for r in rows:
+        print(f"{r['robot']:<15} {r['k_explicit']:>15.2f} {r['explicit']:>13.0f} {r['sand'] / r['explicit']:>13.2f} "
+              f"{r['rigid_us']:>8.1f} {r['sand_us']:>12.1f} {r['sand_us'] / r['rigid_us']:>10.2f}")
     print()
     print(f"at rest after {args.rest:g} s of zero action (target: vertical granular force / weight within 2 %)")
     print(f"{'robot':<15} {'weight N':>9} {'Fz/weight':>9} {'cfrc_ext z/weight':>17} {'fastest body m/s':>16} "

@@ -33,19 +33,37 @@ therefore switched to MuJoCo's semi-implicit Euler in the loaded model and sub-s
 ``implicit`` and ``implicitfast`` models keep their integrator. :attr:`GranularWrapper.integrator` names
 what runs.
 
+Granular step. The terrain is built with ``implicit=True`` (:mod:`mjrft.kernel`, "Implicit step"): the
+grains' springs (the rest regularisation below yield, whose explicit limit is a few milliseconds for a
+light foot carrying a heavy robot) are integrated implicitly, so the internal step is chosen for accuracy
+rather than stability; ``implicit=False`` gives the explicit step and its stability rule below.
+
 Sub-stepping rule (``substeps="auto"``). Each env step the model's timestep ``h`` is split into
-``k = ceil(h / (SAFETY dt_s))`` equal internal steps (``1 <= k <= max_substeps``), ``SAFETY = 0.5``:
-``dt_s`` is the smaller of :func:`static_timestep_limit` (the limit when any one selected body carries
-the robot's whole weight at yield, in the env's initial pose: a load any foot may meet at the next
-step) and the terrain's stable timestep at the end of the previous env step
-(:meth:`mjrft.GranularTerrain.stable_timestep`, the explicit limit of the granular stiffness of every
-buried body, see :mod:`mjrft.kernel`; after a reset only the first). The env step then runs
-``frame_skip x k`` physics steps of ``h / k``; ``model.opt.timestep`` is ``h`` again between steps. The
-rule depends only on the state, so a seeded episode is reproducible. ``substeps=k`` fixes ``k``.
-The terrain's :class:`~mjrft.TerrainStabilityWarning` still reports a step beyond the limit: an impact
-stiffer than the previous env step's state, or a limit below ``h / max_substeps``. Measured on gymnasium's
-five robots under 400 random actions each (``benchmarks/bench_third_party.py``): ``k`` from 1 (Hopper,
-Walker2d at 2 ms) to 28 (HalfCheetah at 10 ms), a few such transient warnings and no divergence.
+``k = ceil(h / dt_s)`` equal internal steps (``1 <= k <= max_substeps``). Two limits enter, each the
+smaller of :func:`static_timestep_limit` (the explicit limit when any one selected body carries the
+robot's whole weight at yield, in the env's initial pose: a load any foot may meet at the next step) and
+the terrain's own at the end of the previous env step (:meth:`mjrft.GranularTerrain.stable_timestep`;
+after a reset only the first):
+
+* implicit step (default): ``dt_s = min(spring_step / omega, SAFETY x depth limit)``: ``omega`` the rate
+  of the stiffest granular spring (:func:`spring_rate` of the springs' explicit limit), ``spring_step = 1``
+  (one radian of it per step), and the explicit limit of the depth stiffness, which stays explicit;
+* explicit step (``implicit=False``): ``dt_s = SAFETY x`` the springs' explicit limit, ``SAFETY = 0.5``.
+
+The env step then runs ``frame_skip x k`` physics steps of ``h / k``; ``model.opt.timestep`` is ``h``
+again between steps. The rule depends only on the state, so a seeded episode is reproducible.
+``substeps=k`` fixes ``k``. The terrain's :class:`~mjrft.TerrainStabilityWarning` still reports a step
+beyond a limit (an impact stiffer than the previous env step's state, or a limit below
+``h / max_substeps``).
+
+What ``spring_step`` trades (``python benchmarks/implicit_accuracy.py``, output in
+``benchmarks/results/implicit_accuracy.txt``): on gymnasium's five robots, 1 s of random actions against
+the explicit step at 0.1 ms, ``spring_step = 1`` takes 1-3 sub-steps where the explicit rule takes 1-6
+(HalfCheetah 3.05 against 6.1, Humanoid 2 against 5, Ant 3 against 5); its errors are 1.2-4x the explicit
+rule's on HalfCheetah, Humanoid and Ant (net vertical force 4.5 % and 6 % of the weight RMS on
+HalfCheetah and Humanoid; Ant's impacts are poorly resolved by either, 48 % and 122 %), and smaller on
+Walker2d; ``spring_step = 0.5`` takes as many sub-steps as the explicit rule with equal or smaller
+position errors. Bench numbers: ``benchmarks/bench_third_party.py``.
 
 ``cfrc_ext``. MuJoCo's ``cfrc_ext`` of a body is its external spatial force (torque first, then force)
 about the centre of mass of the body's kinematic tree (``subtree_com`` of its root), world frame, as
@@ -75,8 +93,20 @@ __all__ = ["GranularWrapper", "SAND_RGBA", "SAFETY", "static_timestep_limit", "t
 SAND_RGBA = (0.76, 0.64, 0.42, 0.6)
 #: fraction of the stable timestep the automatic sub-step uses (the module docstring's rule)
 SAFETY = 0.5
+#: with the implicit step, the automatic sub-step resolves the stiffest granular spring: ``omega dt <= SPRING_STEP``
+SPRING_STEP = 1.0
 MAX_SUBSTEPS = 64
-WRAPPER_OPTIONS = ("substeps", "max_substeps", "sand_rgba")
+WRAPPER_OPTIONS = ("substeps", "max_substeps", "spring_step", "sand_rgba")
+
+
+def spring_rate(limit: float, tau: float) -> float:
+    """The angular rate ``omega`` (1/s) of the granular spring whose explicit stability limit is ``limit`` (s)
+    with damping time ``tau`` (s): the inverse of :func:`mjrft.kernel.max_stable_dt`'s
+    ``limit = 2 (sqrt(1 + zeta^2) - zeta) / omega``, ``zeta = tau omega / 2``, i.e.
+    ``omega = 2 / sqrt(limit (limit + 2 tau))`` (0 for an infinite limit)."""
+    if not math.isfinite(limit):
+        return 0.0
+    return 2.0 / math.sqrt(limit * (limit + 2.0 * tau))
 
 
 def terrain_option_names() -> list[str]:
@@ -154,6 +184,7 @@ def _build_terrain(model: mujoco.MjModel, medium, law, options: dict) -> tuple[G
     options = dict(options)
     options.setdefault("floor", "auto")
     options.setdefault("resolution", "auto")
+    options.setdefault("implicit", True)
     terrain = GranularTerrain(model, medium, law, **options)
     floor = getattr(terrain, "floor", None)
     return terrain, ([int(floor)] if floor is not None else [])
@@ -168,13 +199,15 @@ class GranularWrapper(gymnasium.Wrapper):
         medium, law: the terrain's medium and law (:class:`mjrft.GranularTerrain`).
         substeps: ``"auto"`` (the module's rule) or a fixed integer ``k >= 1`` of physics steps per model step.
         max_substeps: the largest ``k`` the automatic rule uses (default 64).
+        spring_step: with the implicit step, the automatic rule's ``omega dt`` for the stiffest granular spring
+            (default :data:`SPRING_STEP` = 1; smaller is more accurate and slower, see the module docstring).
         sand_rgba: colour of the floor geom that is the sand surface (4 numbers in [0, 1]); ``None`` keeps it.
         **terrain_options: keyword arguments of :class:`mjrft.GranularTerrain` (``bodies``, ``geoms``,
             ``floor``, ``resolution``, ``surface``, ``yield_displacement``, ...).
     """
 
     def __init__(self, env: gymnasium.Env, medium=None, law=None, *, substeps="auto", max_substeps: int = MAX_SUBSTEPS,
-                 sand_rgba=SAND_RGBA, **terrain_options):
+                 spring_step: float = SPRING_STEP, sand_rgba=SAND_RGBA, **terrain_options):
         if not isinstance(env, gymnasium.Env):
             raise TypeError(f"GranularWrapper wraps a gymnasium.Env, got {type(env).__name__}")
         u = env.unwrapped
@@ -196,6 +229,10 @@ class GranularWrapper(gymnasium.Wrapper):
             raise ValueError(f"substeps must be 'auto' or an integer >= 1, got {substeps!r}")
         if isinstance(max_substeps, bool) or not isinstance(max_substeps, (int, np.integer)) or max_substeps < 1:
             raise ValueError(f"max_substeps must be an integer >= 1, got {max_substeps!r}")
+        if (isinstance(spring_step, bool) or not isinstance(spring_step, (int, float, np.integer, np.floating))
+                or not (math.isfinite(spring_step) and spring_step > 0)):
+            raise ValueError(f"spring_step must be a finite number > 0 (omega dt of the stiffest granular spring), "
+                             f"got {spring_step!r}")
         if sand_rgba is not None:
             rgba = np.asarray(sand_rgba, dtype=float) if np.ndim(sand_rgba) == 1 else None
             if rgba is None or rgba.shape != (4,) or not np.all((rgba >= 0) & (rgba <= 1)):
@@ -218,6 +255,7 @@ class GranularWrapper(gymnasium.Wrapper):
                 model.geom_rgba[g] = sand_rgba
         self.substeps = substeps if substeps == "auto" else int(substeps)
         self.max_substeps = int(max_substeps)
+        self.spring_step = float(spring_step)  # the implicit rule's omega dt (module docstring)
         self.body_ids = np.asarray(self.terrain.body_ids, dtype=np.int64)
         self.body_names = tuple(mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
                                 for b in self.body_ids)
@@ -231,6 +269,7 @@ class GranularWrapper(gymnasium.Wrapper):
         scratch.qpos[:], scratch.qvel[:] = u.init_qpos, 0.0
         self._static_limit = static_timestep_limit(self.terrain, scratch)
         self._limit = self._static_limit
+        self._depth_limit = math.inf  # implicit step: the explicit limit of the depth stiffness (module docstring)
         self._model, self._data = model, data  # the env's own, for the life of the env
         u._step_mujoco_simulation = self._physics  # this instance only (see the module docstring)
 
@@ -238,7 +277,12 @@ class GranularWrapper(gymnasium.Wrapper):
     def _next_substeps(self) -> int:
         if self.substeps != "auto":
             return self.substeps
-        return int(min(self.max_substeps, max(1, math.ceil(self.model_timestep / (SAFETY * self._limit) - 1e-9))))
+        if self.terrain.implicit:
+            rate = spring_rate(self._limit, self.terrain.damping_time)
+            dt_s = min(self.spring_step / rate if rate > 0.0 else math.inf, SAFETY * self._depth_limit)
+        else:
+            dt_s = SAFETY * self._limit
+        return int(min(self.max_substeps, max(1, math.ceil(self.model_timestep / dt_s - 1e-9))))
 
     def _physics(self, ctrl, n_frames) -> None:
         """The env's ``_step_mujoco_simulation``: ``n_frames`` model steps on sand, sub-stepped."""
@@ -262,7 +306,9 @@ class GranularWrapper(gymnasium.Wrapper):
 
     def _update_limit(self, data) -> None:
         if self.substeps == "auto":
-            self._limit = min(self.terrain.min_stable_timestep(data), self._static_limit)
+            self._limit = min(self.terrain.min_stable_timestep(data, "springs"), self._static_limit)
+            if self.terrain.implicit:
+                self._depth_limit = self.terrain.min_stable_timestep(data, "depth")
 
     def _add_cfrc_ext(self, data) -> None:
         """Add the sand's wrench (force, torque about each body's CoM) to ``cfrc_ext`` in MuJoCo's convention."""
@@ -295,6 +341,7 @@ class GranularWrapper(gymnasium.Wrapper):
         self.terrain.reset()
         self.terrain.compute(u.data, 0.0)  # the reset state's sinkage and force (memory empty, not advanced)
         self._limit = self._static_limit
+        self._depth_limit = math.inf
         self.last_substeps = self._next_substeps()
         return obs, self._sand_info(dict(info))
 
