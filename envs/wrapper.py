@@ -87,7 +87,8 @@ from mjrft import kernel
 from mjrft.coupler import GranularTerrain
 from mjrft.errors import NonFiniteError, unknown
 
-__all__ = ["GranularWrapper", "SAND_RGBA", "SAFETY", "static_timestep_limit", "terrain_option_names"]
+__all__ = ["GranularWrapper", "SAND_RGBA", "SAFETY", "SPRING_STEP", "spring_rate", "static_timestep_limit",
+           "terrain_option_names"]
 
 #: colour of the sand surface as rendered (the floor geom's rgba; translucent, so buried parts show)
 SAND_RGBA = (0.76, 0.64, 0.42, 0.6)

@@ -109,6 +109,23 @@ def test_substeps_keep_dt_and_follow_the_rule():
     assert [again.step(np.zeros(u.model.nu))[4]["substeps"] for _ in range(10)] == ks
 
 
+def test_the_implicit_step_takes_fewer_substeps_than_the_explicit_one():
+    """Ant-v5 at its 10 ms step (benchmarks/implicit_accuracy.py): the default implicit step resolves the stiffest
+    spring at omega dt <= 1 in fewer sub-steps than the explicit step needs for stability; spring_step=0.5 takes at
+    least as many as the default; both carry the resting ant."""
+    counts = {}
+    for name, kw in (("implicit", {}), ("finer", {"spring_step": 0.5}), ("explicit", {"implicit": False})):
+        env = _ant(**kw)
+        assert env.terrain.implicit == (name != "explicit")
+        env.reset(seed=0)
+        zero = np.zeros(env.unwrapped.model.nu)
+        counts[name] = [env.step(zero)[4]["substeps"] for _ in range(40)]
+        weight = env.unwrapped.model.body_subtreemass[0] * 9.81
+        assert env.granular_force()[:, 2].sum() / weight == pytest.approx(1.0, abs=0.02)
+    assert np.mean(counts["implicit"]) < np.mean(counts["explicit"])
+    assert np.mean(counts["finer"]) >= np.mean(counts["implicit"])
+
+
 def test_a_diverged_step_terminates_with_the_reason():
     env = _ant()
     env.reset(seed=0)
@@ -140,6 +157,9 @@ def test_bad_wrapper_arguments():
             GranularWrapper(ant, substeps=bad)
     with pytest.raises(ValueError, match="max_substeps"):
         GranularWrapper(ant, max_substeps=0)
+    for bad in (0, -1.0, float("nan"), float("inf"), True, "1"):
+        with pytest.raises(ValueError, match="spring_step must be a finite number > 0"):
+            GranularWrapper(ant, spring_step=bad)
     for bad in ((1, 0, 0), (1, 0, 0, 2), "red"):
         with pytest.raises(ValueError, match="sand_rgba"):
             GranularWrapper(ant, sand_rgba=bad)
