@@ -282,7 +282,7 @@ class GranularWrapper(gymnasium.Wrapper):
             rate = spring_rate(self._limit, self.terrain.damping_time)
             dt_s = min(self.spring_step / rate if rate > 0.0 else math.inf, SAFETY * self._depth_limit)
         else:
-            dt_s = SAFETY * self._limit
+            dt_s = SAFETY * min(self._limit, self._depth_limit)
         return int(min(self.max_substeps, max(1, math.ceil(self.model_timestep / dt_s - 1e-9))))
 
     def _physics(self, ctrl, n_frames) -> None:
@@ -308,8 +308,7 @@ class GranularWrapper(gymnasium.Wrapper):
     def _update_limit(self, data) -> None:
         if self.substeps == "auto":
             self._limit = min(self.terrain.min_stable_timestep(data, "springs"), self._static_limit)
-            if self.terrain.implicit:
-                self._depth_limit = self.terrain.min_stable_timestep(data, "depth")
+            self._depth_limit = self.terrain.min_stable_timestep(data, "depth")
 
     def _add_cfrc_ext(self, data) -> None:
         """Add the sand's wrench (force, torque about each body's CoM) to ``cfrc_ext`` in MuJoCo's convention."""

@@ -148,23 +148,23 @@ def _stable_dts(jac, minv_jac, rows, stiff, inert, use_inert, delta, tau, vertic
     """``out[b]`` for each body ``b = rows[i]``: the largest stable timestep of its granular stiffness
     (``stiff[b]``) and, with ``use_inert``, its inertial dampers (``inert[b]``), from its 6 x nv jacobian rows
     ``jac[6 i:6 i + 6]`` and ``minv_jac`` (= ``(M^-1 jac^T)^T``): what :meth:`GranularTerrain.stable_timestep`
-    computes body by body (kernel.largest_rate, :func:`spring`, kernel.max_stable_dt), in one call. With
-    ``vertical``, ``stiff`` holds the moments of undamped vertical springs (the implicit step's depth stiffness):
-    ``2 / omega``."""
+    computes body by body (kernel.largest_rate, :func:`spring`, kernel.max_stable_dt), in one call; ``out[b]``
+    keeps a smaller value it already holds. With ``vertical``, ``stiff`` holds the moments of the depth stiffness's
+    vertical springs (kernel.depth_stable_dt)."""
     for i in range(rows.shape[0]):
         b = rows[i]
         jac_b, minv_b = jac[6 * i:6 * i + 6], minv_jac[6 * i:6 * i + 6]
         if vertical:
             if stiff[b, 0] > 0:
-                out[b] = _max_stable_dt(kernel.largest_rate(jac_b, minv_b, stiff[b], True), 0.0, 1.0)
+                out[b] = min(out[b], kernel.depth_stable_dt(kernel.largest_rate(jac_b, minv_b, stiff[b], True)))
             continue
         lam_c = kernel.largest_rate(jac_b, minv_b, inert[b]) if use_inert and inert[b, 0] > 0 else 0.0
         if stiff[b, 0] > 0 or lam_c > 0:
             lam = kernel.largest_rate(jac_b, minv_b, stiff[b]) if stiff[b, 0] > 0 else 0.0
             if delta == 0:
-                out[b] = _max_stable_dt(0.0, lam + lam_c, 1.0)
+                out[b] = min(out[b], _max_stable_dt(0.0, lam + lam_c, 1.0))
             else:
-                out[b] = _max_stable_dt(lam, tau * lam + lam_c, 1.0)
+                out[b] = min(out[b], _max_stable_dt(lam, tau * lam + lam_c, 1.0))
 
 
 def mujoco_reset_error(model: mujoco.MjModel, data: mujoco.MjData, since: str) -> NonFiniteError:
@@ -1127,8 +1127,9 @@ class GranularTerrain:
         self._dt_scratch = np.full(model.nbody, np.inf)  # min_stable_timestep's
         self._rows_scratch = np.zeros(len(self.body_ids), dtype=np.int64)
         self._damp_max = np.zeros(model.nbody)
-        self._imp = np.zeros((model.nbody if self.implicit else 0, 20))  # the implicit step's moments (kernel)
-        self._imp_max = np.zeros((model.nbody if self.implicit else 0, 10))  # kernel.track_depth_springs
+        self._imp = np.zeros((model.nbody if self.implicit else 0, 10))  # the implicit step's spring moments
+        self._dstiff = np.zeros((model.nbody, 10))  # moments of the depth stiffness (kernel, "Depth stiffness")
+        self._dstiff_max = np.zeros((model.nbody, 10))  # kernel.track_depth_springs
         nb = len(self.body_ids) if self.implicit else 0  # the implicit step's scratch (kernel.implicit_wrench)
         self._implicit_scratch = (np.zeros((6 * nb, model.nv)), np.zeros((6 * nb, model.nv)), np.zeros((nb, 6, 6)),
                                   np.zeros((6 * nb, 6 * nb)), np.zeros(6 * nb), np.zeros(nb, dtype=np.int64))
@@ -1294,7 +1295,7 @@ class GranularTerrain:
             dt = self.model.opt.timestep
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
         kernel.track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max, self._inert, self._inert_max)
-        kernel.track_depth_springs(self._imp, self._imp_max)
+        kernel.track_depth_springs(self._dstiff, self._dstiff_max)
         self._finish(data, status, body, dt, 1)
         return self.wrench
 
@@ -1305,13 +1306,13 @@ class GranularTerrain:
                 self._hf_z, self._hf_frame, self._reg_map, self._reg_map_frame, self._reg_rho, self.transition,
                 max(0.0, -float(self.model.opt.gravity[2])), dt, self.yield_displacement, self.damping_time, self.v_eps,
                 self._u, self.pos, self.vel, self.normal, self.depth, self.force, self.region,
-                self.wrench, self._stiff, self._damp, self._inert, self._scr_f, self._scr_i, self._imp)
+                self.wrench, self._stiff, self._damp, self._inert, self._scr_f, self._scr_i, self._imp, self._dstiff)
 
     def _step_args(self, data, dt) -> tuple:
         """Arguments of ``kernel.run_steps`` after ``(nstep, f_step1, f_step2, m_addr, d_addr)`` (also used by
         :mod:`mjrft.batch`, which keeps one such tuple per environment: the only list of them is here)."""
         return (data.xfrc_applied, self.body_ids, self._saved, *self._kernel_args(dt), self._stiff_max,
-                self._damp_max, self._inert_max, self._imp_max, self.implicit, self._implicit_functions,
+                self._damp_max, self._inert_max, self._dstiff_max, self.implicit, self._implicit_functions,
                 data.qacc_smooth, self.inertial, *self._implicit_scratch)
 
     def _begin(self, data) -> None:
@@ -1350,10 +1351,9 @@ class GranularTerrain:
         before = self._steps
         self._steps += nstep
         if before == 0 or before // STABILITY_CHECK_EVERY != self._steps // STABILITY_CHECK_EVERY:
-            if self.implicit:  # the explicit limit of the springs does not bound the implicit step (kernel docstring)
-                self._check_depth_springs(data, dt)
-            else:
+            if not self.implicit:  # the springs' explicit limit does not bound the implicit step (kernel docstring)
                 self._check_stability(data, dt)
+            self._check_depth_springs(data, dt)
             if self._validity.dynamic:
                 self._validity.check(self.depth, self.vel, self.region, data.time)
 
@@ -1471,23 +1471,23 @@ class GranularTerrain:
                 self._warn(data, int(b), dt, mode[0], damp[b], mode[1], mode[2])
 
     def _check_depth_springs(self, data, dt) -> None:
-        """With the implicit step: warn once per body when dt exceeds the explicit limit of what stays explicit, the
-        depth stiffness ``|F| / depth`` of its elements (vertical springs, kernel docstring), ``dt < 2 / omega`` with
+        """Warn once per body when dt exceeds the explicit limit of the depth stiffness ``|F| / depth`` of its
+        elements (vertical springs, kernel docstring "Depth stiffness"), ``dt <= sqrt(2) / omega`` with
         ``omega^2 = lambda_max(W6 Kd6)``, for the stiffest step since the last check."""
-        peak = self._imp_max.copy()
-        self._imp_max[:] = 0.0
+        peak = self._dstiff_max.copy()
+        self._dstiff_max[:] = 0.0
         for b in self.body_ids:
             if peak[b, 0] <= 0 or b in self._warned:
                 continue
             lam = kernel.largest_rate(*self._jacobians(data, int(b)), peak[b], True)
-            if lam > 0 and dt * math.sqrt(lam) >= 2.0:
+            if lam > 0 and dt > kernel.depth_stable_dt(lam):
                 self._warned.add(int(b))
                 name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
                 warnings.warn(TerrainStabilityWarning(
                     f"mjrft: at t = {data.time:.6g} s the timestep {dt:.3g} s exceeds the stability limit "
-                    f"{2.0 / math.sqrt(lam):.3g} s of the grains' depth stiffness on body '{name}' (its force grows "
-                    "with depth and is explicit also in the implicit step: a light body on a large buried area); "
-                    "use a smaller timestep (GranularWrapper: substeps)"), stacklevel=4)
+                    f"{kernel.depth_stable_dt(lam):.3g} s of the grains' depth stiffness on body '{name}' (its force "
+                    "grows with its depth, explicitly in every mode: a light body on a large area sunk shallow); use "
+                    "a smaller timestep (GranularWrapper: substeps)"), stacklevel=4)
 
     def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float, lam_c: float = 0.0) -> None:
         self._warned.add(b)
@@ -1501,11 +1501,11 @@ class GranularTerrain:
     def stable_timestep(self, data: mujoco.MjData, part: str = "step") -> np.ndarray:
         """Largest stable timestep (s) of each body for the granular stiffness of the last step, shape (nbody,).
 
-        ``part``: ``"step"`` (default), the limit of what this terrain's step integrates explicitly, the one its
-        stability check warns about: the springs with ``implicit=False``, the depth stiffness with
-        ``implicit=True`` (see :mod:`mjrft.kernel`); ``"springs"``, the explicit limit of the grains' springs
-        (with the inertial regime on, its dampers included) in either mode; ``"depth"`` (``implicit=True``
-        only), that of the depth stiffness. Evaluated now; ``inf`` for bodies with nothing below the surface.
+        ``part``: ``"springs"``, the explicit limit of the grains' springs (with the inertial regime on, its
+        dampers included), whether the step integrates them explicitly or not; ``"depth"``, that of the depth
+        stiffness (explicit in every mode); ``"step"`` (default), what bounds this terrain's step: the smaller
+        of the two with ``implicit=False``, the depth stiffness's with ``implicit=True`` (see
+        :mod:`mjrft.kernel`). Evaluated now; ``inf`` for bodies with nothing below the surface.
         """
         out = np.full(self.model.nbody, np.inf)
         self._stable_into(data, out, "stable_timestep", part)
@@ -1526,11 +1526,12 @@ class GranularTerrain:
             raise ValueError(f"{what} needs the MjData this terrain last stepped")
         if part not in ("step", "springs", "depth"):
             raise unknown(f"{what} part", part, ["step", "springs", "depth"])
-        if part == "depth" and not self.implicit:
-            raise ValueError(f"{what}(part='depth') needs a terrain built with implicit=True (the depth stiffness is "
-                             "summed only for the implicit step; with implicit=False the springs bound the step)")
-        vertical = part == "depth" or (part == "step" and self.implicit)
-        stiff = self._imp[:, 10:] if vertical else self._stiff
+        if part == "step":
+            if not self.implicit:
+                self._stable_into(data, out, what, "springs")
+            part = "depth"  # with implicit=False the smaller of both: written into the same out
+        vertical = part == "depth"
+        stiff = self._dstiff if vertical else self._stiff
         use_inert = self.inertial and not vertical
         jac, minv_jac = self._jac_rows
         if _JACOBIAN_FUNCTIONS is not None:

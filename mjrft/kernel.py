@@ -36,6 +36,18 @@ The viscous mode (``c_i = |F_yield,i| / max(|v_i|, v_eps)``, moments of ``c_i``)
 memory's hysteresis dissipates): measured chatter starts at 1.2 to 1.7 times the limit it gives
 (tests/test_extremes.py).
 
+Depth stiffness. RFT's stresses grow with depth, so each buried element is also a vertical spring
+``kd_i = |F_i| / depth_i`` that only pushes (nothing above the surface) and has no damper. It is soft
+next to the springs above for a foot sunk centimetres deep (a body resting at sinkage ``z`` has
+``omega^2 = g / z``: 45 ms at 1 cm with the limit below) and stiff for a light body on a large area
+sunk less than ``delta`` (``kd = alpha_z A``). The kernel sums its moments per body (``dstiff``: those
+of vertical springs, ``phi = (e_z, r x e_z)``), and the check uses ``omega^2 = lambda_max(W6 Kd6)``
+with the limit ``dt <= sqrt(2) / omega``, below the linear spring's ``2 / omega``: the spring only
+pushes, and a body that meets it within one step at speed ``v`` is pushed back out at
+``(omega^2 dt^2 - 1) v``, faster than it came beyond ``sqrt(2)`` (a 1 kg plate 27 cm wide placed on
+poppy seeds at 10 ms has ``omega dt = 1.8`` and bounces higher each time; tests/test_extremes.py
+``-k wide_plate``).
+
 Inertial regime (:mod:`mjrft.laws.inertial`, when a scene turns it on): its pressure
 ``C rho_bulk (u^2 - v_c^2)`` depends on the normal speed u, so each element with ``u > v_c`` is a
 damper along its normal, ``c_i = 2 w C rho_bulk A_i u_i``, which alone is stable iff
@@ -67,14 +79,10 @@ only turns with the motion, and a spring turning it as if it were parallel to th
 the wrong linearisation (RFT's force is not parallel to the motion: it has lift) and would damp the
 motion where the grains do not. Not made implicit either: constraint forces (joint limits, rigid
 contacts) in ``dV_o``, the water layer's drag, an element entering the grains within the step, and
-the growth of the force with depth: RFT's stresses are proportional to depth, a vertical spring
-``|F| / depth`` per element (``imp[:, 10:20]``), soft next to ``|F| / delta`` for a robot's feet sunk centimetres deep (a body resting at
-sinkage ``z`` has ``omega^2 = g / z``: 64 ms at 1 cm), stiff only for a light body on a large area
-sunk less than ``delta``. The coupler checks it every ``STABILITY_CHECK_EVERY`` steps (the stiffest
-step since the last check, ``dt omega < 2`` with the body's mobility) and warns as for the explicit
-step. The elements' memory and forces (``force``) are those of the explicit evaluation; ``wrench``
-holds the applied ``F'``. The springs' explicit limit no longer bounds the step; their timestep
-becomes a matter of accuracy (:mod:`mjrft.envs.wrapper` picks it, ``benchmarks/implicit_accuracy.py``
+the depth stiffness (above), which the coupler keeps checking and warning about. The elements'
+memory and forces (``force``) are those of the explicit evaluation; ``wrench`` holds the applied
+``F'``. The springs' explicit limit no longer bounds the step; their timestep becomes a matter of
+accuracy (:mod:`mjrft.envs.wrapper` picks it, ``benchmarks/implicit_accuracy.py``
 measures it).
 
 What the coupler warns about: beyond the limit the step multiplies a perturbation by
@@ -321,7 +329,12 @@ def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps):
 def _linear_stiffness(fx, fy, fz, ml, delta, v_eps):
     """Linearised stiffness of an element force ``|F| / max(|m|, delta)`` (the damping
     ``|F| / max(|v|, v_eps)`` in the viscous mode), see the module docstring."""
-    f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
+    return _stiffness_of(math.sqrt(fx * fx + fy * fy + fz * fz), ml, delta, v_eps)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _stiffness_of(f_mag, ml, delta, v_eps):
+    """:func:`_linear_stiffness` from the force's size ``f_mag``."""
     if delta > 0.0:
         return f_mag / max(ml, delta)
     if v_eps > 0.0:
@@ -330,18 +343,19 @@ def _linear_stiffness(fx, fy, fz, ml, delta, v_eps):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _add_moments(arr, b, rx, ry, rz, kk):
-    """Add the moments of a spring or damper ``kk`` at ``r`` from body ``b``'s CoM to ``arr[b]`` (10 sums)."""
-    arr[b, 0] += kk
-    arr[b, 1] += kk * rx
-    arr[b, 2] += kk * ry
-    arr[b, 3] += kk * rz
-    arr[b, 4] += kk * rx * rx
-    arr[b, 5] += kk * rx * ry
-    arr[b, 6] += kk * rx * rz
-    arr[b, 7] += kk * ry * ry
-    arr[b, 8] += kk * ry * rz
-    arr[b, 9] += kk * rz * rz
+def _add_moments(arr, b, rx, ry, rz, kk, at=0):
+    """Add the moments of a spring or damper ``kk`` at ``r`` from body ``b``'s CoM to ``arr[b, at:at + 10]``
+    (10 sums)."""
+    arr[b, at] += kk
+    arr[b, at + 1] += kk * rx
+    arr[b, at + 2] += kk * ry
+    arr[b, at + 3] += kk * rz
+    arr[b, at + 4] += kk * rx * rx
+    arr[b, at + 5] += kk * rx * ry
+    arr[b, at + 6] += kk * rx * rz
+    arr[b, at + 7] += kk * ry * ry
+    arr[b, at + 8] += kk * ry * rz
+    arr[b, at + 9] += kk * rz * rz
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -367,23 +381,14 @@ def _add_implicit(imp, b, rx, ry, rz, ml, kk, limit, t):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _add_depth_spring(imp, b, rx, ry, rz, fx, fy, fz, depth):
-    """The implicit step's check of what stays explicit: an element's force grows with its depth (RFT's stresses
-    are proportional to it), a spring ``|F| / depth``; its moments about body ``b``'s CoM go to ``imp[b, 10:20]``
-    (as :func:`_add_moments`)."""
+def _add_depth_spring(dstiff, b, rx, ry, rz, fx, fy, fz, depth):
+    """An element's force grows with its depth (RFT's stresses are proportional to it): a vertical spring
+    ``|F| / depth``, whose moments about body ``b``'s CoM go to ``dstiff[b]`` (as :func:`_add_moments`; module
+    docstring, "Depth stiffness")."""
     if depth > 0.0:
         kd = math.sqrt(fx * fx + fy * fy + fz * fz) / depth
         if kd > 0.0:
-            imp[b, 10] += kd
-            imp[b, 11] += kd * rx
-            imp[b, 12] += kd * ry
-            imp[b, 13] += kd * rz
-            imp[b, 14] += kd * rx * rx
-            imp[b, 15] += kd * rx * ry
-            imp[b, 16] += kd * rx * rz
-            imp[b, 17] += kd * ry * ry
-            imp[b, 18] += kd * ry * rz
-            imp[b, 19] += kd * rz * rz
+            _add_moments(dstiff, b, rx, ry, rz, kd)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -495,12 +500,15 @@ def _region_constants(reg, reg_law, reg_params, reg_rho):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _zero_body_sums(wrench, stiff, damp, inert, inertia, imp):
-    """Zero every body's wrench, stiffness moments, damping, (with the inertial regime) inertial moments and
-    (for the implicit step) yield corrections."""
+def _zero_body_sums(wrench, stiff, damp, inert, inertia, imp, dstiff):
+    """Zero every body's wrench, stiffness and depth-stiffness moments, damping, (with the inertial regime)
+    inertial moments and (for the implicit step) its spring moments."""
     for b in range(imp.shape[0]):
-        for j in range(20):
+        for j in range(10):
             imp[b, j] = 0.0
+    for b in range(dstiff.shape[0]):
+        for j in range(10):
+            dstiff[b, j] = 0.0
     for b in range(wrench.shape[0]):
         for j in range(6):
             wrench[b, j] = 0.0
@@ -605,7 +613,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                    dt, delta, tau, v_eps,
                    u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                   wrench, stiff, damp, inert, scr_f, scr_i, imp):
+                   wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff):
     """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
 
     Elements come in cull groups (``g_*``: runs of up to ``coupler.CULL_GROUP`` elements of one geom).
@@ -663,7 +671,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     inv_d = 1.0 / delta if delta > 0.0 else 0.0
     nbat = 0
     regs, wts = (0, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
-    _zero_body_sums(wrench, stiff, damp, inert, inertia, imp)
+    _zero_body_sums(wrench, stiff, damp, inert, inertia, imp, dstiff)
     implicit = imp.shape[0] > 0
     ylim = delta if delta > 0.0 else v_eps
     for g in range(g_geom.shape[0]):
@@ -834,20 +842,19 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     _add_moments(inert, b, px - bx, py - by, pz - bz, ci)
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
             _add_to_body(wrench, stiff, b, fx, fy, fz, px - bx, py - by, pz - bz, kk)
-            if implicit:
-                _add_depth_spring(imp, b, px - bx, py - by, pz - bz, fx, fy, fz, depth)
+            _add_depth_spring(dstiff, b, px - bx, py - by, pz - bz, fx, fy, fz, depth)
     if nbat > 0:
         pb = reg_params[max(breg, 0)]
         rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
         return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
                               wrench, stiff, damp, pb if inertia and pb[P_INERTIA] > 0.0 else pb[:0], out_vel,
-                              out_nrm, inert, imp, dt)
+                              out_nrm, inert, imp, dstiff, dt)
     return OK, -1
 
 
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp,
-                   pin, out_vel, out_nrm, inert, imp, dt):
+                   pin, out_vel, out_nrm, inert, imp, dstiff, dt):
     """The batched elements' forces, wrench and stiffness moments (what the element loop does inline).
 
     ``pin``: the batched region's parameter vector when its inertial regime is on (the inertial force is
@@ -862,6 +869,7 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
         f0 = f1 = f2 = t0 = t1 = t2 = 0.0
         k0 = k1 = k2 = k3 = k4 = k5 = k6 = k7 = k8 = k9 = 0.0
+        d0 = d1 = d2 = d4 = d5 = d7 = 0.0  # depth stiffness: sum kd, kd r (x, y), kd r r^T (xx, xy, yy)
         c = 0.0
         cin = 0.0
         while j < nbat and scr_i[1, j] == b:
@@ -870,7 +878,8 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             fx, fy, fz = scr_f[9, j] * k, scr_f[10, j] * k, scr_f[11, j] * k
             if not _isfinite3(fx, fy, fz):
                 return BAD_FORCE, b
-            kk = _linear_stiffness(fx, fy, fz, scr_f[8, j], delta, v_eps)
+            f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
+            kk = _stiffness_of(f_mag, scr_f[8, j], delta, v_eps)
             c += kk
             mob = scr_f[7, j]
             fx *= mob
@@ -893,8 +902,13 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
                     cin += ci
                     _add_moments(inert, b, rx, ry, rz, ci)
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
-            if imp.shape[0] > 0:
-                _add_depth_spring(imp, b, rx, ry, rz, fx, fy, fz, scr_f[6, j])
+            kd = f_mag * mob / scr_f[6, j]  # the law's force (batched elements are below the surface)
+            d0 += kd
+            d1 += kd * rx
+            d2 += kd * ry
+            d4 += kd * rx * rx
+            d5 += kd * rx * ry
+            d7 += kd * ry * ry
             f0 += fx
             f1 += fy
             f2 += fz
@@ -928,6 +942,12 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         stiff[b, 7] += k7
         stiff[b, 8] += k8
         stiff[b, 9] += k9
+        dstiff[b, 0] += d0  # the moments with z do not enter vertical springs (add_vertical_k6)
+        dstiff[b, 1] += d1
+        dstiff[b, 2] += d2
+        dstiff[b, 4] += d4
+        dstiff[b, 5] += d5
+        dstiff[b, 7] += d7
         damp[b] += (c * tau if delta > 0.0 else c) + cin
     return OK, -1
 
@@ -967,13 +987,13 @@ def track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max):
 
 
 @njit(cache=True, error_model="numpy")
-def track_depth_springs(imp, imp_max):
-    """With the implicit step: per body, keep in ``imp_max`` (nbody, 10) the depth-spring moments
-    ``imp[:, 10:20]`` of the step with the largest summed depth stiffness (since the coupler last cleared it)."""
-    for b in range(imp.shape[0]):
-        if imp[b, 10] > imp_max[b, 0]:
+def track_depth_springs(dstiff, dstiff_max):
+    """Per body, keep in ``dstiff_max`` (nbody, 10) the depth-stiffness moments ``dstiff`` of the step with the
+    largest summed depth stiffness (since the coupler last cleared it)."""
+    for b in range(dstiff.shape[0]):
+        if dstiff[b, 0] > dstiff_max[b, 0]:
             for j in range(10):
-                imp_max[b, j] = imp[b, 10 + j]
+                dstiff_max[b, j] = dstiff[b, j]
 
 
 @njit(cache=True, error_model="numpy")
@@ -1160,6 +1180,13 @@ def step_growth(K: float, c: float, w: float, dt: float) -> float:
     return math.sqrt(q)  # a complex pair: |lambda|^2 = q
 
 
+@njit(cache=True, error_model="numpy")
+def depth_stable_dt(lam: float) -> float:
+    """Largest timestep (s) of the depth stiffness with ``omega^2 = lam`` (module docstring, "Depth stiffness"):
+    ``sqrt(2) / omega`` (inf without stiffness)."""
+    return math.sqrt(2.0 / lam) if lam > 0.0 else np.inf
+
+
 def max_stable_dt(K: float, c: float, w: float) -> float:
     """Largest stable timestep for :func:`stable_step` (inf when there is no stiffness or damping)."""
     if K <= 0.0:
@@ -1343,8 +1370,8 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               surface, top, reg_bounds, reg_law, reg_params,
               hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity, dt, delta, tau, v_eps,
               u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp, inert, scr_f,
-              scr_i, imp, stiff_max, damp_max, inert_max, imp_max, implicit, f_implicit, qacc_smooth, use_inert,
-              imp_jac, imp_minv_jac, imp_blocks, imp_a, imp_rhs, imp_rows):
+              scr_i, imp, dstiff, stiff_max, damp_max, inert_max, dstiff_max, implicit, f_implicit, qacc_smooth,
+              use_inert, imp_jac, imp_minv_jac, imp_blocks, imp_a, imp_rhs, imp_rows):
     """``nstep`` x (mj_step1, terrain_kernel, [implicit_wrench], xfrc += wrench, mj_step2, restore xfrc).
 
     With ``implicit`` the wrench of each step is made linearly implicit by :func:`implicit_wrench`
@@ -1361,11 +1388,11 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                       hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                                       dt, delta, tau, v_eps,
                                       u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                                      wrench, stiff, damp, inert, scr_f, scr_i, imp)
+                                      wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff)
         if status != OK:
             return status, body, s
         track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max)
-        track_depth_springs(imp, imp_max)
+        track_depth_springs(dstiff, dstiff_max)
         if implicit:
             bad = implicit_wrench(f_implicit[0], f_implicit[1], f_implicit[2], f_implicit[3], m_addr, d_addr,
                                   qacc_smooth, rows, wrench, imp, inert, use_inert, dt, imp_jac, imp_minv_jac,

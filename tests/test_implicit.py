@@ -156,7 +156,7 @@ def test_converges_to_the_explicit_step():
     assert e1 < 0.015 and e2 < 0.03 and 1.5 < e2 / e1 < 3.0
 
 
-@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(law=st.sampled_from(LAWS), medium=st.sampled_from(sorted(MEDIA_X)),
        log_mass=st.floats(-3.0, math.log10(500.0)), log_dt=st.floats(-5.0, -2.0),
        log_hx=st.floats(-2.5, -0.5), bottom=st.floats(-0.005, 0.05),
@@ -169,10 +169,10 @@ def test_passive_body_never_gains_energy(law, medium, log_mass, log_dt, log_hx, 
     v = np.array(v)
     if np.linalg.norm(v) > 10.0:
         v *= 10.0 / np.linalg.norm(v)
-    assume(turn_number(MEDIA_X[medium], mass, hx, bottom, np.linalg.norm(v), dt) < 0.5)
+    assume(turn_number(MEDIA_X[medium], mass, hx, bottom, np.linalg.norm(v), dt) < 0.25)
     assume(mass / (2 * hx) ** 2 >= 1.0)
     assume(law != "depth_only" or dt <= 5e-4)
-    m, d = plate(mass=mass, hx=hx, dt=dt, bottom=bottom)
+    m, d = plate(mass=mass, hx=hx, dt=dt, bottom=bottom, integrator="implicit")  # as test_extremes' (its docstring)
     d.qvel[:3] = v
     d.qvel[3:] = spin
     t = mjrft.GranularTerrain(m, MEDIA_X[medium], law, resolution=hx / 2, implicit=True)
@@ -210,10 +210,12 @@ def test_batched_equals_one_by_one():
 
 
 def test_a_light_wide_plate_warns_about_the_depth_stiffness():
-    """What stays explicit has its limit: a 1 kg plate 63 cm wide placed on the surface at 10 ms is launched by the
-    force that grows with its depth (|F| / depth on 1 mm of sinkage, omega dt ~ 2.5), and the terrain says so."""
-    m, d = plate(mass=1.0, hx=10 ** -0.5, dt=1e-2, bottom=0.0)
-    t = mjrft.GranularTerrain(m, POPPY, "rft", resolution=0.05, implicit=True)
+    """What stays explicit has its limit: a 1 kg plate 27 cm wide placed on the surface at 10 ms bounces higher each
+    time on the force that grows with its depth (|F| / depth on 1 mm of sinkage, omega dt = 1.8), and the terrain
+    says so."""
+    hx = 10 ** -0.875
+    m, d = plate(mass=1.0, hx=hx, dt=1e-2, bottom=0.0, integrator="implicit")
+    t = mjrft.GranularTerrain(m, POPPY, "rft", resolution=hx / 2, implicit=True)
     with pytest.warns(mjrft.TerrainStabilityWarning, match=r"depth stiffness on body 'foot'"):
         t.step(d, enough(100))
     assert_finite(d, t)

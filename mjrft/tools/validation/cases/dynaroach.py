@@ -134,7 +134,7 @@ def intrusion(quick: bool) -> CaseResult:
     mujoco.mj_fwdPosition(model, data)
     mujoco.mj_fwdVelocity(model, data)
     t.compute(data, 0.0)
-    dt_lim = float(t.stable_timestep(data)[1])
+    dt_lim = float(t.stable_timestep(data, "springs")[1])
     buried = t.depth > 0
     c_theory = 2 * INERTIAL_DRAG * MEDIA[MEDIUM].rho_bulk * float(
         np.sum(t.area[buried & (t.normal[:, 2] < -0.99)])) * v12 * min(1.0, d0 / 1e-3)
