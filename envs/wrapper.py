@@ -39,16 +39,18 @@ light foot carrying a heavy robot) are integrated implicitly, so the internal st
 rather than stability; ``implicit=False`` gives the explicit step and its stability rule below.
 
 Sub-stepping rule (``substeps="auto"``). Each env step the model's timestep ``h`` is split into
-``k = ceil(h / dt_s)`` equal internal steps (``1 <= k <= max_substeps``). Two limits enter, each the
-smaller of :func:`static_timestep_limit` (the explicit limit when any one selected body carries the
-robot's whole weight at yield, in the env's initial pose: a load any foot may meet at the next step) and
-the terrain's own at the end of the previous env step (:meth:`mjrft.GranularTerrain.stable_timestep`;
-after a reset only the first):
+``k = ceil(h / dt_s)`` equal internal steps (``1 <= k <= max_substeps``). Two limits enter: the
+springs', the smaller of :func:`static_timestep_limit` (their explicit limit when any one selected body
+carries the robot's whole weight at yield, in the env's initial pose: a load any foot may meet at the
+next step) and the terrain's at the end of the previous env step, and the depth stiffness's at the end of
+the previous env step (:meth:`mjrft.GranularTerrain.stable_timestep`, ``part="springs"`` and
+``"depth"``; after a reset only the static one):
 
 * implicit step (default): ``dt_s = min(spring_step / omega, SAFETY x depth limit)``: ``omega`` the rate
   of the stiffest granular spring (:func:`spring_rate` of the springs' explicit limit), ``spring_step = 1``
-  (one radian of it per step), and the explicit limit of the depth stiffness, which stays explicit;
-* explicit step (``implicit=False``): ``dt_s = SAFETY x`` the springs' explicit limit, ``SAFETY = 0.5``.
+  (one radian of it per step), and the limit of the depth stiffness, which stays explicit (``part="depth"``);
+* explicit step (``implicit=False``): ``dt_s = SAFETY x`` the smaller of the springs' and the depth
+  stiffness's limits, ``SAFETY = 0.5``.
 
 The env step then runs ``frame_skip x k`` physics steps of ``h / k``; ``model.opt.timestep`` is ``h``
 again between steps. The rule depends only on the state, so a seeded episode is reproducible.
