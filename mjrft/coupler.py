@@ -1476,18 +1476,19 @@ class GranularTerrain:
         ``omega^2 = lambda_max(W6 Kd6)``, for the stiffest step since the last check."""
         peak = self._dstiff_max.copy()
         self._dstiff_max[:] = 0.0
+        if not np.any(peak[self.body_ids, 0] > 0):
+            return
+        limits = np.full(self.model.nbody, np.inf)
+        self._limits_into(data, limits, peak, vertical=True)
         for b in self.body_ids:
-            if peak[b, 0] <= 0 or b in self._warned:
-                continue
-            lam = kernel.largest_rate(*self._jacobians(data, int(b)), peak[b], True)
-            if lam > 0 and dt > kernel.depth_stable_dt(lam):
+            if dt > limits[b] and b not in self._warned:
                 self._warned.add(int(b))
                 name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
                 warnings.warn(TerrainStabilityWarning(
                     f"mjrft: at t = {data.time:.6g} s the timestep {dt:.3g} s exceeds the stability limit "
-                    f"{kernel.depth_stable_dt(lam):.3g} s of the grains' depth stiffness on body '{name}' (its force "
-                    "grows with its depth, explicitly in every mode: a light body on a large area sunk shallow); use "
-                    "a smaller timestep (GranularWrapper: substeps)"), stacklevel=4)
+                    f"{limits[b]:.3g} s of the grains' depth stiffness on body '{name}' (its force grows with its "
+                    "depth, explicitly in every mode: a light body on a large area sunk shallow); use a smaller "
+                    "timestep (GranularWrapper: substeps)"), stacklevel=4)
 
     def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float, lam_c: float = 0.0) -> None:
         self._warned.add(b)
@@ -1520,8 +1521,7 @@ class GranularTerrain:
         return float(out.min())
 
     def _stable_into(self, data, out: np.ndarray, what: str, part: str) -> None:
-        """Write each buried body's stable timestep into ``out`` (nbody): its CoM jacobian rows are stacked,
-        solved with ``M^-1`` in one ``mj_solveM`` and reduced in one compiled call (:func:`_stable_dts`)."""
+        """Write each buried body's stable timestep of ``part`` (:meth:`stable_timestep`) into ``out`` (nbody)."""
         if data is not self._data:
             raise ValueError(f"{what} needs the MjData this terrain last stepped")
         if part not in ("step", "springs", "depth"):
@@ -1531,7 +1531,12 @@ class GranularTerrain:
                 self._stable_into(data, out, what, "springs")
             part = "depth"  # with implicit=False the smaller of both: written into the same out
         vertical = part == "depth"
-        stiff = self._dstiff if vertical else self._stiff
+        self._limits_into(data, out, self._dstiff if vertical else self._stiff, vertical)
+
+    def _limits_into(self, data, out: np.ndarray, stiff: np.ndarray, vertical: bool) -> None:
+        """Each body's limit for the moments ``stiff`` (the springs', with the inertial dampers; with ``vertical``
+        the depth stiffness's) into ``out``, keeping a smaller value it holds: the buried bodies' CoM jacobian rows
+        stacked, solved with ``M^-1`` in one ``mj_solveM`` and reduced in one compiled call (:func:`_stable_dts`)."""
         use_inert = self.inertial and not vertical
         jac, minv_jac = self._jac_rows
         if _JACOBIAN_FUNCTIONS is not None:
