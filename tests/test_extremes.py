@@ -324,13 +324,13 @@ def chatter(make, dt, seconds=0.3):
     return float(np.sqrt(np.mean(qv[steps // 2:] ** 2))), bool(caught)
 
 
-def hinged_leg(dt):
+def hinged_leg(dt, implicit=False):
     """A 2 g leg on a frictionless hinge, its lower 2 cm pushed into the grains: its buried tip is
     three times lighter than its centre of mass, which the check must take into account."""
     m = mujoco.MjModel.from_xml_string(ROD.format(dt=dt, top=LEG - 0.02, half=LEG / 2, mass=0.002))
     d = mujoco.MjData(m)
     d.qpos[0], d.qvel[0] = 0.02, -1.0
-    return m, d, mjrft.GranularTerrain(m, POPPY, "rft", resolution=0.0015)
+    return m, d, mjrft.GranularTerrain(m, POPPY, "rft", resolution=0.0015, implicit=implicit)
 
 
 def overloaded_plate(dt):

@@ -16,8 +16,8 @@ from hypothesis import strategies as st
 
 import mjrft
 from mjrft import kernel
-from test_extremes import (G, LAWS, MEDIA_X, POPPY, ROD, LEG, assert_finite, enough, plate, run, settled_depth,
-                           turn_number)
+from test_extremes import (G, LAWS, MEDIA_X, POPPY, assert_finite, chatter, enough, hinged_leg, plate, run,
+                           settled_depth, turn_number)
 
 FLAP = """<mujoco><option timestep="{dt}"/><worldbody>
 <body name="plate" pos="0 0 0.004"><freejoint/>
@@ -83,16 +83,8 @@ def rest_run(dt, implicit, mass=1.0, hx=0.05, seconds=1.0):
     whether the terrain warned."""
     m, d = plate(mass=mass, hx=hx, dt=dt, bottom=settled_depth(mass, hx, POPPY))
     t = mjrft.GranularTerrain(m, POPPY, "rft", resolution=hx / 2, implicit=implicit)
-    steps = enough(int(round(seconds / dt)))
-    qv = np.empty((steps, m.nv))
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", mjrft.TerrainStabilityWarning)
-        for k in range(steps):
-            t.step(d)
-            qv[k] = d.qvel
-    assert_finite(d, t)
-    rms = float(np.sqrt(np.mean(qv[steps // 2:] ** 2)))
-    return rms, float(t.wrench[1, 2] / (mass * G)), bool(caught)
+    rms, warned = chatter(lambda _: (m, d, t), dt, seconds)
+    return rms, float(t.wrench[1, 2] / (mass * G)), warned
 
 
 def test_rest_holds_where_the_explicit_step_chatters():
@@ -102,14 +94,6 @@ def test_rest_holds_where_the_explicit_step_chatters():
     assert warned and loud > 1e-2 and abs(balance - 1.0) > 0.05
     quiet, balance, warned = rest_run(0.02, implicit=True)
     assert not warned and quiet < 1e-4 and balance == pytest.approx(1.0, abs=1e-5)
-
-
-def hinged_leg(dt, implicit):
-    """test_extremes' 2 g leg on a frictionless hinge, its lower 2 cm pushed into the grains at 1 rad/s."""
-    m = mujoco.MjModel.from_xml_string(ROD.format(dt=dt, top=LEG - 0.02, half=LEG / 2, mass=0.002))
-    d = mujoco.MjData(m)
-    d.qpos[0], d.qvel[0] = 0.02, -1.0
-    return m, d, mjrft.GranularTerrain(m, POPPY, "rft", resolution=0.0015, implicit=implicit)
 
 
 def test_hinged_leg_is_quiet_far_beyond_the_explicit_limit():
