@@ -1468,7 +1468,9 @@ class GranularTerrain:
             mode = unstable_mode(jac, minv_jac, held[b], spike[b], inert[b] if has_inert else None,
                                  self.yield_displacement, self.damping_time, dt)
             if mode is not None:
-                self._warn(data, int(b), dt, mode[0], damp[b], mode[1], mode[2])
+                self._warn(int(b), lambda name: stability_warning(
+                    name, data.time, dt, mode[0], damp[b], mode[1], mode[2], self.yield_displacement,
+                    self.damping_time))
 
     def _check_depth_springs(self, data, dt) -> None:
         """Warn once per body when dt exceeds the explicit limit of the depth stiffness ``|F| / depth`` of its
@@ -1482,18 +1484,18 @@ class GranularTerrain:
         self._limits_into(data, limits, peak, vertical=True)
         for b in self.body_ids:
             if dt > limits[b] and b not in self._warned:
-                self._warned.add(int(b))
-                name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, int(b)) or f"#{b}"
-                warnings.warn(TerrainStabilityWarning(
+                self._warn(int(b), lambda name: TerrainStabilityWarning(
                     f"mjrft: at t = {data.time:.6g} s the timestep {dt:.3g} s exceeds the stability limit "
                     f"{limits[b]:.3g} s of the grains' depth stiffness on body '{name}' (its force grows with its "
                     "depth, explicitly in every mode: a light body on a large area sunk shallow); use a smaller "
-                    "timestep (GranularWrapper: substeps)"), stacklevel=4)
+                    "timestep (GranularWrapper: substeps)"))
 
-    def _warn(self, data, b: int, dt: float, s0: float, damp: float, lam: float, lam_c: float = 0.0) -> None:
+    def _warn(self, b: int, warning_of) -> None:
+        """Warn once about body ``b``: ``warning_of(its name)`` is the :class:`TerrainStabilityWarning`; a stress
+        scale other than 1 is named (the stiffness grows with it). Called from the checks that ``_finish`` runs."""
         self._warned.add(b)
         name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
-        w = stability_warning(name, data.time, dt, s0, damp, lam, lam_c, self.yield_displacement, self.damping_time)
+        w = warning_of(name)
         if self.stress_scale != 1.0:
             w = TerrainStabilityWarning(f"{w} (the granular stresses are scaled x{self.stress_scale:.4g}, "
                                         "set_medium: the stiffness grows with the scale)")
