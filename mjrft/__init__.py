@@ -26,7 +26,8 @@ import warnings
 
 from . import _jit_cache  # noqa: F401  (must precede every compiled module)
 from .coupler import GranularTerrain, Region
-from .errors import MjrftError, NonFiniteError, TerrainStabilityWarning, UnknownNameError, ValidityRangeWarning
+from .errors import (MjrftError, NonFiniteError, SandContactWarning, TerrainStabilityWarning, UnknownNameError,
+                     ValidityRangeWarning)
 from .media import MEDIA, Medium, calibrate, generic, get_medium, medium_3d
 from . import laws
 from . import models
@@ -97,6 +98,6 @@ else:
 
 __version__ = "0.1.0"
 
-__all__ = ["GranularTerrain", "MEDIA", "Medium", "MjrftError", "NonFiniteError", "Region", "TerrainStabilityWarning",
-           "UnknownNameError", "ValidityRangeWarning", "calibrate", "generic", "get_medium", "laws", "medium_3d", "models",
-           "tools"]
+__all__ = ["GranularTerrain", "MEDIA", "Medium", "MjrftError", "NonFiniteError", "Region", "SandContactWarning",
+           "TerrainStabilityWarning", "UnknownNameError", "ValidityRangeWarning", "calibrate", "generic", "get_medium",
+           "laws", "medium_3d", "models", "tools"]

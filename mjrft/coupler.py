@@ -37,8 +37,8 @@ import numpy as np
 from numba import njit
 
 from . import kernel
-from .errors import (NonFiniteError, TerrainStabilityWarning, UnknownNameError, ValidityRangeWarning, check_finite,
-                     check_positive, unknown)
+from .errors import (NonFiniteError, SandContactWarning, TerrainStabilityWarning, UnknownNameError,
+                     ValidityRangeWarning, check_finite, check_positive, unknown)
 from .geometry import Elements, discretize_geom, estimate_elements, exposed_elements, to_geom_frame
 from .laws import LAW_IDS, law_id
 from .laws.hybrid import P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PAR_H, P_HYB_PERP_H
@@ -227,9 +227,37 @@ def _floor_top(model: mujoco.MjModel, d: mujoco.MjData, g: int, xy: np.ndarray):
     return float(out[0]), None
 
 
-def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object]:
-    """(geom id, surface: its top height, or its name for an hfield) of ``floor`` (a geom name/id or
-    ``"auto"``), judged at the model's initial pose under the centre of the selected geoms."""
+def _world_boxes(model: mujoco.MjModel, d: mujoco.MjData, geom_ids) -> tuple[np.ndarray, np.ndarray]:
+    """(lower, upper) corners, shape (n, 3), of the world-aligned bounding boxes of ``geom_ids`` in ``d``'s pose
+    (each geom's own bounding box, ``geom_aabb``, turned into the world)."""
+    ids = np.asarray(geom_ids, dtype=np.int64)
+    R = d.geom_xmat[ids].reshape(-1, 3, 3)
+    c = d.geom_xpos[ids] + np.einsum("nij,nj->ni", R, model.geom_aabb[ids, :3])
+    h = np.einsum("nij,nj->ni", np.abs(R), model.geom_aabb[ids, 3:])
+    return c - h, c + h
+
+
+def _collides_with(model: mujoco.MjModel, f: int, geom_ids) -> bool:
+    """Whether MuJoCo collides geom ``f`` with any of ``geom_ids``: their contype/conaffinity bits match (either
+    way round) or an explicit ``<pair>`` joins them (one not already taken out of reach)."""
+    ids = np.asarray(geom_ids, dtype=np.int64)
+    ct, ca = int(model.geom_contype[f]), int(model.geom_conaffinity[f])
+    if np.any((model.geom_contype[ids] & ca) | (model.geom_conaffinity[ids] & ct)):
+        return True
+    chosen = set(int(g) for g in ids)
+    for p in range(model.npair):
+        g1, g2 = int(model.pair_geom1[p]), int(model.pair_geom2[p])
+        if model.pair_margin[p] > FLOOR_PAIR_MARGIN and ((g1 == f and g2 in chosen) or (g2 == f and g1 in chosen)):
+            return True
+    return False
+
+
+def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object, list[str]]:
+    """(geom id, surface: its top height, or its name for an hfield, warnings) of ``floor`` (a geom name/id or
+    ``"auto"``), judged at the model's initial pose under the centre of the selected geoms. ``"auto"`` takes the
+    highest horizontal collision floor under the robot that collides with the selected geoms (else the highest
+    collision floor); the warnings name the other collision floors the robot can still stand on
+    (:func:`_rigid_floors_left`)."""
     if isinstance(floor, (bool, np.bool_)) or not isinstance(floor, (str, int, np.integer)):
         raise ValueError(f"floor must be None, 'auto' or a geom name/id, got {floor!r}")
     d = mujoco.MjData(model)
@@ -251,13 +279,14 @@ def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object]:
             raise ValueError(f"floor='auto' found no collision plane, box or hfield of the world with a horizontal "
                              f"top {where}; candidates: {listing or '(none)'}; name the floor (floor='<geom>') or "
                              "give the sand's height (surface=<m>)")
-        low = min(t for _, t, _ in tops)
-        lowest = [g for g, t, _ in tops if t <= low + 1e-9]
-        if len(lowest) > 1:
-            raise ValueError(f"floor='auto' is ambiguous: {len(lowest)} geoms have the lowest top {low:.6g} m {where}: "
-                             f"{', '.join(repr(_geom_label(model, g)) for g in lowest)}; candidates: {listing}; "
-                             "name the floor (floor='<geom>')")
-        g = lowest[0]
+        pool = [(g, t) for g, t, _ in tops if _collides_with(model, g, geom_ids)] or [(g, t) for g, t, _ in tops]
+        high = max(t for _, t in pool)
+        highest = [g for g, t in pool if t >= high - 1e-9]
+        if len(highest) > 1:
+            raise ValueError(f"floor='auto' is ambiguous: {len(highest)} geoms have the highest top {high:.6g} m "
+                             f"{where}: {', '.join(repr(_geom_label(model, g)) for g in highest)}; candidates: "
+                             f"{listing}; name the floor (floor='<geom>')")
+        g, top = highest[0], high
     else:
         names = [_geom_label(model, g) for g in world]
         try:
@@ -268,9 +297,42 @@ def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object]:
         if why is not None and why != "not under the robot":
             raise ValueError(f"floor geom {_geom_label(model, g)!r} cannot be the sand surface: it is {why}; "
                              f"world planes, boxes and hfields: {', '.join(names) or '(none)'}")
+    notes = [] if top is None else _rigid_floors_left(model, d, g, float(top), world, xy, geom_ids)
     if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_HFIELD:
-        return g, _geom_label(model, g)
-    return g, float(top)
+        return g, _geom_label(model, g), notes
+    return g, float(top), notes
+
+
+def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g: int, top: float, world, xy, geom_ids) -> list[str]:
+    """The warnings for the collision floors other than ``g`` (whose top ``top`` is the sand surface) that the
+    robot can still stand on: every world plane, box or hfield with a horizontal top under ``xy`` that collides
+    with the selected geoms and whose top is at or above the surface, or below it by less than the robot's size
+    (the largest extent of the selected geoms' bounding box at the initial pose): a geom that sinks that deep
+    meets it."""
+    lo, hi = _world_boxes(model, d, geom_ids)
+    size = float((hi.max(axis=0) - lo.min(axis=0)).max())
+    chosen = _geom_label(model, g)
+    out = []
+    for f in world:
+        if f == g:
+            continue
+        t, why = _floor_top(model, d, f, xy)
+        if why is not None or not _collides_with(model, f, geom_ids):
+            continue
+        name, kind = _geom_label(model, f), _FLOOR_TYPES[int(model.geom_type[f])]
+        remove = f"model.geom_contype[{f}] = model.geom_conaffinity[{f}] = 0"
+        if t >= top - 1e-9:
+            out.append(f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a collision floor under the robot at or "
+                       f"above the sand surface ({top:.6g} m, the top of '{chosen}'): it keeps its rigid contacts, "
+                       f"so the robot stands on it and not on the sand; name it as the floor (floor='{name}') or "
+                       f"remove its contacts ({remove})")
+        elif top - t < size:
+            out.append(f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a collision floor {top - t:.4g} m below "
+                       f"the sand surface ({top:.6g} m, the top of '{chosen}'), less than the robot's size "
+                       f"({size:.4g} m): it keeps its rigid contacts, so a geom that sinks {top - t:.4g} m stands "
+                       f"on it; remove its contacts ({remove}) for deeper sand, or keep it as the bed's rigid "
+                       "bottom")
+    return out
 
 
 FLOOR_PAIR_MARGIN = -1e10  # m: an explicit <pair> with the floor gets this margin (no contact within reach)
@@ -345,6 +407,35 @@ def select_geoms(model: mujoco.MjModel, bodies, geoms) -> list[int]:
         selected = [g for g in range(m.ngeom)
                     if m.geom_bodyid[g] != 0 and m.geom_type[g] in _SUPPORTED_GEOMS and _collides(m, g)]
     return sorted(set(selected))
+
+
+def _nothing_selected(model: mujoco.MjModel, bodies, geoms) -> ValueError:
+    """The error for a selection (:func:`select_geoms`) that holds no geom: what the model's bodies have, and how
+    to select it."""
+    m = model
+    supported = [g for g in range(m.ngeom) if m.geom_bodyid[g] != 0 and m.geom_type[g] in _SUPPORTED_GEOMS]
+    types = "box, capsule, cylinder, sphere, ellipsoid or mesh"
+    if bodies or geoms:
+        return ValueError(f"no geoms selected for the granular terrain: bodies={bodies!r} have no {types} geom "
+                          f"and geoms={geoms!r} names none")
+    if not supported:
+        return ValueError(f"no geoms selected for the granular terrain: no body of the model but the world has a "
+                          f"{types} geom")
+    shown = supported[:12]
+    more = f" and {len(supported) - len(shown)} more" if len(supported) > len(shown) else ""
+
+    def body(g):
+        b = int(m.geom_bodyid[g])
+        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
+
+    listing = ", ".join(f"'{_geom_label(m, g)}' (body '{body(g)}')" for g in shown) + more
+    geom_names = ", ".join(repr(mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g) or g) for g in shown)
+    body_names = ", ".join(repr(b) for b in dict.fromkeys(body(g) for g in supported))
+    return ValueError(f"no geoms selected for the granular terrain: by default only collision geoms (contype or "
+                      f"conaffinity non-zero) of the model's bodies feel the grains, and all {len(supported)} of its "
+                      f"{types} geoms are visual-only (contype = conaffinity = 0): {listing}; select them: "
+                      f"bodies=[{body_names}] (a named body whose geoms are all visual-only gives them all) or "
+                      f"geoms=[{geom_names}] (names or ids; a named geom is taken even when visual-only)")
 
 
 def default_resolution(model: mujoco.MjModel) -> float:
@@ -559,6 +650,7 @@ class TerrainSettings:
     water_depth: float | None
     regions: list
     region_map: object
+    floor_warnings: tuple = ()  # the rigid floors the robot can still stand on (:func:`_rigid_floors_left`)
 
 
 def _check_selection(bodies, geoms) -> None:
@@ -571,12 +663,12 @@ def _check_selection(bodies, geoms) -> None:
 
 
 def _resolve_surface(model: mujoco.MjModel, cfg: dict, floor, surface, geom_ids) -> tuple:
-    """(floor geom id or None, surface height, hfield geom id or None, hfield heights, hfield frame) from the
-    ``floor`` / ``surface`` arguments (at most one given) or the model's ``mjrft:floor`` / ``mjrft:surface`` /
-    ``mjrft:surface_hfield``."""
-    floor_id, hfield, hf_z, hf_frame = None, None, np.zeros((0, 0)), np.zeros(8)
+    """(floor geom id or None, surface height, hfield geom id or None, hfield heights, hfield frame, the floor's
+    warnings) from the ``floor`` / ``surface`` arguments (at most one given) or the model's ``mjrft:floor`` /
+    ``mjrft:surface`` / ``mjrft:surface_hfield``."""
+    floor_id, hfield, hf_z, hf_frame, notes = None, None, np.zeros((0, 0)), np.zeros(8), []
     if floor is not None:
-        floor_id, surface = _find_floor(model, floor, geom_ids)
+        floor_id, surface, notes = _find_floor(model, floor, geom_ids)
     elif surface is None and "surface_hfield" in cfg:
         surface = cfg["surface_hfield"]
     if surface is None:
@@ -587,7 +679,7 @@ def _resolve_surface(model: mujoco.MjModel, cfg: dict, floor, surface, geom_ids)
         except ValueError:
             hfield, hf_z, hf_frame = _hfield_surface(model, surface)
             surface = float(hf_z.mean())
-    return floor_id, check_finite("surface", surface), hfield, hf_z, hf_frame
+    return floor_id, check_finite("surface", surface), hfield, hf_z, hf_frame, tuple(notes)
 
 
 def _resolve_resolution(model: mujoco.MjModel, resolution, geom_ids) -> tuple[float, bool]:
@@ -625,8 +717,8 @@ def resolve_settings(model: mujoco.MjModel, cfg: dict, *, medium=None, law=None,
                              f"{'_hfield' if 'surface_hfield' in cfg else ''}; keep one of them")
     geom_ids = select_geoms(model, pick("bodies", bodies), pick("geoms", geoms))
     if not geom_ids:
-        raise ValueError("no geoms selected for the granular terrain")
-    floor_id, surface, hfield, hf_z, hf_frame = _resolve_surface(model, cfg, floor, surface, geom_ids)
+        raise _nothing_selected(model, pick("bodies", bodies), pick("geoms", geoms))
+    floor_id, surface, hfield, hf_z, hf_frame, floor_warnings = _resolve_surface(model, cfg, floor, surface, geom_ids)
     resolution, resolution_auto = _resolve_resolution(model, pick("resolution", resolution), geom_ids)
     yield_displacement = check_positive("yield_displacement", pick("yield_displacement", yield_displacement),
                                         allow_zero=True)
@@ -657,7 +749,7 @@ def resolve_settings(model: mujoco.MjModel, cfg: dict, *, medium=None, law=None,
     return TerrainSettings(medium, law, geom_ids, floor_id, surface, hfield, hf_z, hf_frame, resolution,
                            resolution_auto, yield_displacement, v_eps, damping_time, transition, buoyancy,
                            bool(inertial), inertial_given, inertial_drag, drag_coefficient, water_density,
-                           pick("water_depth", water_depth), entries, region_map)
+                           pick("water_depth", water_depth), entries, region_map, floor_warnings)
 
 
 @dataclass
@@ -929,17 +1021,27 @@ class GranularTerrain:
             (contype = conaffinity = 0), which are then all it has (mjrft's kinematic rigs).
         geoms: geom names/ids (added to those of ``bodies``), taken as named, visual-only ones included.
             With neither (and nothing in the MJCF), every supported collision geom of every non-world
-            body: a third-party model's visual meshes do not feel the grains.
+            body: a third-party model's visual meshes do not feel the grains (a model whose geoms are all
+            visual-only gets an error naming them and the ``bodies=`` / ``geoms=`` that select them).
         floor: ``None`` (default), the name of a geom of the world (a plane, box or hfield with a
-            horizontal top; a geom on a body welded to the world counts), or ``"auto"``: the world's
-            collision plane / box / hfield whose top is lowest under the selected bodies (an error lists
-            the candidates when there is none or when two share that height). Its top becomes the sand
-            surface (an hfield floor: the height-field surface, as ``surface="<geom>"`` does) and its
-            contacts are removed from the LOADED ``model`` (never the file): its ``geom_contype`` and
-            ``geom_conaffinity`` are set to 0 and an explicit ``<pair>`` with it gets a margin of
-            ``-1e10`` (never within reach), so NOTHING rests on that floor any more, robot or not (a
-            body the terrain does not select falls through it). The values it had are kept in
-            ``floor_contacts``. Exclusive with ``surface``. See "Your own robot" below.
+            horizontal top; a geom on a body welded to the world counts), or ``"auto"``: the floor the
+            robot stands on, i.e. of the world's collision planes / boxes / hfields with a horizontal top
+            under the selected geoms' centre (at the model's initial pose), the one whose top is highest
+            among those that collide with the selected geoms (contype/conaffinity bits or an explicit
+            ``<pair>``; if none does, the highest collision one). Tilted planes and boxes (walls) are never
+            chosen; an error lists the candidates when there is none or when two share the highest top.
+            Its top becomes the sand surface (an hfield floor: the height-field surface, as
+            ``surface="<geom>"`` does) and its contacts are removed from the LOADED ``model`` (never the
+            file): its ``geom_contype`` and ``geom_conaffinity`` are set to 0 and an explicit ``<pair>``
+            with it gets a margin of ``-1e10`` (never within reach), so NOTHING rests on that floor any
+            more, robot or not (a body the terrain does not select falls through it). The values it had
+            are kept in ``floor_contacts``. Every OTHER such floor under the robot that collides with the
+            selected geoms keeps its contacts and is named in a :class:`~mjrft.errors.SandContactWarning`
+            (its top, and how to remove its contacts) when the robot can stand on it: its top is at or
+            above the sand surface (a named floor below another), or below it by less than the robot's
+            size (the largest extent of the selected geoms' bounding box at the initial pose: a geom that
+            sinks that deep meets it). A deeper one is the bed's rigid bottom. Exclusive with
+            ``surface``. See "Your own robot" below.
         surface: height of the flat free surface (m), or the name of an ``hfield`` geom whose height
             field is the free surface (bilinear between its samples; see "Height-field surface" below).
         resolution: target element edge length (m), the one discretisation knob, or ``"auto"`` (the
@@ -1102,6 +1204,8 @@ class GranularTerrain:
         self._validity = ValidityWatch(self.regions, self.inertial)
         if self.floor is not None:  # last: a constructor that raises leaves the model as it was
             self.floor_contacts = _remove_contacts(model, self.floor)
+        for note in s.floor_warnings:
+            warnings.warn(SandContactWarning(note), stacklevel=2)
 
     # ------------------------------------------------------------------ set-up helpers
     def _allocate_state(self) -> None:

@@ -25,6 +25,11 @@ class TerrainStabilityWarning(RuntimeWarning):
     """The timestep is beyond the explicit-integration stability limit of the granular stiffness."""
 
 
+class SandContactWarning(UserWarning):
+    """A set-up in which the robot may not meet the sand: a rigid collision floor it can still stand on, or
+    selected geoms that never reach the sand surface."""
+
+
 class ValidityRangeWarning(RuntimeWarning):
     """A scene leaves the speed, depth or grain-size range a law's source calibrated (:mod:`mjrft.laws.validity`)."""
 

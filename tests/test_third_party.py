@@ -186,7 +186,7 @@ def test_named_box_floor_and_its_height():
     assert mjrft.GranularTerrain(m, floor="auto").surface == pytest.approx(FLOOR_Z, abs=1e-9)
 
 
-def test_auto_floor_takes_the_lowest_top_under_the_robot():
+def test_auto_floor_takes_the_highest_top_under_the_robot():
     # a step beside the robot and a platform above the floor away from it are not the floor
     extra = ('<geom name="step" type="box" size="0.2 0.2 0.1" pos="1 0 0.1"/>'
              '<geom name="wall" type="plane" size="1 1 0.1" pos="-1 0 0" zaxis="1 0 0"/>'
@@ -200,11 +200,14 @@ def test_auto_floor_takes_the_lowest_top_under_the_robot():
 def test_auto_floor_errors_list_the_candidates():
     twin = f'<geom name="floor2" type="plane" size="2 2 0.1" pos="1 0 {FLOOR_Z}"/>'
     m = mujoco.MjModel.from_xml_string(robot_xml(extra_world=twin))
-    with pytest.raises(ValueError, match=r"floor='auto' is ambiguous: 2 geoms have the lowest top 0.05 m .*"
+    with pytest.raises(ValueError, match=r"floor='auto' is ambiguous: 2 geoms have the highest top 0.05 m .*"
                                          r"'floor', 'floor2'.*name the floor"):
         mjrft.GranularTerrain(m, floor="auto")
     assert m.geom_contype[gid(m, "floor")] == 1  # a failed constructor leaves the model as it was
-    assert mjrft.GranularTerrain(m, floor="floor2").floor == gid(m, "floor2")
+    # the other plane at the same height stays a rigid floor the robot stands on: named in a warning
+    with pytest.warns(mjrft.SandContactWarning, match=r"geom 'floor' \(plane, top 0.05 m\) is a collision floor "
+                                                      r"under the robot at or above the sand surface"):
+        assert mjrft.GranularTerrain(m, floor="floor2").floor == gid(m, "floor2")
     none = '<geom name="wall" type="plane" size="1 1 0.1" pos="-1 0 0" zaxis="1 0 0"/>'
     m = mujoco.MjModel.from_xml_string(robot_xml(floor=none))
     with pytest.raises(ValueError, match=r"found no collision plane, box or hfield .* 'wall' \(plane, tilted"):

@@ -1,0 +1,127 @@
+"""floor="auto" and named floors: which world geom becomes the sand surface, and the warnings for the rigid
+collision floors the robot can still stand on (mjrft.coupler._find_floor)."""
+
+from __future__ import annotations
+
+import warnings
+
+import mujoco
+import numpy as np
+import pytest
+
+import mjrft
+from mjrft import SandContactWarning
+
+ROBOT = """<body name="robot" pos="0 0 {z}"><freejoint/>
+      <geom name="torso" type="box" size="0.1 0.1 0.05" mass="1"/>
+    </body>"""
+
+
+def model(world: str, z: float = 0.1, asset: str = "") -> mujoco.MjModel:
+    """A 0.2 x 0.2 x 0.1 m box robot at height ``z`` over the world geoms ``world``."""
+    return mujoco.MjModel.from_xml_string(f"<mujoco>{asset}<worldbody>{world}{ROBOT.format(z=z)}</worldbody></mujoco>")
+
+
+def gid(m, name: str) -> int:
+    return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, name)
+
+
+def terrain(m, floor="auto"):
+    """The terrain, and the SandContactWarnings its constructor gave."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        t = mjrft.GranularTerrain(m, floor=floor, resolution=0.05)
+    return t, [str(w.message) for w in caught if issubclass(w.category, SandContactWarning)]
+
+
+PLANE = '<geom name="floor" type="plane" size="2 2 0.1"/>'
+WALL = '<geom name="wall" type="plane" size="1 1 0.1" pos="2 0 0.5" zaxis="-1 0 1"/>'  # tilted, as dm_control's
+
+
+def test_the_surface_is_the_chosen_floors_own_top():
+    # a 0.3 m box beside the robot, after the plane: the plane is the floor and its top (0) the surface
+    m = model(PLANE + '<geom name="box" type="box" size="0.2 0.2 0.15" pos="1 0 0.15"/>')
+    t, notes = terrain(m)
+    assert t.floor == gid(m, "floor") and t.surface == 0.0 and not notes
+    assert m.geom_contype[gid(m, "box")] == 1  # the box beside the robot keeps its contacts
+    # the same box under the robot is what it stands on: its own top is the surface, wherever it is listed
+    for world in ('<geom name="box" type="box" size="0.5 0.5 0.15" pos="0 0 0.15"/>' + PLANE,
+                  PLANE + '<geom name="box" type="box" size="0.5 0.5 0.15" pos="0 0 0.15"/>'):
+        m = model(world, z=0.4)
+        t, notes = terrain(m)
+        assert t.floor == gid(m, "box") and t.surface == pytest.approx(0.3)
+
+
+def test_a_tilted_plane_last_is_never_chosen_and_does_not_crash():
+    m = model(PLANE + WALL)
+    t, notes = terrain(m)
+    assert t.floor == gid(m, "floor") and t.surface == 0.0 and not notes
+    assert m.geom_contype[gid(m, "wall")] == 1
+    with pytest.raises(ValueError, match="floor geom 'wall' cannot be the sand surface: it is tilted"):
+        mjrft.GranularTerrain(model(PLANE + WALL), floor="wall")
+    # a box turned off the horizontal, last: not a floor either
+    tilted = '<geom name="ramp" type="box" size="1 1 0.1" pos="0 0 -0.1" euler="0 20 0"/>'
+    m = model(PLANE + tilted)
+    assert terrain(m)[0].floor == gid(m, "floor")
+
+
+# dm_control's quadruped.xml: a plane, four tilted walls, and a flat height field 1 cm below the plane
+HFIELD_ASSET = '<asset><hfield name="hf" nrow="3" ncol="3" size="3 3 0.5 0.1"/></asset>'
+HFIELD = '<geom name="terrain" type="hfield" hfield="hf" pos="0 0 -0.01"/>'
+
+
+def test_auto_takes_the_highest_floor_and_warns_about_a_rigid_one_within_reach():
+    m = model(PLANE + WALL + HFIELD, asset=HFIELD_ASSET)
+    t, notes = terrain(m)
+    # the plane the robot stands on becomes the sand (its contacts removed) ...
+    assert t.floor == gid(m, "floor") and t.surface == 0.0
+    assert (m.geom_contype[gid(m, "floor")], m.geom_conaffinity[gid(m, "floor")]) == (0, 0)
+    # ... and the height field 1 cm under it, which the robot meets after sinking 1 cm, is named
+    assert len(notes) == 1 and "'terrain' (hfield, top -0.01 m)" in notes[0] and "0.01 m below" in notes[0]
+    assert "remove its contacts" in notes[0] and f"model.geom_contype[{gid(m, 'terrain')}]" in notes[0]
+    assert m.geom_contype[gid(m, "terrain")] == 1
+    # control: a rigid floor deeper than the robot's size (0.2 m) is the bed's bottom, not warned about
+    deep = HFIELD.replace("-0.01", "-0.5")
+    m = model(PLANE + WALL + deep, asset=HFIELD_ASSET)
+    t, notes = terrain(m)
+    assert t.floor == gid(m, "floor") and not notes
+
+
+def test_a_named_floor_below_another_collision_floor_warns_naming_it():
+    m = model(PLANE + WALL + HFIELD, asset=HFIELD_ASSET)
+    with pytest.warns(SandContactWarning, match=r"geom 'floor' \(plane, top 0 m\) is a collision floor under the "
+                                                r"robot at or above the sand surface \(-0.01 m, the top of 'terrain'\)"
+                                                r".*floor='floor'"):
+        t = mjrft.GranularTerrain(m, floor="terrain", resolution=0.05)
+    assert t.floor == gid(m, "terrain") and m.geom_contype[gid(m, "floor")] == 1
+
+
+def test_floors_that_do_not_collide_with_the_robot_are_neither_chosen_nor_warned_about():
+    # a plane above the floor whose collision bits miss the robot's (contype 2, conaffinity 2 against 1, 1)
+    other = '<geom name="other" type="plane" size="2 2 0.1" pos="0 0 0.02" contype="2" conaffinity="2"/>'
+    m = model(PLANE + other)
+    t, notes = terrain(m)
+    assert t.floor == gid(m, "floor") and not notes
+    # control: an explicit <pair> joins it to the robot, so the robot stands on it: it is the floor now
+    pair = '<contact><pair geom1="other" geom2="torso"/></contact>'
+    m = mujoco.MjModel.from_xml_string(f"<mujoco><worldbody>{PLANE}{other}{ROBOT.format(z=0.1)}</worldbody>"
+                                       f"{pair}</mujoco>")
+    t, notes = terrain(m)
+    assert t.floor == gid(m, "other") and t.surface == pytest.approx(0.02)
+    assert len(notes) == 1 and "'floor' (plane, top 0 m)" in notes[0] and "0.02 m below" in notes[0]
+
+
+def test_the_robot_no_longer_stands_on_the_rigid_plane():
+    """quadruped.xml's layout: with the plane as the sand the robot is carried by the grains (the hfield 1 cm below
+    is out of reach for this light box in poppy seeds, as its sinkage shows)."""
+    m = model(PLANE + WALL + HFIELD.replace("-0.01", "-0.05"), z=0.06, asset=HFIELD_ASSET)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t = mjrft.GranularTerrain(m, "poppy_cp", floor="auto", resolution=0.02)
+    d = mujoco.MjData(m)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t.step(d, 600)
+    weight = float(m.body_subtreemass[0]) * 9.81
+    assert d.ncon == 0 and t.wrench[:, 2].sum() == pytest.approx(weight, rel=0.05)
+    assert 0 < t.sinkage().max() < 0.05
