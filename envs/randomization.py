@@ -35,7 +35,8 @@ before:
                         sampled on the scene's height-field surface and bilinear between samples (the
                         rendered hfield shows it). Needs a height-field sand surface: the hexapod envs add
                         one (model option ``surface_grid``, default :data:`DEFAULT_SURFACE_GRID`); other
-                        robots take ``surface_grid=<m>`` as a keyword argument.
+                        robots take ``surface_grid=<m>`` as a keyword argument; a gymnasium env on sand
+                        (:class:`~mjrft.envs.wrapper.GranularWrapper`) needs an hfield floor.
 ``correlation_length``  m (> 0, default 0.05; at least two ``surface_grid`` samples).
 ``strips``              ``[min, max]`` (integers >= 0): the number ``n`` of strip boundaries along x, drawn
                         uniformly; the bed's medium holds for ``x < strip_start + L_1``, then ``n`` strips
@@ -48,6 +49,8 @@ before:
 ``strip_start``         x (m) where the strip layout starts (default 0: the robot's start).
 ======================  =================================================================================
 
+Every sand environment takes the option: mjrft's own and the gymnasium robots on sand (the ``*Sand-v5`` ids,
+:class:`~mjrft.envs.wrapper.GranularWrapper`, whose flat floor drawn as the sand moves with ``surface_height``).
 Draws come from the environment's ``np_random`` (after the reset noise of the start pose, in the order of
 the table), so ``reset(seed=s)`` reproduces the terrain, and a vector environment's sub-environment ``i``
 (seed ``s + i``) draws what a single environment seeded ``s + i`` draws. ``info["terrain"]`` (at reset and
@@ -69,7 +72,7 @@ from mjrft.coupler import GranularTerrain, Region
 from mjrft.errors import check_finite, check_positive, unknown
 from mjrft.media import MEDIA, Medium
 
-__all__ = ["DEFAULT_SURFACE_GRID", "TerrainRandomization", "TerrainRandomizer", "rough_field"]
+__all__ = ["DEFAULT_SURFACE_GRID", "TerrainRandomization", "TerrainRandomizer", "rough_field", "upload_surface"]
 
 #: sample spacing (m) of the height-field sand surface the hexapod envs add for ``roughness`` (a quarter of the
 #: RHex-class leg's 4.1 cm chord: the bumps a leg meets are resolved, the field stays 201 x 101 on the 2 x 1 m bed)
@@ -219,11 +222,26 @@ def _show_one_strip(model: mujoco.MjModel, bed: dict) -> None:
             model.geom_rgba[g, 3] = 0.0
 
 
+def upload_surface(env, terrain: GranularTerrain) -> None:
+    """Send a height-field sand surface that ``terrain`` rewrote to the render contexts ``env`` (a gymnasium
+    ``MujocoEnv``) has already made (a context made later reads the model itself)."""
+    hfield = terrain.surface_hfield
+    viewers = getattr(getattr(env, "mujoco_renderer", None), "_viewers", None)
+    if hfield is None or not viewers:
+        return
+    for viewer in viewers.values():
+        viewer.make_context_current()
+        mujoco.mjr_uploadHField(env.model, viewer.con, int(env.model.geom_dataid[hfield]))
+
+
 class TerrainRandomizer:
     """Draws and puts in place a new terrain on one environment's :class:`~mjrft.GranularTerrain` (and the
-    visual sand of its model). Made once per environment; checks the options against the terrain."""
+    visual sand of its model). Made once per environment; checks the options against the terrain.
+    ``surface_geoms``: more geoms of the world (a flat floor drawn as the sand) moved up and down with a
+    drawn ``surface_height``, besides the scene's own ``sand_*`` / ``water_*`` boxes."""
 
-    def __init__(self, options: TerrainRandomization, terrain: GranularTerrain, model: mujoco.MjModel):
+    def __init__(self, options: TerrainRandomization, terrain: GranularTerrain, model: mujoco.MjModel,
+                 surface_geoms=()):
         self.options, self.terrain, self.model = options, terrain, model
         o, t = options, terrain
         self.base_medium, self.base_regions = t.medium, list(t._settings.regions)
@@ -261,7 +279,8 @@ class TerrainRandomizer:
             if (model.geom_bodyid[g] == 0 and name.startswith(("sand_", "water_"))
                     and not (model.geom_contype[g] or model.geom_conaffinity[g])):
                 bed[name] = g
-        self._visual = [(g, float(model.geom_pos[g, 2])) for g in bed.values()
+        shown = [*bed.values(), *(int(g) for g in surface_geoms if int(g) not in bed.values())]
+        self._visual = [(g, float(model.geom_pos[g, 2])) for g in shown
                         if o.surface_height is not None and model.geom_type[g] != mujoco.mjtGeom.mjGEOM_HFIELD]
         if o.strips is not None and o.strips[1] > 0:
             _show_one_strip(model, bed)

@@ -25,7 +25,25 @@ The env's own code is not changed. The wrapper
   ``terminated=True``, reward 0 and ``info["diverged"]`` with the error message (body and time); the
   physics stays stopped until ``reset()``, so an episode never goes on from MuJoCo's reset state;
 * renders the sand: the floor geom (now the sand surface) is drawn in ``sand_rgba``, translucent by
-  default so buried parts of the robot stay visible (``sand_rgba=None`` keeps the env's own colour).
+  default so buried parts of the robot stay visible (``sand_rgba=None`` keeps the env's own colour);
+* refuses an action that is not of the action space's shape or holds NaN or infinite values with a
+  ``ValueError`` naming it, before anything is simulated (as mjrft's own envs do);
+* draws a new terrain at each ``reset()`` with ``terrain_randomization`` (as mjrft's own sand envs,
+  :mod:`mjrft.envs.randomization`): medium, stress scale, surface height and strips from the env's
+  ``np_random`` after its own reset noise, so ``reset(seed=s)`` reproduces it; ``info["terrain"]`` (at reset
+  and in every step's info) says what was drawn, and a flat floor drawn as the sand moves with a drawn
+  surface height. ``roughness`` needs a height-field floor. Off (the default), nothing is drawn and the env
+  steps the same trajectory;
+* warns (:class:`mjrft.SandContactWarning`) at construction when the robot may never meet the sand: no
+  selected geom is below the surface at the env's initial pose and none can fall onto it (no free joint, or
+  slide joint with a vertical component, under a gravity pointing down). The warning lists each geom's
+  lowest point and the lowest point any motion of its joints can bring it to (:func:`lowest_reach`, a
+  bound), and says whether none can reach the sand at all (InvertedDoublePendulum's floor lies 3 m below
+  it) or the robot is fixed to the world and feels the grains only where its actuators push a geom down
+  (Pusher, in zero gravity above its table). A model whose geoms are all visual-only (Swimmer) is refused
+  by the terrain with an error naming them;
+* is a ``gymnasium.utils.RecordConstructorArgs``: ``env.spec`` records the wrapper and its arguments, so
+  ``gymnasium.make(env.spec)`` rebuilds the env on sand and gymnasium's ``check_env`` accepts it.
 
 Integrators. ``terrain.step`` is MuJoCo's ``mj_step1`` / granular wrench / ``mj_step2``, which cannot
 split an RK4 step (MuJoCo integrates it with Euler). An RK4 model (four of gymnasium's five robots) is
@@ -78,6 +96,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import warnings
 
 import gymnasium
 import mujoco
@@ -86,8 +105,10 @@ from gymnasium.envs.mujoco import MujocoEnv
 from numba import njit
 
 from mjrft import kernel
-from mjrft.coupler import GranularTerrain
-from mjrft.errors import NonFiniteError, unknown
+from mjrft.coupler import GranularTerrain, geom_world_boxes
+from mjrft.errors import NonFiniteError, SandContactWarning, unknown
+
+from .randomization import TerrainRandomization, TerrainRandomizer, upload_surface
 
 __all__ = ["GranularWrapper", "SAND_RGBA", "SAFETY", "SPRING_STEP", "spring_rate", "static_timestep_limit",
            "terrain_option_names"]
@@ -99,7 +120,9 @@ SAFETY = 0.5
 #: with the implicit step, the automatic sub-step resolves the stiffest granular spring: ``omega dt <= SPRING_STEP``
 SPRING_STEP = 1.0
 MAX_SUBSTEPS = 64
-WRAPPER_OPTIONS = ("substeps", "max_substeps", "spring_step", "sand_rgba")
+WRAPPER_OPTIONS = ("substeps", "max_substeps", "spring_step", "sand_rgba", "terrain_randomization")
+#: m: a selected geom counts as in the sand, or as reaching it, below the surface by more than this
+REACH_TOLERANCE = 1e-6
 
 
 def spring_rate(limit: float, tau: float) -> float:
@@ -182,6 +205,98 @@ def _sinkage_and_force(depth, elem_body, slot, wrench, bodies):
     return sink, force
 
 
+def lowest_reach(model: mujoco.MjModel, data: mujoco.MjData, g: int, bottom: float) -> tuple[float, bool]:
+    """(a lower bound on the height geom ``g`` can reach by any motion of its joints, whether gravity alone can
+    move it down) from the pose in ``data`` (kinematics done), where the geom's lowest point is ``bottom``.
+
+    The bound follows the geom up its chain of bodies to the world: a slide joint moves it along its axis by
+    at most its range (its downward part is counted exactly while no joint above turns it); a hinge or ball
+    joint turns everything below it about its anchor, so from the first one on the geom is followed as a
+    sphere (its bounding sphere, ``geom_rbound`` about its centre, plus the slides' travel below the turn) that
+    grows to the sphere about the anchor holding it (radius ``|c - anchor| + r``, the same in every pose). A free joint, a mocap body or an unlimited slide with a vertical component gives ``-inf``. The
+    geom can fall by itself when its chain holds a free joint or a slide with a vertical component that may move
+    down, and the model's gravity points down."""
+    gz = float(model.opt.gravity[2])
+    c, r = data.geom_xpos[g].copy(), float(model.geom_rbound[g])
+    slack = down = 0.0  # any-direction and downward travel of the slides since the last turn
+    falls = turned = False
+    b = int(model.geom_bodyid[g])
+    while b != 0:
+        if model.body_mocapid[b] >= 0:
+            return -math.inf, falls
+        first, n = int(model.body_jntadr[b]), int(model.body_jntnum[b])
+        for j in range(first + n - 1, first - 1, -1):
+            kind = model.jnt_type[j]
+            if kind == mujoco.mjtJoint.mjJNT_FREE:
+                return -math.inf, falls or gz < 0
+            if kind == mujoco.mjtJoint.mjJNT_SLIDE:
+                q = float(data.qpos[model.jnt_qposadr[j]])
+                lo, hi = (model.jnt_range[j] - q) if model.jnt_limited[j] else (-math.inf, math.inf)
+                az = float(data.xaxis[j, 2])
+                dn = 0.0 if abs(az) < 1e-12 else max(-lo * az, -hi * az, 0.0)
+                slack += max(abs(lo), abs(hi))
+                down += dn
+                falls = falls or (dn > 0 and gz < 0)
+            else:
+                a = data.xanchor[j]
+                r = float(np.linalg.norm(c - a)) + r + slack
+                c, slack, down, turned = a.copy(), 0.0, 0.0, True
+        b = int(model.body_parentid[b])
+    return float((c[2] - r if turned else bottom) - down), falls
+
+
+def reach_warning(terrain: GranularTerrain, data: mujoco.MjData) -> str | None:
+    """The warning for a robot whose selected geoms may never meet the sand, judged in ``data``'s pose (kinematics
+    done), or None: no selected geom is below the sand surface (or its water) in that pose, and none can fall onto
+    it (:func:`lowest_reach`); then either none can reach it by any motion of its joints, or the robot is fixed
+    to the world and meets the grains only where its actuators drive a geom down."""
+    m = terrain.model
+    ids = np.asarray(terrain.geom_ids, dtype=np.int64)
+    lo, _ = geom_world_boxes(m, data, ids)
+    xy = data.geom_xpos[ids, :2]
+    local = terrain.surface_height(xy[:, 0], xy[:, 1]) + terrain.water_depth
+    if np.any(lo[:, 2] < local - REACH_TOLERANCE):
+        return None
+    reach = [lowest_reach(m, data, int(g), float(z)) for g, z in zip(ids, lo[:, 2])]
+    if any(falls for _, falls in reach):
+        return None
+    top = (float(terrain.surface_samples()[2].max()) if terrain.surface_hfield is not None
+           else float(terrain.surface)) + terrain.water_depth
+    what = "the sand surface" + (" and its water" if terrain.water_depth > 0 else "")
+    rows = sorted(zip(lo[:, 2], (z for z, _ in reach), ids), key=lambda row: row[0])
+
+    def label(g):
+        body = int(m.geom_bodyid[g])
+        return (f"'{mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g) or f'#{g}'}' (body "
+                f"'{mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, body) or f'#{body}'}'")
+
+    listing = ", ".join(f"{label(int(g))}, bottom {b:.4g} m, reach {z:.4g} m)" for b, z, g in rows[:8])
+    listing += f" and {len(rows) - 8} more" if len(rows) > 8 else ""
+    floor = f" (the top of '{mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, terrain.floor)}')" \
+        if terrain.floor is not None else ""
+    if all(z >= top - REACH_TOLERANCE for _, z, _ in rows):
+        return (f"mjrft: the robot's selected geoms never reach {what} at {top:.4g} m{floor}: none is below it at the "
+                "initial pose, none can fall, and the lowest each can reach by any motion of its joints stays above "
+                f"it; they will feel no granular force. Geoms (body, lowest point at the initial pose, lowest point "
+                f"any motion of the joints can bring it to): {listing}. Check the floor (floor='<geom>') or the "
+                "sand's height (surface=<m>)")
+    return (f"mjrft: the robot is fixed to the world (no free joint or vertical slide lets it fall onto the sand"
+            f"{'' if m.opt.gravity[2] < 0 else ', and gravity does not pull down'}) and none of its selected "
+            f"geoms is below {what} at {top:.4g} m{floor} at the initial pose: it feels granular force only where "
+            f"its actuators drive a geom below the surface. Geoms (body, lowest point at the initial pose, lowest "
+            f"point any motion of the joints can bring it to): {listing}")
+
+
+def _plain(value):
+    """``value`` with numpy arrays and scalars as lists and Python numbers: the wrapper's recorded arguments (its
+    ``spec``), which gymnasium compares with ``==`` when it rebuilds an env from a spec."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
 def _build_terrain(model: mujoco.MjModel, medium, law, options: dict) -> tuple[GranularTerrain, list[int]]:
     """The terrain on ``model`` (``floor="auto"``, ``resolution="auto"`` unless given) and the floor geoms."""
     options = dict(options)
@@ -193,7 +308,7 @@ def _build_terrain(model: mujoco.MjModel, medium, law, options: dict) -> tuple[G
     return terrain, ([int(floor)] if floor is not None else [])
 
 
-class GranularWrapper(gymnasium.Wrapper):
+class GranularWrapper(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):
     """A gymnasium ``MujocoEnv`` on granular terrain (see the module docstring).
 
     Args:
@@ -205,12 +320,17 @@ class GranularWrapper(gymnasium.Wrapper):
         spring_step: with the implicit step, the automatic rule's ``omega dt`` for the stiffest granular spring
             (default :data:`SPRING_STEP` = 1; smaller is more accurate and slower, see the module docstring).
         sand_rgba: colour of the floor geom that is the sand surface (4 numbers in [0, 1]); ``None`` keeps it.
+        terrain_randomization: ``None`` (default: the same terrain every episode, nothing drawn), a dict of
+            options or a :class:`mjrft.envs.randomization.TerrainRandomization`: a new terrain drawn at each
+            ``reset()`` from the env's ``np_random`` (medium, stress scale, surface height, strips; roughness
+            needs a height-field floor), reported in ``info["terrain"]``; :mod:`mjrft.envs.randomization`.
         **terrain_options: keyword arguments of :class:`mjrft.GranularTerrain` (``bodies``, ``geoms``,
             ``floor``, ``resolution``, ``surface``, ``yield_displacement``, ...).
     """
 
     def __init__(self, env: gymnasium.Env, medium=None, law=None, *, substeps="auto", max_substeps: int = MAX_SUBSTEPS,
-                 spring_step: float = SPRING_STEP, sand_rgba=SAND_RGBA, **terrain_options):
+                 spring_step: float = SPRING_STEP, sand_rgba=SAND_RGBA, terrain_randomization=None,
+                 **terrain_options):
         if not isinstance(env, gymnasium.Env):
             raise TypeError(f"GranularWrapper wraps a gymnasium.Env, got {type(env).__name__}")
         u = env.unwrapped
@@ -241,6 +361,11 @@ class GranularWrapper(gymnasium.Wrapper):
             if rgba is None or rgba.shape != (4,) or not np.all((rgba >= 0) & (rgba <= 1)):
                 raise ValueError(f"sand_rgba must be 4 numbers in [0, 1] (red, green, blue, alpha) or None, "
                                  f"got {sand_rgba!r}")
+        randomization = TerrainRandomization.from_value(terrain_randomization)
+        gymnasium.utils.RecordConstructorArgs.__init__(  # gymnasium.make(env.spec) rebuilds the wrapper from these
+            self, **{k: _plain(v) for k, v in dict(
+                medium=medium, law=law, substeps=substeps, max_substeps=max_substeps, spring_step=spring_step,
+                sand_rgba=sand_rgba, terrain_randomization=terrain_randomization, **terrain_options).items()})
         super().__init__(env)
         model, data = u.model, u.data
         integrator = model.opt.integrator
@@ -248,11 +373,15 @@ class GranularWrapper(gymnasium.Wrapper):
         if integrator == mujoco.mjtIntegrator.mjINT_RK4:
             model.opt.integrator = mujoco.mjtIntegrator.mjINT_EULER  # what mj_step1/mj_step2 run; now explicit
             self.integrator = f"mjINT_EULER (the model's {self.integrator} cannot be split by mj_step1/mj_step2)"
+        contacts = (model.geom_contype.copy(), model.geom_conaffinity.copy(), model.pair_margin.copy())
         try:
             self.terrain, self.floor_geoms = _build_terrain(model, medium, law, terrain_options)
-        except BaseException:
-            model.opt.integrator = integrator  # a refused setting leaves the env as it was
+            self.randomizer = None if randomization is None else self._randomizer(randomization, model)
+        except BaseException:  # a refused setting leaves the env as it was
+            model.opt.integrator = integrator
+            model.geom_contype[:], model.geom_conaffinity[:], model.pair_margin[:] = contacts
             raise
+        self.terrain_info: dict | None = None  # info["terrain"] of this episode (with terrain_randomization)
         if sand_rgba is not None:
             for g in self.floor_geoms:
                 model.geom_rgba[g] = sand_rgba
@@ -270,11 +399,28 @@ class GranularWrapper(gymnasium.Wrapper):
         self.last_substeps = 1
         scratch = mujoco.MjData(model)
         scratch.qpos[:], scratch.qvel[:] = u.init_qpos, 0.0
+        mujoco.mj_kinematics(model, scratch)
+        reach = reach_warning(self.terrain, scratch)
+        if reach is not None:
+            warnings.warn(SandContactWarning(reach), stacklevel=2)
         self._static_limit = static_timestep_limit(self.terrain, scratch)
         self._limit = self._static_limit
         self._depth_limit = math.inf  # implicit step: the explicit limit of the depth stiffness (module docstring)
         self._model, self._data = model, data  # the env's own, for the life of the env
         u._step_mujoco_simulation = self._physics  # this instance only (see the module docstring)
+
+    def _randomizer(self, options: TerrainRandomization, model: mujoco.MjModel) -> TerrainRandomizer:
+        """The terrain randomiser of this env; the floor geom (drawn as the sand) moves with a drawn surface height."""
+        if options.roughness > 0 and self.terrain.surface_hfield is None:
+            floor = ("" if self.terrain.floor is None else
+                     f": this env's sand surface is the flat top of its floor geom "
+                     f"'{mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, self.terrain.floor)}'")
+            raise ValueError("terrain_randomization roughness needs a height-field sand surface" + floor + "; wrap "
+                             "an env whose floor is an hfield geom (floor='auto' takes it as the surface) or name "
+                             "one (surface='<hfield geom>')")
+        shown = [g for g in self.floor_geoms  # a flat floor of the world body (an hfield shows the drawn field)
+                 if model.geom_type[g] != mujoco.mjtGeom.mjGEOM_HFIELD and model.geom_bodyid[g] == 0]
+        return TerrainRandomizer(options, self.terrain, model, surface_geoms=shown)
 
     # ------------------------------------------------------------------ physics
     def _next_substeps(self) -> int:
@@ -333,6 +479,8 @@ class GranularWrapper(gymnasium.Wrapper):
         info["sinkage"], info["granular_force"] = _sinkage_and_force(t.depth, t.elem_body, self._slot, t.wrench,
                                                                      self.body_ids)
         info["substeps"] = self.last_substeps
+        if self.terrain_info is not None:
+            info["terrain"] = dict(self.terrain_info)  # a new dict each call, as gymnasium asks
         return info
 
     # ------------------------------------------------------------------ gym API
@@ -340,6 +488,9 @@ class GranularWrapper(gymnasium.Wrapper):
         self.diverged = None
         obs, info = self.env.reset(seed=seed, options=options)
         u = self.env.unwrapped
+        if self.randomizer is not None:  # after the env's own reset noise, from its np_random
+            self.terrain_info = self.randomizer.apply(u.np_random)
+            upload_surface(u, self.terrain)
         self.terrain.reset()
         self.terrain.compute(u.data, 0.0)  # the reset state's sinkage and force (memory empty, not advanced)
         self._limit = self._static_limit
@@ -348,6 +499,12 @@ class GranularWrapper(gymnasium.Wrapper):
         return obs, self._sand_info(dict(info))
 
     def step(self, action):
+        a = np.asarray(action)
+        shape = self.action_space.shape
+        if a.shape != shape or not np.issubdtype(a.dtype, np.number):
+            raise ValueError(f"action must be numbers of shape {shape}, got {a.dtype} of shape {a.shape}")
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"action contains NaN or infinite values: {a!r}")
         obs, reward, terminated, truncated, info = self.env.step(action)
         info = self._sand_info(dict(info))
         if self.diverged is not None:

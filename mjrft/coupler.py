@@ -227,7 +227,7 @@ def _floor_top(model: mujoco.MjModel, d: mujoco.MjData, g: int, xy: np.ndarray):
     return float(out[0]), None
 
 
-def _world_boxes(model: mujoco.MjModel, d: mujoco.MjData, geom_ids) -> tuple[np.ndarray, np.ndarray]:
+def geom_world_boxes(model: mujoco.MjModel, d: mujoco.MjData, geom_ids) -> tuple[np.ndarray, np.ndarray]:
     """(lower, upper) corners, shape (n, 3), of the world-aligned bounding boxes of ``geom_ids`` in ``d``'s pose
     (each geom's own bounding box, ``geom_aabb``, turned into the world)."""
     ids = np.asarray(geom_ids, dtype=np.int64)
@@ -309,7 +309,7 @@ def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g: int, top: flo
     with the selected geoms and whose top is at or above the surface, or below it by less than the robot's size
     (the largest extent of the selected geoms' bounding box at the initial pose): a geom that sinks that deep
     meets it."""
-    lo, hi = _world_boxes(model, d, geom_ids)
+    lo, hi = geom_world_boxes(model, d, geom_ids)
     size = float((hi.max(axis=0) - lo.min(axis=0)).max())
     chosen = _geom_label(model, g)
     out = []

@@ -216,3 +216,148 @@ def test_eval_and_rollout_on_a_sand_variant():
         result = rollout("mjrft/HopperSand-v5", _Zero(3), steps=60)
     assert rows[0]["steps"] > 0 and rows[0]["sink_peak_mm"] > 0 and np.isfinite(rows[0]["cot"])
     assert not rows[0]["diverged"] and result["steps"] > 0 and result["peak_sinkage_mm"] > 0
+
+
+MUJOCO_V5 = sorted(i for i, s in gymnasium.registry.items()
+                   if i.endswith("-v5") and "gymnasium.envs.mujoco" in str(s.entry_point))
+REFUSED = {"Reacher-v5": "floor='auto' found no collision plane",  # its ground is visual-only
+           "InvertedPendulum-v5": "floor='auto' found no collision plane",  # no floor geom at all
+           "Swimmer-v5": "no geoms selected for the granular terrain"}  # every geom is visual-only
+
+
+@pytest.mark.parametrize("gym_id", MUJOCO_V5)
+def test_every_accepted_gymnasium_robot_passes_check_env_and_rebuilds_from_its_spec(gym_id):
+    from gymnasium.utils.env_checker import check_env
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if gym_id in REFUSED:
+            with pytest.raises(ValueError, match=REFUSED[gym_id]):
+                GranularWrapper(gymnasium.make(gym_id))
+            return
+        env = GranularWrapper(gymnasium.make(gym_id), "poppy_lp", substeps=2)
+        check_env(env, skip_render_check=True)
+        again = gymnasium.make(env.spec)  # the spec records the wrapper and its arguments
+    assert isinstance(again, GranularWrapper) and again.spec == env.spec
+    assert again.terrain.medium.name == "poppy_lp" and again.substeps == 2  # not the defaults
+    again.close()
+    env.close()
+
+
+def test_a_registered_sand_variant_rebuilds_from_its_spec():
+    env = quiet_make("mjrft/HopperSand-v5", medium="poppy_lp", sand_rgba=np.array([1.0, 0.0, 0.0, 1.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        again = gymnasium.make(env.spec)
+    w = again.env
+    while not isinstance(w, GranularWrapper):
+        w = w.env
+    assert w.terrain.medium.name == "poppy_lp" and np.allclose(w.unwrapped.model.geom_rgba[w.floor_geoms[0]],
+                                                               [1, 0, 0, 1])
+
+
+def test_non_finite_or_misshapen_actions_are_refused_before_anything_is_simulated():
+    env = quiet_make("mjrft/AntSand-v5")
+    env.reset(seed=0)
+    t = env.unwrapped.data.time
+    for bad in (np.full(8, np.nan), np.r_[np.zeros(7), np.inf], np.r_[np.zeros(7), -np.inf]):
+        with pytest.raises(ValueError, match="action contains NaN or infinite values"):
+            env.step(bad)
+    with pytest.raises(ValueError, match=r"action must be numbers of shape \(8,\), got float64 of shape \(7,\)"):
+        env.step(np.zeros(7))
+    assert env.unwrapped.data.time == t
+    obs, reward, terminated, truncated, info = env.step(np.zeros(8))  # control: a finite action steps
+    assert np.isfinite(reward) and env.unwrapped.data.time > t and "diverged" not in info
+    env.close()
+
+
+def _sand(env):
+    w = env
+    while not isinstance(w, GranularWrapper):
+        w = w.env
+    return w
+
+
+def _trajectory(env, seed: int = 0, steps: int = 30):
+    obs, info = env.reset(seed=seed)
+    actions = np.random.default_rng(1).uniform(-1, 1, (steps,) + env.action_space.shape)
+    out = [obs]
+    for a in actions:
+        out.append(env.step(a)[0])
+    return np.array(out), info
+
+
+RANDOMIZATION = {"media": ["poppy_cp", "poppy_lp", "glass03_lp"], "stress_scale": (0.7, 1.3),
+                 "surface_height": [-0.01, 0.01]}
+
+
+def test_terrain_randomization_on_a_sand_variant_draws_from_the_seed():
+    env = quiet_make("mjrft/HopperSand-v5", terrain_randomization=RANDOMIZATION)
+    w = _sand(env)
+    floor = w.floor_geoms[0]
+    draws = []
+    for seed in range(5):
+        info = env.reset(seed=seed)[1]["terrain"]
+        draws.append(info)
+        # what info says is what the terrain and its rendering are
+        assert w.terrain.medium.name == info["medium"] and w.terrain.stress_scale == info["stress_scale"]
+        assert w.terrain.surface == pytest.approx(info["surface_height"])
+        assert w.unwrapped.model.geom_pos[floor, 2] == pytest.approx(info["surface_height"])
+    assert len({(d["medium"], d["stress_scale"], d["surface_height"]) for d in draws}) == 5  # seeds differ
+    assert env.reset(seed=3)[1]["terrain"] == draws[3]  # the same seed, the same terrain
+    assert env.step(env.action_space.sample())[4]["terrain"] == draws[3]
+    env.close()
+    with pytest.raises(mjrft.errors.UnknownNameError, match="unknown terrain_randomization medium 'quicksand'"):
+        quiet_make("mjrft/HopperSand-v5", terrain_randomization={"media": ["quicksand"]})
+    hopper = gymnasium.make("Hopper-v5")
+    with pytest.raises(ValueError, match="roughness needs a height-field sand surface: .*floor geom 'floor'"):
+        GranularWrapper(hopper, terrain_randomization={"roughness": 0.005})
+    m = hopper.unwrapped.model  # refused after the terrain was built: the env is left as it was
+    assert (m.geom_contype[0], m.geom_conaffinity[0]) == (1, 1) and m.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4
+
+
+def test_terrain_randomization_off_or_drawing_the_own_terrain_steps_the_same_trajectory():
+    plain, info = _trajectory(quiet_make("mjrft/HopperSand-v5"))
+    assert "terrain" not in info
+    for option in (None, {}, {"media": ["poppy_cp"], "stress_scale": 1.0}):
+        env = quiet_make("mjrft/HopperSand-v5", terrain_randomization=option)
+        traj, info = _trajectory(env)
+        assert np.array_equal(traj, plain), option  # bit for bit: the draws come after the env's own noise
+        assert ("terrain" in info) == bool(option)
+    # control: a drawn terrain does change the trajectory
+    traj, _ = _trajectory(quiet_make("mjrft/HopperSand-v5", terrain_randomization=RANDOMIZATION))
+    assert not np.allclose(traj, plain)
+
+
+def _sand_warnings(make):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        env = make()
+    return env, [str(w.message) for w in caught if issubclass(w.category, mjrft.SandContactWarning)]
+
+
+def test_a_robot_that_never_meets_the_sand_is_named_in_a_warning():
+    # InvertedDoublePendulum: its floor (the sand) is 3 m below a cart on a rail carrying 1.2 m of poles
+    env, notes = _sand_warnings(lambda: GranularWrapper(gymnasium.make("InvertedDoublePendulum-v5")))
+    assert len(notes) == 1 and "never reach the sand surface at -3 m (the top of 'floor')" in notes[0]
+    assert "'cpole2' (body 'pole2', bottom 0.555 m, reach -1.245 m)" in notes[0]
+    # Pusher: a fixed arm in zero gravity above its table, and a puck that only slides across it
+    env, notes = _sand_warnings(lambda: GranularWrapper(gymnasium.make("Pusher-v5")))
+    assert len(notes) == 1 and "fixed to the world" in notes[0] and "gravity does not pull down" in notes[0]
+    assert "(body 'object', bottom -0.325 m, reach -0.325 m)" in notes[0]
+    assert "body 'r_wrist_roll_link'" in notes[0]
+    # controls: robots that fall onto the sand (a vertical slide, a free joint) give no such warning
+    for gym_id in ("Hopper-v5", "Ant-v5"):
+        env, notes = _sand_warnings(lambda: GranularWrapper(gymnasium.make(gym_id)))
+        assert not notes, gym_id
+
+
+def test_a_model_with_visual_only_geoms_gets_an_error_that_says_how_to_select_them():
+    with pytest.raises(ValueError, match=r"all 3 of its box, capsule, .* geoms are visual-only \(contype = "
+                                         r"conaffinity = 0\): '#1' \(body 'torso'\), '#2' \(body 'mid'\), '#3' "
+                                         r"\(body 'back'\); select them: bodies=\['torso', 'mid', 'back'\]"):
+        GranularWrapper(gymnasium.make("Swimmer-v5"))
+    # the selection the error gives works (with the floor named: Swimmer's is visual-only too)
+    env, notes = _sand_warnings(lambda: GranularWrapper(gymnasium.make("Swimmer-v5"), bodies=["torso", "mid", "back"],
+                                                        floor="floor"))
+    assert env.terrain.n_elements > 0 and env.terrain.surface == -0.1
