@@ -361,3 +361,22 @@ def test_a_model_with_visual_only_geoms_gets_an_error_that_says_how_to_select_th
     env, notes = _sand_warnings(lambda: GranularWrapper(gymnasium.make("Swimmer-v5"), bodies=["torso", "mid", "back"],
                                                         floor="floor"))
     assert env.terrain.n_elements > 0 and env.terrain.surface == -0.1
+
+
+@pytest.mark.parametrize("joint, reach, falls", [
+    ('<joint type="slide" axis="0 0 1" range="-0.3 0"/>', 0.65, True),  # the 0.95 m bottom slides 0.3 m down
+    ('<joint type="slide" axis="0 0 1" range="0 0.3"/>', 0.95, False),  # ... only up
+    ('<joint type="slide" axis="1 0 0"/>', 0.95, False),  # across, unlimited
+    ('<joint type="slide" axis="0 0 1"/>', -np.inf, True),  # down, unlimited
+    ('<joint type="hinge" axis="0 1 0" pos="-0.5 0 0"/>', 0.45, False),  # a 0.5 m arm swings the box through 0.45 m
+    ('<freejoint/>', -np.inf, True)])
+def test_lowest_reach_bounds_what_the_joints_allow(joint, reach, falls):
+    from mjrft.envs.wrapper import lowest_reach
+
+    m = mujoco.MjModel.from_xml_string(f'<mujoco><worldbody><body pos="0 0 1">{joint}<geom type="sphere" '
+                                       f'size="0.05"/></body></worldbody></mujoco>')
+    d = mujoco.MjData(m)
+    mujoco.mj_kinematics(m, d)
+    assert lowest_reach(m, d, 0, 0.95) == pytest.approx((reach, falls))
+    m.opt.gravity[2] = 0.0  # nothing falls without gravity
+    assert lowest_reach(m, d, 0, 0.95) == pytest.approx((reach, False))
