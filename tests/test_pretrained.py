@@ -52,3 +52,22 @@ def test_rollout_cli_takes_the_env_of_a_pretrained_policy(tmp_path, capsys):
     assert cli(["rollout", "--policy", "pretrained:HexapodSand-v0", "--seconds", "0.5", "--rrd", str(rrd),
                 "--no-progress"]) == 0
     assert rrd.is_file() and "HexapodSand-v0" in capsys.readouterr().out
+
+
+def test_the_shipped_policy_loads_without_unpickling_anything(monkeypatch):
+    import pickle
+
+    import cloudpickle
+
+    from mjrft.train.evaluate import PRETRAINED_DIR, load_policy
+
+    folder = PRETRAINED_DIR / "HexapodSand-v0"
+    assert sorted(p.name for p in folder.iterdir()) == ["config.json", "model.zip", "model_vecnormalize.npz"]
+
+    def refuse(*a, **k):
+        raise AssertionError("pickle was used")
+
+    for module, name in ((pickle, "load"), (pickle, "loads"), (cloudpickle, "loads")):
+        monkeypatch.setattr(module, name, refuse)
+    loaded = load_policy("pretrained:HexapodSand-v0")
+    assert loaded.vecnormalize.obs_rms.mean.shape == (35,) and loaded.model.num_timesteps == 1003520

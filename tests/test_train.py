@@ -158,7 +158,7 @@ def test_sac_smoke_with_replay_buffer(tmp_path):
     ckpts = list_checkpoints(tmp_path)
     assert [s for s, _ in ckpts] == [100, 150]
     # only the newest checkpoint keeps its (large) replay buffer
-    assert [side_file(p, "_replay_buffer.pkl").exists() for _, p in ckpts] == [False, True]
+    assert [side_file(p, "_replay_buffer.npz").exists() for _, p in ckpts] == [False, True]
     resumed = train(None, None, 200, 1, 0, tmp_path, None, checkpoint_every=100)
     assert resumed.num_timesteps == 200 and resumed.resumed_from.name == "step_0000000150.zip"
     assert SAC.load(tmp_path / "model.zip").num_timesteps == 200
@@ -169,8 +169,8 @@ def test_sac_smoke_with_replay_buffer(tmp_path):
 def test_normalize_statistics_are_saved_and_used(tmp_path):
     hp = {**PPO_HP, "n_steps": 128}
     result = train(HEX, "ppo", 128, 1, 0, tmp_path, ENV_KW, checkpoint_every=128, hyperparams=hp, normalize=True)
-    assert (tmp_path / "model_vecnormalize.pkl").is_file()
-    assert side_file(list_checkpoints(tmp_path)[-1][1], "_vecnormalize.pkl").is_file()
+    assert (tmp_path / "model_vecnormalize.npz").is_file()
+    assert side_file(list_checkpoints(tmp_path)[-1][1], "_vecnormalize.npz").is_file()
     loaded = load_policy(result.model_path)
     assert loaded.vecnormalize is not None and not loaded.vecnormalize.training
     env = gymnasium.make(HEX, **ENV_KW)

@@ -52,7 +52,7 @@ def test_train_with_the_named_config_writes_the_run_and_round_trips(tmp_path, ca
               "--checkpoint-every", "512", "--vec-env", "dummy", "--hp", "n_steps=512", "--hp", "batch_size=128", "--no-progress",
               "resolution=0.02"])
     assert rc == 0
-    for name in ("model.zip", "model_vecnormalize.pkl", "config.json", "monitor.csv", "warnings.csv"):
+    for name in ("model.zip", "model_vecnormalize.npz", "config.json", "monitor.csv", "warnings.csv"):
         assert (out / name).is_file(), name
     assert list((out / "checkpoints").glob("step_*.zip"))
     run = json.loads((out / "config.json").read_text())

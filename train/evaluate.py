@@ -47,7 +47,7 @@ from __future__ import annotations
 import csv
 import json
 import math
-import zipfile
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -56,9 +56,10 @@ import numpy as np
 from mjrft.tools.outputs import number
 from mjrft.tools.rerun_log import LOG_EVERY
 
+from .artefacts import TRUST_HELP
 from .rollout import progress_bar
-from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, algo_class, check_env_id, default_hyperparams,
-                    find_config, load_config, make_env, parse_kwargs, side_file, _int_arg)
+from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, check_env_id, default_hyperparams, find_config,
+                    list_checkpoints, load_config, make_env, parse_kwargs, side_file, vecnormalize_file, _int_arg)
 
 G = 9.81
 COLUMNS = ("episode", "return", "steps", "seconds", "speed", "cot", "sink_mean_mm", "sink_peak_mm", "slip", "fell")
@@ -82,6 +83,7 @@ class LoadedPolicy:
     model: object = None
     config: dict | None = None
     vecnormalize: object = None  # frozen VecNormalize statistics applied to observations
+    note: str = ""  # which file of a run folder is used, when it is not model.zip, and why
 
     def bind(self, env):
         """A ``predict``-able policy for ``env`` (gaits are bound to the env's simulation clock)."""
@@ -103,11 +105,9 @@ class LoadedPolicy:
 
 def algo_of_zip(path) -> str:
     """``"ppo"`` or ``"sac"`` from a saved SB3 zip (the algorithm whose hyper-parameters it stores)."""
-    try:
-        with zipfile.ZipFile(path) as zf:
-            data = json.loads(zf.read("data"))
-    except (zipfile.BadZipFile, KeyError, json.JSONDecodeError) as exc:
-        raise ValueError(f"{path} is not a stable-baselines3 model zip ({exc})") from None
+    from .artefacts import zip_data
+
+    data = zip_data(path)
     missing = {a: sum(k not in data and f"_{k}" not in data for k in default_hyperparams(a)) for a in ALGOS}
     return min(missing, key=missing.get)
 
@@ -133,10 +133,24 @@ def pretrained_path(spec: str) -> Path:
 
 
 def model_file(policy) -> Path:
-    """The model zip of a zip path (``.zip`` may be left out), a run folder or ``pretrained:<name>``."""
+    """The model zip of a zip path (``.zip`` may be left out), a run folder or ``pretrained:<name>`` (for a
+    folder: the newest complete model, :func:`resolve_model`)."""
+    return resolve_model(policy)[0]
+
+
+def resolve_model(policy) -> tuple[Path, str]:
+    """(model zip, note) of a zip path, a run folder or ``pretrained:<name>``.
+
+    For a run folder this is the newest model that is complete: ``model.zip`` unless a checkpoint is newer
+    (the run was killed after its last checkpoint) or ``model.zip`` is missing or damaged; the note then
+    says which file is used and why (else it is empty). A damaged or incomplete file given by its own path
+    raises :class:`mjrft.train.artefacts.ArtefactError` naming it.
+    """
+    from .artefacts import check_model
+
     path = pretrained_path(policy) if isinstance(policy, str) and policy.startswith(PRETRAINED) else Path(policy)
     if path.is_dir():
-        path = path / MODEL_NAME
+        return _newest_model(path)
     if not path.is_file() and path.suffix != ".zip" and path.with_name(path.name + ".zip").is_file():
         path = path.with_name(path.name + ".zip")
     if not path.is_file():
@@ -144,7 +158,55 @@ def model_file(policy) -> Path:
 
         raise ValueError(f"policy {str(policy)!r} is neither a file nor a gait spec; give a model .zip, a run "
                          f"folder or a gait ({', '.join(sorted(GAITS))}, e.g. tripod:f=2.0)")
-    return path
+    check_model(path)
+    _check_vecnormalize(path)
+    return path, ""
+
+
+def _check_vecnormalize(path: Path) -> None:
+    """A model of a run trained with ``normalize`` needs its VecNormalize statistics next to it."""
+    from .artefacts import ArtefactError
+
+    cfg_path = find_config(path)
+    if cfg_path is not None and load_config(cfg_path).get("normalize") and vecnormalize_file(path) is None:
+        raise ArtefactError(f"{side_file(path, VECNORM_SUFFIX)}: missing, but {path.name} was trained with "
+                            f"normalised observations ({cfg_path} says normalize: true)")
+
+
+def _newest_model(folder: Path) -> tuple[Path, str]:
+    from .artefacts import ArtefactError, check_model
+
+    main = folder / MODEL_NAME
+    candidates = [(step, 1, p) for step, p in list_checkpoints(folder)]
+    problems = {}
+    if main.is_file():
+        try:
+            candidates.append((check_model(main), 2, main))  # on a tie model.zip wins
+        except ArtefactError as exc:
+            problems[main] = str(exc)
+    for step, _, path in sorted(candidates, reverse=True):
+        try:
+            check_model(path)
+            _check_vecnormalize(path)
+        except ArtefactError as exc:
+            problems[path] = str(exc)
+            continue
+        if path == main:
+            return path, ""
+        used = f"using {path.relative_to(folder)} ({step} steps)"
+        if main in problems:
+            why = problems[main]
+        elif not main.is_file():
+            why = f"{main} is missing (the run did not end cleanly)"
+        else:
+            main_step = next(s for s, _, p in candidates if p == main)
+            why = f"{main} ({main_step} steps) is older (the run did not end cleanly)"
+        skipped = [problems[p] for p in problems if p != main]
+        return path, "; ".join([why, *skipped, used])
+    if not candidates and not problems:
+        raise ValueError(f"policy folder {str(folder)!r} holds no {MODEL_NAME} and no checkpoints; give a model "
+                         f".zip, a run folder of 'mjrft train' or a gait spec")
+    raise ArtefactError(f"{folder}: no model in it loads: " + "; ".join(problems.values()))
 
 
 def trained_env(policy) -> tuple[str, dict]:
@@ -160,9 +222,17 @@ def trained_env(policy) -> tuple[str, dict]:
     return cfg["env_id"], dict(cfg.get("env_kwargs") or {})
 
 
-def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
-    """A gait spec, an SB3 zip / run folder (see the module doc), or an object with ``predict``."""
+def load_policy(policy, device: str = "cpu", *, env=None, trust: bool = False) -> LoadedPolicy:
+    """A gait spec, an SB3 zip / run folder (see the module doc), or an object with ``predict``.
+
+    Nothing is unpickled (:mod:`mjrft.train.artefacts`): the model's spaces are those of ``env`` when it
+    is given (else read from the zip), and a file that needs pickle raises
+    :class:`~mjrft.train.artefacts.NeedsTrustError` unless ``trust=True``. For a run folder the newest
+    complete model is used (:func:`resolve_model`); ``LoadedPolicy.note`` says so when it is not model.zip.
+    """
     from mjrft.tools.gaits import is_gait_spec
+
+    from .artefacts import load_model, load_vecnormalize
 
     if hasattr(policy, "predict") and not isinstance(policy, (str, Path)):
         return LoadedPolicy(type(policy).__name__, "object", model=policy)
@@ -171,22 +241,27 @@ def load_policy(policy, device: str = "cpu") -> LoadedPolicy:
 
         parse_gait_spec(policy)  # a bad parameter fails here, before any env is built
         return LoadedPolicy(policy, "gait")
-    path = model_file(policy)
+    path, note = resolve_model(policy)
     cfg_path = find_config(path)
     config = load_config(cfg_path) if cfg_path else None
     algo = config["algo"] if config and "algo" in config else algo_of_zip(path)
-    model = algo_class(algo).load(str(path), device=device)
-    vecnorm = None
-    vn_path = side_file(path, VECNORM_SUFFIX)
-    if vn_path.exists():
-        import pickle
+    vn_path = vecnormalize_file(path)
+    vecnorm = load_vecnormalize(vn_path, trust) if vn_path is not None else None
+    spaces = None if env is None else (env.observation_space, env.action_space)
+    model = load_model(algo, path, spaces=spaces, device=device, hyperparams=(config or {}).get("hyperparams"),
+                       trust=trust)
+    return LoadedPolicy(str(path), algo, model=model, config=config, vecnormalize=vecnorm, note=note)
 
-        with open(vn_path, "rb") as fh:
-            vecnorm = pickle.load(fh)
-        vecnorm.training = False
-    elif config and config.get("normalize"):
-        raise ValueError(f"{path} was trained with normalised observations but {vn_path.name} is missing")
-    return LoadedPolicy(str(path), algo, model=model, config=config, vecnormalize=vecnorm)
+
+def policy_config(policy) -> dict | None:
+    """The run config (config.json) of a model zip / run folder / ``pretrained:`` policy; None for a gait,
+    an object or a zip without one. Checks the model file (:func:`resolve_model`) on the way."""
+    from mjrft.tools.gaits import is_gait_spec
+
+    if not isinstance(policy, (str, Path)) or (isinstance(policy, str) and is_gait_spec(policy)):
+        return None
+    cfg_path = find_config(resolve_model(policy)[0])
+    return load_config(cfg_path) if cfg_path else None
 
 
 # ---------------------------------------------------------------------------------------------- metrics
@@ -312,31 +387,43 @@ def summarize(rows: list[dict]) -> dict:
 # ---------------------------------------------------------------------------------------------- evaluation
 def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed: int = 0,
              env_kwargs: dict | None = None, deterministic: bool = True, rrd=None, *, device: str = "cpu",
-             log_every: int = LOG_EVERY, progress: bool = False) -> tuple[list[dict], dict]:
+             log_every: int = LOG_EVERY, progress: bool = False, trust: bool = False) -> tuple[list[dict], dict]:
     """Run ``episodes`` episodes of a policy or gait; return (per-episode rows, summary) (module doc).
 
     ``env_id`` / ``env_kwargs`` default to those of the run a model zip belongs to (given kwargs
     override the saved ones); a gait needs ``env_id``. ``rrd``: log the first episode to this rerun
     file (every ``log_every``-th step) with :mod:`mjrft.tools.rerun_log`. ``progress``: a progress bar (tqdm,
-    on stderr) over the episodes' env steps (an episode that ends early jumps to its end).
+    on stderr) over the episodes' env steps (an episode that ends early jumps to its end). ``trust``: also
+    load model files that need pickle (:func:`load_policy`). The summary's ``note`` says which file of a
+    run folder was used when it is not its model.zip.
     """
+    from mjrft.tools.gaits import is_gait_spec
+
     from .train import _check_int
 
     episodes = _check_int("episodes", episodes, 1)
     seed = _check_int("seed", seed, 0)
     log_every = _check_int("log_every", log_every, 1)
-    loaded = load_policy(policy_or_spec, device=device)
-    cfg = loaded.config or {}
+    is_file = isinstance(policy_or_spec, (str, Path)) and not (isinstance(policy_or_spec, str)
+                                                               and is_gait_spec(policy_or_spec))
+    # a gait or an object is checked now; a model file is checked now (cheaply) and loaded with the env's spaces
+    loaded = None if is_file else load_policy(policy_or_spec, device=device)
+    cfg = policy_config(policy_or_spec) or {}
     env_id = env_id or cfg.get("env_id")
     if env_id is None:
         from mjrft.envs import ENV_IDS
 
-        raise ValueError(f"give the env id for policy {loaded.source!r} (valid choices: {', '.join(sorted(ENV_IDS))})")
+        raise ValueError(f"give the env id for policy {str(policy_or_spec)!r} (valid choices: "
+                         f"{', '.join(sorted(ENV_IDS))})")
     check_env_id(env_id)
     kwargs = {**(cfg.get("env_kwargs") or {}), **(env_kwargs or {})}
+    if is_file:  # importing torch changes the last bits of the env's construction: import it first, always
+        import stable_baselines3  # noqa: F401
     env = make_env(env_id, kwargs)
     rows = []
     try:
+        if loaded is None:
+            loaded = load_policy(policy_or_spec, device=device, env=env, trust=trust)
         policy = loaded.bind(env)
         if loaded.model is not None and hasattr(loaded.model, "set_random_seed"):
             loaded.model.set_random_seed(seed)
@@ -357,7 +444,7 @@ def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed
         env.close()
     summary = summarize(rows)
     summary.update(policy=loaded.source, kind=loaded.kind, env_id=env_id, env_kwargs=kwargs, seed=seed,
-                   deterministic=bool(deterministic))
+                   deterministic=bool(deterministic), note=loaded.note)
     return rows, summary
 
 
@@ -470,8 +557,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--log-every", type=_int_arg, default=LOG_EVERY,
                         help=f"with --rrd: log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    parser.add_argument("--trust", action="store_true", help=TRUST_HELP)
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
                         help="environment keyword arguments (override the run's), e.g. max_episode_steps=500")
+
 
 
 def main(args) -> int:
@@ -481,9 +570,10 @@ def main(args) -> int:
     for option in ("csv", "json", "rrd"):
         if getattr(args, option):
             output_file(getattr(args, option), f"--{option}")
+    announce_model(args.policy)
     rows, summary = evaluate(args.policy, args.env_id, args.episodes, args.seed, env_kwargs,
                              deterministic=not args.stochastic, rrd=args.rrd, device=args.device,
-                             log_every=args.log_every, progress=args.progress)
+                             log_every=args.log_every, progress=args.progress, trust=args.trust)
     kw = ", ".join(f"{k}={v}" for k, v in summary["env_kwargs"].items())
     print(f"{summary['policy']} on {summary['env_id']}" + (f" ({kw})" if kw else "")
           + f", {len(rows)} episode(s), seed {args.seed}, {'deterministic' if not args.stochastic else 'stochastic'}")
@@ -494,4 +584,22 @@ def main(args) -> int:
             print(f"wrote {path}")
     if args.rrd:
         print(f"wrote {args.rrd} (first episode); open it with: rerun {args.rrd}")
+    if rows and summary["diverged"] == len(rows):
+        print(f"mjrft eval: every episode ({len(rows)}) diverged: no metrics (exit status {DIVERGED_EXIT})",
+              file=sys.stderr)
+        return DIVERGED_EXIT
     return 0
+
+
+#: exit status of ``mjrft eval`` / ``mjrft rollout`` when the simulation diverged in every episode
+DIVERGED_EXIT = 1
+
+
+def announce_model(policy) -> None:
+    """Print which file of a run folder a command uses when it is not its model.zip (and why)."""
+    from mjrft.tools.gaits import is_gait_spec
+
+    if isinstance(policy, str) and not is_gait_spec(policy):
+        note = resolve_model(policy)[1]
+        if note:
+            print(f"note: {note}")

@@ -50,6 +50,8 @@ from mjrft.errors import check_positive
 from mjrft.tools.outputs import number
 from mjrft.tools.rerun_log import LOG_EVERY
 
+from .artefacts import TRUST_HELP
+
 
 def _check_int(name: str, value, minimum: int) -> int:
     if isinstance(value, float) and value.is_integer():
@@ -72,8 +74,9 @@ def _make_env(env_id: str, env_kwargs: dict):
 NO_LIMIT = 2 ** 62
 
 
-def bind_policy(policy_or_spec, env):
-    """A ``predict``-able policy for ``env``: gait spec, SB3 zip / run folder, or an object with ``predict``."""
+def bind_policy(policy_or_spec, env, trust: bool = False):
+    """A ``predict``-able policy for ``env``: gait spec, SB3 zip / run folder, or an object with ``predict``
+    (``trust``: also load model files that need pickle, :func:`mjrft.train.evaluate.load_policy`)."""
     from mjrft.tools.gaits import is_gait_spec, make_gait
 
     if isinstance(policy_or_spec, str) and is_gait_spec(policy_or_spec):
@@ -82,17 +85,18 @@ def bind_policy(policy_or_spec, env):
         return policy_or_spec
     from .evaluate import load_policy
 
-    return load_policy(policy_or_spec).bind(env)
+    return load_policy(policy_or_spec, env=env, trust=trust).bind(env)
 
 
 def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_path=None, *, steps: int | None = None,
             log_every: int = LOG_EVERY, seed: int = 0, env_kwargs: dict | None = None, spawn_viewer: bool = False,
-            deterministic: bool = True, progress: bool = False) -> dict:
+            deterministic: bool = True, progress: bool = False, trust: bool = False) -> dict:
     """Run one rollout and return its summary (see the module docstring).
 
     ``env_id_or_env``: a gymnasium id (made with ``env_kwargs``) or an env (used as is, not closed).
     Give ``seconds`` (simulated) or ``steps`` (env steps). ``rrd_path`` None and ``spawn_viewer`` False
-    runs without logging. ``progress``: a progress bar (tqdm, on stderr) over the env steps.
+    runs without logging. ``progress``: a progress bar (tqdm, on stderr) over the env steps. ``trust``:
+    also load model files that need pickle (:func:`mjrft.train.evaluate.load_policy`).
     """
     if (seconds is None) == (steps is None):
         raise ValueError("give exactly one of seconds (simulated time) or steps (env steps)")
@@ -107,6 +111,10 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
 
         if is_gait_spec(policy_or_spec):
             parse_gait_spec(policy_or_spec)
+        else:
+            from .evaluate import resolve_model
+
+            resolve_model(policy_or_spec)  # a missing or damaged model file
     own_env = isinstance(env_id_or_env, str)
     if own_env:
         env = _make_env(env_id_or_env, env_kwargs or {})
@@ -119,7 +127,7 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
         u = env.unwrapped
         if steps is None:
             steps = max(1, math.ceil(seconds / u.dt - 1e-9))
-        policy = bind_policy(policy_or_spec, env)
+        policy = bind_policy(policy_or_spec, env, trust)
         if rrd_path is not None or spawn_viewer:
             from mjrft.tools.rerun_log import episode_logger
 
@@ -223,6 +231,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="reset seed (default 0)")
     parser.add_argument("--spawn-viewer", action="store_true", help="also stream to a newly started rerun viewer")
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
+    parser.add_argument("--trust", action="store_true", help=TRUST_HELP)
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE", help="environment keyword arguments")
 
 
@@ -237,14 +246,18 @@ def main(args) -> int:
 
         check_viewer_display()
     env_id, env_kwargs = args.env, parse_kwargs(args.env_kwargs)
+    from .evaluate import DIVERGED_EXIT, announce_model
+
+    announce_model(args.policy)
     if env_id is None:
         from .evaluate import trained_env
 
         env_id, saved_kwargs = trained_env(args.policy)
         env_kwargs = {**saved_kwargs, **env_kwargs}
     summary = rollout(env_id, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
-                      seed=args.seed, env_kwargs=env_kwargs, spawn_viewer=args.spawn_viewer, progress=args.progress)
+                      seed=args.seed, env_kwargs=env_kwargs, spawn_viewer=args.spawn_viewer, progress=args.progress,
+                      trust=args.trust)
     print(format_summary(summary))
     print(f"wrote {summary['rrd']} ({summary['frames']} frames, every {args.log_every} env steps)")
     print(open_hint(summary["rrd"]))
-    return 0
+    return DIVERGED_EXIT if summary["diverged"] else 0

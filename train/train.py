@@ -12,10 +12,10 @@ Run folder (``out_dir``):
                                                 hyper-parameter (SB3 defaults filled in), seed, n_envs,
                                                 package versions, the step count and a history of runs
 ``model.zip``                                   the policy after the last run (normal end or Ctrl-C)
-``model_vecnormalize.pkl``                      observation/reward statistics (only with ``normalize``)
+``model_vecnormalize.npz``                      observation/reward statistics (only with ``normalize``)
 ``checkpoints/step_<N>.zip``                    periodic checkpoints, N = ``num_timesteps`` (10 digits)
-``checkpoints/step_<N>_vecnormalize.pkl``       their VecNormalize statistics (only with ``normalize``)
-``checkpoints/step_<N>_replay_buffer.pkl``      SAC's replay buffer, kept for the newest checkpoint only
+``checkpoints/step_<N>_vecnormalize.npz``       their VecNormalize statistics (only with ``normalize``)
+``checkpoints/step_<N>_replay_buffer.npz``      SAC's replay buffer, kept for the newest checkpoint only
 ``monitor.csv``                                 one row per finished episode (return, length, wall time);
                                                 a resumed run appends to it
 ``logs/from_<N>/progress.csv``                  SB3's training log of the run that started at step N
@@ -24,7 +24,7 @@ Run folder (``out_dir``):
                                                 counts at the end (:mod:`mjrft.train.run_warnings`)
 ==============================================  ==========================================================
 
-Choices (the issue is silent on them):
+Choices:
 
 * ``timesteps`` is the TOTAL budget of the run folder, not an increment: calling :func:`train` again on
   the same folder resumes from the newest checkpoint (``reset_num_timesteps=False``) and trains until
@@ -32,14 +32,21 @@ Choices (the issue is silent on them):
   may pass the budget by less than ``n_steps x n_envs``); a finished run is left alone.
 * Every save is atomic: each file is written under a temporary name, flushed to disk and renamed, and
   a checkpoint's ``.zip`` is written after its side files, so an interruption at any moment leaves the
-  newest complete checkpoint intact (at worst a stray ``.tmp`` file, removed on the next save).
+  newest complete checkpoint intact (at worst a stray ``.tmp`` file, removed when the run next starts).
+  No file of a run folder is unpickled when it is loaded (:mod:`mjrft.train.artefacts`).
+* Resuming takes the newest checkpoint that loads: an unreadable one (truncated, corrupt, its
+  VecNormalize statistics missing) is reported by name and the one before it is tried. ``config.json``
+  is rewritten only after the model has loaded. Each run appends an entry to its ``runs`` with a final
+  ``status``: ``finished``, ``interrupted`` (Ctrl-C, SIGTERM) or ``crashed`` (an exception, with its
+  ``error``); an entry still ``running`` when the next run starts belonged to a process that was killed
+  outright and becomes ``crashed``.
 * Resuming uses the saved configuration (env id, env kwargs, algorithm, hyper-parameters,
   ``normalize``); passing different values raises a ``ValueError`` naming the difference. The
   environments are re-seeded with ``seed + num_timesteps`` so a resumed run does not replay the
   episodes it already saw. ``n_envs`` may change when resuming PPO, not SAC (its replay buffer is
   laid out per environment).
-* SAC's ``buffer_size`` defaults to ``min(1_000_000, timesteps)``: SB3 pickles the whole buffer
-  array, so a 1e6 buffer for a 50k-step run would write ~0.5 GB per checkpoint for nothing.
+* SAC's ``buffer_size`` defaults to ``min(1_000_000, timesteps)``: a checkpoint stores the whole
+  buffer array, so a 1e6 buffer for a 50k-step run would write ~0.5 GB per checkpoint for nothing.
 * The ``n_envs`` environments are stepped as ``vec_env`` says (:mod:`mjrft.train.vecenv`: subprocesses,
   one after the other, or mjrft's batched physics; ``auto`` picks the fastest measured on a machine
   with that many cores). Ctrl-C reaches only the trainer (subprocess workers ignore SIGINT), which
@@ -73,8 +80,11 @@ POLICY = "MlpPolicy"
 CHECKPOINT_DIR = "checkpoints"
 CONFIG_NAME = "config.json"
 MODEL_NAME = "model.zip"
-VECNORM_SUFFIX = "_vecnormalize.pkl"
-BUFFER_SUFFIX = "_replay_buffer.pkl"
+VECNORM_SUFFIX = "_vecnormalize.npz"
+BUFFER_SUFFIX = "_replay_buffer.npz"
+#: the pickled side files SB3's own ``save`` writes (loaded only with ``trust=True``)
+PICKLE_VECNORM_SUFFIX = "_vecnormalize.pkl"
+PICKLE_BUFFER_SUFFIX = "_replay_buffer.pkl"
 SAC_MAX_BUFFER = 1_000_000
 #: constructor arguments of the algorithms that are not hyper-parameters (set by train() itself)
 NOT_HYPERPARAMS = ("self", "policy", "env", "seed", "device", "verbose", "tensorboard_log", "_init_setup_model")
@@ -355,8 +365,14 @@ def find_config(model_path) -> Path | None:
 
 
 def load_config(path) -> dict:
-    with open(path) as fh:
-        return json.load(fh)
+    """A run's ``config.json``; a missing, truncated or corrupt file is one error naming it."""
+    from .artefacts import ArtefactError, read_json
+
+    data = read_json(path, "run config")
+    missing = [k for k in ("env_id", "algo") if not isinstance(data.get(k), str)]
+    if missing:
+        raise ArtefactError(f"{path}: run config lacks {', '.join(missing)} (not a config.json written by mjrft train?)")
+    return data
 
 
 def versions() -> dict:
@@ -378,18 +394,24 @@ def save_checkpoint(model, out_dir, final: bool = False) -> Path:
     step = int(model.num_timesteps)
     ckpt = checkpoint_path(out_dir, step)
     ckpt.parent.mkdir(parents=True, exist_ok=True)
+    from .artefacts import save_replay_buffer, save_vecnormalize
+
     vecnorm = model.get_vec_normalize_env()
     targets = [ckpt] + ([Path(out_dir) / MODEL_NAME] if final else [])
     for target in targets:
         if vecnorm is not None:
-            atomic_write(side_file(target, VECNORM_SUFFIX), vecnorm.save)
-        if target == ckpt and hasattr(model, "save_replay_buffer") and getattr(model, "replay_buffer", None) is not None:
-            atomic_write(side_file(target, BUFFER_SUFFIX), model.save_replay_buffer)
+            atomic_write(side_file(target, VECNORM_SUFFIX), lambda tmp: save_vecnormalize(vecnorm, tmp))
+        buffer = getattr(model, "replay_buffer", None) if target == ckpt else None
+        if buffer is not None:
+            atomic_write(side_file(target, BUFFER_SUFFIX), lambda tmp: save_replay_buffer(buffer, tmp))
         atomic_write(target, model.save)
-    if hasattr(model, "save_replay_buffer"):
+        for suffix in (PICKLE_VECNORM_SUFFIX, PICKLE_BUFFER_SUFFIX):  # superseded by the files just written
+            side_file(target, suffix).unlink(missing_ok=True)
+    if hasattr(model, "replay_buffer"):
         for _, old in list_checkpoints(out_dir):
-            if old != ckpt and side_file(old, BUFFER_SUFFIX).exists():
-                side_file(old, BUFFER_SUFFIX).unlink()
+            if old != ckpt:
+                side_file(old, BUFFER_SUFFIX).unlink(missing_ok=True)
+                side_file(old, PICKLE_BUFFER_SUFFIX).unlink(missing_ok=True)
     return ckpt
 
 
@@ -421,6 +443,7 @@ class TrainResult:
     interrupted: bool = False
     resumed_from: Path | None = None
     checkpoints: list = field(default_factory=list)
+    saved: bool = True  # False: interrupted before training started, nothing was written
 
 
 def _check_same(saved: dict, name: str, given, saved_value) -> None:
@@ -433,7 +456,8 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
           seed: int = 0, out_dir="runs/mjrft", env_kwargs: dict | None = None, checkpoint_every: int = 10_000,
           resume: bool = True, *, hyperparams: dict | None = None, normalize: bool | None = None,
           device: str = "cpu", torch_threads: int | None = 1, progress_bar: bool = False, verbose: int = 0,
-          callback=None, config_name: str | None = None, vec_env: str = "auto") -> TrainResult:
+          callback=None, config_name: str | None = None, vec_env: str = "auto", trust: bool = False,
+          report=None) -> TrainResult:
     """Train ``algo`` on ``env_id`` until ``num_timesteps`` reaches ``timesteps``; resumable (see module doc).
 
     Args:
@@ -460,10 +484,15 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
             ``"auto"`` (:mod:`mjrft.train.vecenv`); any kind gives the same episodes for the same seed.
         config_name: the training configuration the settings came from (``mjrft train --config``),
             recorded as ``config`` in ``config.json``.
+        trust: on resume, also load checkpoint files that can only be unpickled (SB3's ``.pkl`` side files, a
+            zip with custom classes; :mod:`mjrft.train.artefacts`). Only for files from a trusted source.
+        report: called with a line of text for what the run decides on its own (the checkpoint it resumes
+            from, an unreadable checkpoint skipped, a missing replay buffer); None: those become warnings.
 
     Returns:
         :class:`TrainResult`; ``interrupted`` is True when a ``KeyboardInterrupt`` stopped training (the
-        model, a checkpoint and the config were saved first).
+        model, a checkpoint and the config were saved first; an interrupt while the environments are still
+        being built saves no model and records the run as interrupted).
     """
     out_dir = Path(out_dir)
     timesteps = _check_int("timesteps", timesteps, 1)
@@ -516,9 +545,17 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
 
         probe.reset(seed=seed)
         probe.step(np.zeros(probe.action_space.shape, dtype=probe.action_space.dtype))
+    spaces = (probe.observation_space, probe.action_space)
     probe.close()
 
-    start_step = checkpoints[-1][0] if checkpoints else 0
+    model = vecnorm_stats = resumed_from = None
+    start_step = 0
+    if checkpoints:  # the newest checkpoint that loads, before anything in the folder changes
+        model, vecnorm_stats, resumed_from = _load_newest(algo, checkpoints, spaces, device, n_envs, normalize,
+                                                          effective, trust, report)
+        start_step = int(model.num_timesteps)
+        if report is not None:
+            report(f"resuming {out_dir} from {resumed_from.relative_to(out_dir)} at {start_step} steps (target {timesteps})")
     kind = resolve_kind(vec_env, env_id, n_envs)
     history = list(saved.get("runs", [])) if saved else []
     config = {
@@ -540,40 +577,58 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         "versions": versions(),
         "created": saved["created"] if saved else _now(),
         "num_timesteps": start_step,
-        "model": None,
+        "model": saved.get("model") if saved else None,
         "runs": history,
         "config": config_name if config_name is not None else (saved or {}).get("config"),
     }
+    if saved and saved.get("checkpoint"):
+        config["checkpoint"] = saved["checkpoint"]
     if start_step >= timesteps:  # nothing to do: the run already reached its budget
         model_path = out_dir / MODEL_NAME
-        return TrainResult(out_dir, model_path if model_path.exists() else checkpoints[-1][1], config_path,
-                           start_step, resumed_from=checkpoints[-1][1],
+        return TrainResult(out_dir, model_path if model_path.exists() else resumed_from, config_path,
+                           start_step, resumed_from=resumed_from,
                            checkpoints=[p for _, p in list_checkpoints(out_dir)])
 
     out_dir.mkdir(parents=True, exist_ok=True)
     if not checkpoints:  # a fresh run replaces what a previous one left (resume=False or no checkpoint)
         for _, old in list_checkpoints(out_dir):
-            for p in (old, side_file(old, VECNORM_SUFFIX), side_file(old, BUFFER_SUFFIX)):
+            for p in (old, *_side_files(old)):
                 p.unlink(missing_ok=True)
-        for p in (out_dir / MODEL_NAME, out_dir / ("model" + VECNORM_SUFFIX), out_dir / "monitor.csv"):
+        for p in (out_dir / MODEL_NAME, *_side_files(out_dir / MODEL_NAME), out_dir / "monitor.csv"):
             p.unlink(missing_ok=True)
+    _remove_stray_tmp(out_dir)
+    for old in history:  # a run that never recorded its end was killed (SIGKILL, power loss)
+        if old.get("status") == "running":
+            old.update(status="crashed", note="the process ended without recording its end (killed, or the "
+                                              "machine stopped); steps after its last checkpoint were lost")
     run = {"started": _now(), "from_step": start_step, "target": timesteps, "n_envs": n_envs, "seed": seed,
-           "status": "running"}
+           "status": "running", "pid": os.getpid()}
     config["runs"].append(run)
     write_json(config_path, config)
+
+    def finish(status: str, step: int, **extra) -> None:
+        run.update(status=status, ended=_now(), to_step=int(step), **extra)
+        config["num_timesteps"] = max(int(step), config["num_timesteps"])
+        write_json(config_path, config)
 
     import torch
 
     env_seed = seed + start_step
-    venv = make_vec_env(env_id, n_envs, env_seed, env_kwargs, out_dir / "monitor.csv", kind=kind)
     threads_before = torch.get_num_threads()
-    if torch_threads is not None:
-        torch.set_num_threads(torch_threads)
+    venv = None
+    saved_paths = []  # the checkpoints this run wrote
+
+    def last_saved() -> int:
+        return max([start_step, *(int(_CKPT_RE.match(p.name).group(1)) for p in saved_paths)])
+
     try:
-        resumed_from = None
-        if checkpoints:
-            resumed_from = checkpoints[-1][1]
-            model = _load_for_resume(cls, resumed_from, venv, device, n_envs)
+        venv = make_vec_env(env_id, n_envs, env_seed, env_kwargs, out_dir / "monitor.csv", kind=kind)
+        if torch_threads is not None:
+            torch.set_num_threads(torch_threads)
+        if model is not None:
+            if vecnorm_stats is not None:
+                venv = vecnorm_stats.wrap(venv, training=True)
+            model.set_env(venv)
             model.set_random_seed(env_seed)
         else:
             if normalize:
@@ -586,7 +641,6 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         log_dir = out_dir / "logs" / f"from_{start_step:010d}"
         model.set_logger(configure(str(log_dir), ["csv"] + (["stdout"] if verbose else [])))
 
-        saved_paths = []
         from .run_warnings import warning_tally
 
         callbacks = [_periodic_save_callback(out_dir, checkpoint_every, saved_paths.append), warning_tally(out_dir)]
@@ -603,18 +657,25 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
             if old_term is not None:
                 signal.signal(signal.SIGTERM, old_term)
         ckpt = save_checkpoint(model, out_dir, final=True)
-        run.update(status="interrupted" if interrupted else "finished", ended=_now(),
-                   to_step=int(model.num_timesteps))
-        config.update(num_timesteps=int(model.num_timesteps), model=MODEL_NAME, checkpoint=ckpt.name)
-        write_json(config_path, config)
+        config.update(model=MODEL_NAME, checkpoint=ckpt.name)
+        finish("interrupted" if interrupted else "finished", model.num_timesteps)
         return TrainResult(out_dir, out_dir / MODEL_NAME, config_path, int(model.num_timesteps), interrupted,
                            resumed_from, [p for _, p in list_checkpoints(out_dir)])
+    except KeyboardInterrupt:  # before training started (while the environments were built) or while saving
+        finish("interrupted", last_saved())
+        model_path = out_dir / MODEL_NAME
+        return TrainResult(out_dir, model_path if model_path.exists() else resumed_from, config_path, start_step,
+                           True, resumed_from, [p for _, p in list_checkpoints(out_dir)], saved=False)
+    except BaseException as exc:
+        finish("crashed", last_saved(), error=_reason(exc))
+        raise
     finally:
         torch.set_num_threads(threads_before)
-        try:
-            venv.close()
-        except (EOFError, BrokenPipeError, ConnectionResetError):  # a worker already gone
-            pass
+        if venv is not None:
+            try:
+                venv.close()
+            except (EOFError, BrokenPipeError, ConnectionResetError):  # a worker already gone
+                pass
 
 
 def _sigterm(signum, frame):
@@ -630,27 +691,85 @@ def _catch_sigterm():
     return signal.signal(signal.SIGTERM, _sigterm)
 
 
-def _load_for_resume(cls, path: Path, venv, device: str, n_envs: int):
-    vn_path = side_file(path, VECNORM_SUFFIX)
-    if vn_path.exists():
-        from stable_baselines3.common.vec_env import VecNormalize
+def _remove_stray_tmp(out_dir: Path) -> None:
+    """Delete the temporary files of :func:`atomic_write` that a killed process left behind."""
+    for folder in (out_dir, out_dir / CHECKPOINT_DIR):
+        if folder.is_dir():
+            for p in folder.glob(".*.tmp"):
+                p.unlink(missing_ok=True)
 
-        venv = VecNormalize.load(str(vn_path), venv)
-        venv.training = True
-    model = cls.load(str(path), env=venv, device=device)
-    if hasattr(model, "load_replay_buffer"):
-        buf = side_file(path, BUFFER_SUFFIX)
-        if buf.exists():
-            model.load_replay_buffer(str(buf))
-            if model.replay_buffer.n_envs != n_envs:
-                raise ValueError(f"the SAC run was trained with n_envs={model.replay_buffer.n_envs} (its replay "
-                                 f"buffer is laid out per environment); resume with n_envs="
-                                 f"{model.replay_buffer.n_envs}")
-        else:
-            warnings.warn(f"{buf.name} is missing: SAC resumes with an empty replay buffer and refills it with "
-                          f"{model.learning_starts} random steps first", RuntimeWarning, stacklevel=3)
+
+def _side_files(model_path) -> list[Path]:
+    """The VecNormalize statistics and replay buffer files of a model zip (mjrft's and SB3's pickled ones)."""
+    return [side_file(model_path, s) for s in (VECNORM_SUFFIX, BUFFER_SUFFIX, PICKLE_VECNORM_SUFFIX,
+                                               PICKLE_BUFFER_SUFFIX)]
+
+
+def vecnormalize_file(model_path) -> Path | None:
+    """The VecNormalize statistics saved with a model zip: ``*_vecnormalize.npz``, else an SB3 ``.pkl``, else None."""
+    for suffix in (VECNORM_SUFFIX, PICKLE_VECNORM_SUFFIX):
+        if side_file(model_path, suffix).is_file():
+            return side_file(model_path, suffix)
+    return None
+
+
+def _load_newest(algo, checkpoints, spaces, device, n_envs, normalize, hyperparams, trust, say):
+    """(model, VecNormalize statistics, path) of the newest checkpoint that loads; an unreadable one is
+    reported and the previous one tried."""
+    from .artefacts import ArtefactError, SkippedArtefactWarning
+
+    errors = []
+    for _, path in reversed(checkpoints):
+        try:
+            return (*_load_checkpoint(algo, path, spaces, device, n_envs, normalize, hyperparams, trust, say), path)
+        except ArtefactError as exc:
+            errors.append(str(exc))
+            _notify(say, f"{exc}; trying the previous checkpoint", SkippedArtefactWarning)
+    raise ValueError(f"none of the {len(checkpoints)} checkpoint(s) in {checkpoints[0][1].parent} loads (newest: "
+                     f"{errors[0]}); start over with --no-resume (resume=False) or use another --out")
+
+
+def _load_checkpoint(algo, path: Path, spaces, device: str, n_envs: int, normalize: bool, hyperparams, trust, say):
+    from .artefacts import ArtefactError, load_model, load_replay_buffer, load_vecnormalize
+
+    stats = None
+    if normalize:
+        vn_path = vecnormalize_file(path)
+        if vn_path is None:
+            raise ArtefactError(f"{side_file(path, VECNORM_SUFFIX)}: VecNormalize statistics of the checkpoint "
+                                f"are missing")
+        stats = load_vecnormalize(vn_path, trust)
+    model = load_model(algo, path, spaces=spaces, device=device, hyperparams=hyperparams, n_envs=n_envs, trust=trust)
+    if hasattr(model, "replay_buffer"):
+        buf = next((p for p in (side_file(path, BUFFER_SUFFIX), side_file(path, PICKLE_BUFFER_SUFFIX)) if p.is_file()),
+                   None)
+        problem = f"{side_file(path, BUFFER_SUFFIX).name} is missing"
+        if buf is not None:
+            try:
+                load_replay_buffer(model, buf, trust)
+                problem = None
+            except ArtefactError as exc:
+                problem = str(exc)
+        if problem:
+            msg = (f"{problem}: SAC resumes with an empty replay buffer and refills it with "
+                   f"{model.learning_starts} random steps first")
+            _notify(say, msg, RuntimeWarning)
             model.learning_starts = model.num_timesteps + model.learning_starts
-    return model
+    return model, stats
+
+
+def _notify(report, msg: str, category) -> None:
+    """``report(msg)`` when the caller gave a reporter (the CLI prints), else a warning."""
+    if report is not None:
+        report(msg)
+    else:
+        warnings.warn(msg, category, stacklevel=4)
+
+
+def _reason(exc: BaseException) -> str:
+    from .artefacts import _reason as reason
+
+    return reason(exc)
 
 
 def _now() -> str:
@@ -695,6 +814,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="torch CPU threads (default 1: fastest for these small MLP policies)")
     parser.add_argument("--no-resume", dest="resume", action="store_false",
                         help="start over even if the folder has checkpoints")
+    parser.add_argument("--trust", action="store_true",
+                        help="on resume, also load checkpoint files that can only be unpickled (SB3's .pkl "
+                             "side files): they can run code, so only for files from a trusted source")
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     parser.add_argument("--verbose", type=int, default=0, help="SB3 verbosity (1: training log)")
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
@@ -721,18 +843,15 @@ def run_settings(args) -> dict:
 def main(args) -> int:
     cfg = run_settings(args)
     out = Path(output_dir(args.out))
-    if args.resume and list_checkpoints(out):
-        step, path = list_checkpoints(out)[-1]
-        print(f"resuming {out} from {path.relative_to(out)} at {step} steps (target {cfg['timesteps']})")
     result = train(cfg["env_id"], cfg["algo"], cfg["timesteps"], cfg["n_envs"], cfg["seed"], out,
                    cfg["env_kwargs"] or None, cfg["checkpoint_every"], args.resume,
                    hyperparams=cfg["hyperparams"] or None, normalize=cfg["normalize"], device=args.device,
                    torch_threads=args.torch_threads, progress_bar=args.progress, verbose=args.verbose,
-                   config_name=args.config, vec_env=cfg["vec_env"])
+                   config_name=args.config, vec_env=cfg["vec_env"], trust=args.trust, report=print)
     cfg = load_config(result.config_path)
     if result.interrupted:
-        print(f"interrupted at {result.num_timesteps} steps; saved {result.model_path} and a checkpoint. "
-              f"Run the same command to resume.")
+        saved = f"saved {result.model_path} and a checkpoint" if result.saved else "nothing new was saved"
+        print(f"interrupted at {result.num_timesteps} steps; {saved}. Run the same command to resume.")
         return 130
     print(f"{cfg['algo'].upper()} on {cfg['env_id']}: {result.num_timesteps} steps; model {result.model_path}, "
           f"config {result.config_path}, {len(result.checkpoints)} checkpoint(s) in {out / CHECKPOINT_DIR}")

@@ -11,6 +11,7 @@ demo      ``mjrft.tools.demo``               hexapod tripod gait on poppy seeds,
 settle    ``mjrft.tools.settle``             drop a box foot and a legged body; sinkage vs analytic
 rig       ``mjrft.tools.rigs``               plate-intruder and rotating-leg rigs; arrays + plots
 train     ``mjrft.train.train``              stable-baselines3 training (PPO/SAC), resumable
+train-mjx ``mjrft.train.mjx_ppo``            Brax PPO on the MJX hexapod (thousands of worlds per GPU)
 eval      ``mjrft.train.evaluate``           deterministic evaluation of a policy or gait
 plot      ``mjrft.train.plot``               learning curves of training runs (return, speed)
 rollout   ``mjrft.train.rollout``            any policy or gait, any env, headless, to a rerun file
@@ -31,6 +32,7 @@ COMMANDS = {
     "settle": ("mjrft.tools.settle", "drop a box foot and a legged body onto sand; print sinkage vs analytic"),
     "rig": ("mjrft.tools.rigs", "run the plate-intruder or rotating-leg rig; save force profiles and plots"),
     "train": ("mjrft.train.train", "train a policy with stable-baselines3 (PPO or SAC), resumable"),
+    "train-mjx": ("mjrft.train.mjx_ppo", "train the hexapod on sand with Brax's PPO on MJX (GPU; needs mjrft[mjx])"),
     "eval": ("mjrft.train.evaluate", "evaluate a trained policy or an open-loop gait; print a table"),
     "plot": ("mjrft.train.plot", "plot learning curves (episode return, forward speed) of training runs"),
     "rollout": ("mjrft.train.rollout", "roll out a policy or gait headless and log it to a rerun file"),
@@ -56,12 +58,19 @@ def main(argv=None) -> int:
     command = next((a for a in argv if not a.startswith("-")), None)
     parser = build_parser(command if command in COMMANDS else "")
     args = parser.parse_args(argv)
-    module = importlib.import_module(COMMANDS[args.command][0])
+    from mjrft.tools.outputs import remove_empty_created
+
     try:
+        module = importlib.import_module(COMMANDS[args.command][0])
         return int(module.main(args) or 0)
     except (ValueError, KeyError) as exc:  # bad user input: one clear line, exit status 2
+        remove_empty_created()  # an --out folder made for a run that never started
         msg = exc.args[0] if isinstance(exc, KeyError) and exc.args else exc
         parser.exit(2, f"mjrft {args.command}: error: {msg}\n")
+    except KeyboardInterrupt:  # Ctrl-C before a command saves anything of its own: no traceback
+        remove_empty_created()
+        sys.stderr.write(f"mjrft {args.command}: interrupted\n")
+        return 130
 
 
 if __name__ == "__main__":

@@ -4,7 +4,9 @@
 option)`` does the same for the folder a file goes into and refuses a path that is a folder. Both
 raise ``ValueError`` naming the option, the path and the reason, so the command line prints one
 line (exit status 2) instead of a traceback after the work is done. Nothing is left behind: the
-probe file is removed again, and the output file itself is not created until it is written.
+probe file is removed again, the output file itself is not created until it is written, and
+:func:`remove_empty_created` (called by the command line when a command fails or is interrupted)
+removes the folders these checks created that are still empty.
 
 ``number(x, spec, scale)`` formats a printed number: a value below ``NOISE`` x ``scale`` (floating-point
 round-off, e.g. the 1e-16 N drag of a plate pushed straight down) and a negative zero such as
@@ -16,7 +18,7 @@ from __future__ import annotations
 import os
 import tempfile
 
-__all__ = ["NOISE", "number", "output_dir", "output_file"]
+__all__ = ["NOISE", "number", "output_dir", "output_file", "remove_empty_created"]
 
 NOISE = 1e-9  # relative size below which a printed value is round-off
 
@@ -32,9 +34,29 @@ def number(x, spec: str = ".4g", scale: float | None = None) -> str:
     return text
 
 
+#: folders created by output_dir / output_file in this process, outermost first
+_CREATED: list[str] = []
+
+
+def remove_empty_created() -> None:
+    """Remove the folders :func:`output_dir` / :func:`output_file` created that are still empty (innermost first)."""
+    while _CREATED:
+        try:
+            os.rmdir(_CREATED.pop())
+        except OSError:  # not empty (something was written), or already gone
+            pass
+
+
 def _probe(folder: str, option: str, path: str) -> None:
+    missing, parent = [], os.path.abspath(folder)
+    while parent and not os.path.exists(parent):
+        missing.append(parent)
+        parent, prev = os.path.dirname(parent), parent
+        if parent == prev:
+            break
     try:
         os.makedirs(folder, exist_ok=True)
+        _CREATED.extend(reversed(missing))
         with tempfile.NamedTemporaryFile(dir=folder, prefix=".mjrft-write-test-"):
             pass
     except OSError as exc:

@@ -86,13 +86,27 @@ class _Progress:
             sys.stderr.write("\n")
 
 
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C (or SIGTERM) during :func:`run_cases`; ``results`` holds the cases finished before it."""
+
+    def __init__(self, results: list, total: int):
+        super().__init__(f"interrupted after {len(results)} of {total} cases")
+        self.results, self.total = results, total
+
+
 def run_cases(names=None, quick: bool = False, progress: bool = True) -> list[CaseResult]:
+    """Run the cases one after the other; an interrupt raises :class:`Interrupted` with the finished ones."""
     names = check_names(names)
     bar = _Progress(len(names), progress)
     results = []
     for i, n in enumerate(names):
         bar.show(i, n)
-        results.append(run_case(n, quick))
+        try:
+            results.append(run_case(n, quick))
+        except KeyboardInterrupt:
+            if progress:
+                sys.stderr.write("\n")
+            raise Interrupted(results, len(names)) from None
     bar.show(len(names), "done")
     return results
 
@@ -116,11 +130,15 @@ def summary_table(results) -> list[str]:
     return rows
 
 
-def _markdown(results, quick: bool) -> str:
+def _markdown(results, quick: bool, total: int | None = None) -> str:
     n_pass = sum(r.passed for r in results)
     n_checks = sum(len(r.checks) for r in results)
     n_cpass = sum(c.passed for r in results for c in r.checks)
-    out = ["# mjrft validation report", "",
+    out = ["# mjrft validation report", ""]
+    if total is not None:
+        out += [f"**Interrupted after {len(results)} of {total} cases**: only the cases that finished are "
+                "reported below; run the command again for the rest.", ""]
+    out += [
            f"Produced by `{COMMAND}`{' --quick (coarse settings)' if quick else ''}. "
            f"{n_pass} of {len(results)} cases agree in every check; {n_cpass} of {n_checks} checks pass. "
            "Each case reruns a published experiment under the paper's setup; published numbers come from "
@@ -194,20 +212,34 @@ def _csv_rows(results):
                            line.source or "", "")
 
 
-def write_report(results, out: str, quick: bool = False) -> dict:
-    """Write report.md, one PNG per case and results.csv into ``out``; returns their paths."""
+def write_report(results, out: str, quick: bool = False, total: int | None = None) -> dict:
+    """Write report.md, one PNG per case and results.csv into ``out``; returns their paths. ``total``: the
+    number of cases asked for when the run was interrupted before all finished (the report says so).
+    Each file is written under a temporary name and renamed, so an existing report is never half-replaced."""
     output_dir(out)
     paths = {"pngs": []}
     for r in results:
         if r.panels:
             paths["pngs"].append(plot_case(r, os.path.join(out, f"{r.name}.png")))
     paths["csv"] = os.path.join(out, "results.csv")
-    with open(paths["csv"], "w", newline="") as f:
-        csv.writer(f).writerows(_csv_rows(results))
+    _replace(paths["csv"], lambda f: csv.writer(f).writerows(_csv_rows(results)))
     paths["report"] = os.path.join(out, "report.md")
-    with open(paths["report"], "w") as f:
-        f.write(_markdown(results, quick))
+    _replace(paths["report"], lambda f: f.write(_markdown(results, quick, total)))
     return paths
+
+
+def _replace(path: str, write) -> None:
+    """``write(file)`` into a temporary file beside ``path``, flushed to disk, then renamed to ``path``."""
+    tmp = f"{path}.{os.getpid()}.tmp"
+    try:
+        with open(tmp, "w", newline="") as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -230,9 +262,16 @@ def main(args) -> int:
         return 0
     names = check_names(args.case)
     output_dir(args.out)
-    results = run_cases(names, quick=args.quick)
-    paths = write_report(results, args.out, quick=args.quick)
+    total = None
+    try:
+        results = run_cases(names, quick=args.quick)
+    except Interrupted as stop:  # keep what finished, and say the report is partial
+        results, total = stop.results, stop.total
+    paths = write_report(results, args.out, quick=args.quick, total=total)
     for r in results:
         print(f"{r.name:28s} {r.verdict:24s} {r.seconds:6.1f} s")
     print(f"wrote {paths['report']}, {paths['csv']} and {len(paths['pngs'])} figures")
+    if total is not None:
+        print(f"interrupted after {len(results)} of {total} cases; the report holds those", file=sys.stderr)
+        return 130
     return 0 if all(r.passed for r in results) else 1
