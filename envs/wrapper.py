@@ -213,9 +213,10 @@ def lowest_reach(model: mujoco.MjModel, data: mujoco.MjData, g: int, bottom: flo
     at most its range (its downward part is counted exactly while no joint above turns it); a hinge or ball
     joint turns everything below it about its anchor, so from the first one on the geom is followed as a
     sphere (its bounding sphere, ``geom_rbound`` about its centre, plus the slides' travel below the turn) that
-    grows to the sphere about the anchor holding it (radius ``|c - anchor| + r``, the same in every pose). A free joint, a mocap body or an unlimited slide with a vertical component gives ``-inf``. The
-    geom can fall by itself when its chain holds a free joint or a slide with a vertical component that may move
-    down, and the model's gravity points down."""
+    grows to the sphere about the anchor holding it (radius ``|c - anchor| + r``, the same in every pose). A
+    free joint, a mocap body or an unlimited slide with a vertical component gives ``-inf``. The geom can fall
+    by itself when its chain holds a free joint or a slide with a vertical component that may move down, and
+    the model's gravity points down."""
     gz = float(model.opt.gravity[2])
     c, r = data.geom_xpos[g].copy(), float(model.geom_rbound[g])
     slack = down = 0.0  # any-direction and downward travel of the slides since the last turn
