@@ -159,8 +159,8 @@ class GranularVectorEnv(VectorEnv):
 
     # ------------------------------------------------------------------ gymnasium vector API
     def reset(self, *, seed: int | list[int | None] | None = None, options: dict[str, Any] | None = None):
-        """Reset every sub-environment (or those in ``options["reset_mask"]``); ``seed``: int (env i gets seed + i),
-        list of per-env seeds, or None."""
+        """Reset every sub-environment (or those in ``options["reset_mask"]``, the only option; any other key
+        raises ``ValueError`` naming it); ``seed``: int (env i gets seed + i), list of per-env seeds, or None."""
         n = self.num_envs
         if seed is None:
             seeds = [None] * n
@@ -172,6 +172,10 @@ class GranularVectorEnv(VectorEnv):
                 raise ValueError(f"a list of seeds must have one per environment ({n}), got {len(seeds)}")
         options = dict(options) if options else {}
         mask = options.pop("reset_mask", None)
+        if options:  # the sub-environments take no reset options: a misspelt reset_mask must not reset them all
+            from mjrft.errors import unknown
+
+            raise unknown("reset option", sorted(options)[0], ["reset_mask"])
         if mask is None:
             mask = np.ones(n, dtype=np.bool_)
         else:
@@ -181,7 +185,7 @@ class GranularVectorEnv(VectorEnv):
                 raise ValueError("options['reset_mask'] must select at least one environment, got all False")
         infos: dict[str, Any] = {}
         for i in np.flatnonzero(mask):
-            obs, info = self.envs[i].reset(seed=seeds[i], options=options or None)
+            obs, info = self.envs[i].reset(seed=seeds[i])
             self._obs[i] = obs
             self._elapsed[i] = 0
             infos = self._add_info(infos, info, i)

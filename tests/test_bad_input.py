@@ -86,7 +86,15 @@ CONSTRUCTORS = [
     ("gait spec", lambda: mjrft.tools.gaits.parse_gait_spec("tripod:f=-1"),
      "parameter f=-1.0 out of range; valid: (0, inf]"),
     ("published datum", lambda: mjrft.tools.validation.published("li2013", "nosuch"), "valid choices"),
+    ("vector env reset option", lambda: _vector().reset(options={"reset_maks": None}),
+     "unknown reset option 'reset_maks'; valid choices: reset_mask"),
 ]
+
+
+def _vector():
+    from mjrft.envs import make_vector
+
+    return make_vector(ENV, num_envs=2, resolution=0.03)
 
 
 @pytest.mark.parametrize("name,make,message", CONSTRUCTORS, ids=[c[0] for c in CONSTRUCTORS])
@@ -98,3 +106,60 @@ def test_public_constructors_name_the_bad_value(name, make, message):
     with pytest.raises((ValueError, TypeError)) as e:
         make()
     assert message in str(e.value), str(e.value)
+
+
+# the files a command reads: one line naming the file; nothing left behind
+FILES = [
+    ("eval --policy bad.zip --env " + ENV, {"bad.zip": b"PK\x03\x04 cut"}, "bad.zip: not a readable zip file"),
+    ("eval --policy run --env " + ENV, {"run/model.zip": b""}, "run: no model in it loads"),
+    ("train --config bad.json", {"bad.json": b'{"env_id": '}, "training config 'bad.json' cannot be read"),
+    ("train --out run", {"run/config.json": b'{"env_id": ', "run/checkpoints/step_0000000064.zip": b""},
+     "run/config.json: run config is not valid JSON"),
+    ("train --config big.yaml --timesteps 0", {"big.yaml": b"env_id: mjrft/HexapodSand-v0\ntimesteps: 1e5\n"},
+     "timesteps must be an integer >= 1, got 0"),
+    ("plot run --out c.png", {"run/monitor.csv": b"r,l,t\n1,2,3\n", "run/logs/from_0000000000/progress.csv":
+                              b"time/total_timesteps,rollout/ep_rew_mean\n512,x\n"}, "progress.csv line 2"),
+    ("train --env nosuch/Env-v0 --out new/run", {}, "unknown env id"),
+]
+
+
+@pytest.mark.parametrize("argv,files,message", FILES, ids=[f[0] for f in FILES])
+def test_damaged_files_are_named_and_failed_commands_leave_no_folder(argv, files, message, tmp_path, capsys,
+                                                                     monkeypatch):
+    pytest.importorskip("stable_baselines3")
+    monkeypatch.chdir(tmp_path)
+    for name, data in files.items():
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_bytes(data)
+    before = sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*"))
+    with pytest.raises(SystemExit) as e:
+        cli.main(shlex.split(argv))
+    assert e.value.code == 2
+    err = capsys.readouterr().err
+    assert message in err, err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*")) == before  # no folder or file made
+
+
+def test_config_files_take_integers_in_any_number_notation(tmp_path):
+    pytest.importorskip("yaml")
+    from mjrft.train.config import load_training_config
+
+    path = tmp_path / "c.yaml"
+    for text in ("1e5", "1.0e+5", "100_000", "100000"):
+        path.write_text(f"env_id: {ENV}\ntimesteps: {text}\n")
+        assert load_training_config(path)["timesteps"] == 100_000, text
+    for text, shown in (("1.5e0", "'1.5e0'"), ("2.5", "2.5"), ("lots", "'lots'")):
+        path.write_text(f"env_id: {ENV}\ntimesteps: {text}\n")
+        with pytest.raises(ValueError, match=f"'timesteps' must be an integer >= 1, got {shown}"):
+            load_training_config(path)
+
+
+def test_eval_exits_1_when_every_episode_diverged_and_leaves_no_mujoco_log(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("stable_baselines3")
+    monkeypatch.chdir(tmp_path)
+    rc = cli.main(shlex.split(f"eval --policy tripod --env {ENV} --episodes 2 --no-progress timestep=1.0 "
+                              "resolution=0.03"))
+    assert rc == 1
+    assert "every episode (2) diverged" in capsys.readouterr().err
+    assert not (tmp_path / "MUJOCO_LOG.TXT").exists()

@@ -218,3 +218,40 @@ def test_vec_env_bad_kind_and_auto():
     assert resolve_kind("auto", "mjrft/HopperSand-v5", 4, cpu_count=2) == "dummy"
     assert resolve_kind("auto", HEX, 4, cpu_count=8) == "subproc"
     assert resolve_kind("subproc", HEX, 4) == "subproc"
+
+
+def test_a_torn_last_line_and_damaged_files_of_a_run(tmp_path):
+    returns, _, _ = write_run(tmp_path / "a")
+    monitor = tmp_path / "a" / "monitor.csv"
+    with open(monitor, "a") as fh:
+        fh.write("12.5,10")  # the run was killed while writing this episode
+    with pytest.warns(RuntimeWarning, match=f"line {N_EPISODES + 3} is incomplete"):
+        run = load_run(tmp_path / "a")
+    np.testing.assert_array_equal(run.monitor.returns, returns)
+    # a torn line in the middle is an error naming the file and the line
+    with open(monitor, "a") as fh:
+        fh.write("\n1.0,8,0.1,0.02\n")
+    with pytest.raises(ValueError, match=f"monitor.csv line {N_EPISODES + 3} has 2 fields"):
+        load_run(tmp_path / "a")
+    # a bad number in progress.csv, a corrupt config.json: the file is named
+    write_run(tmp_path / "b")
+    progress = tmp_path / "b" / "logs" / "from_0000000000" / "progress.csv"
+    progress.write_text(progress.read_text().replace("512,5.12", "512,nan?"))
+    with pytest.raises(ValueError, match=f"{progress} line 2: .*'nan\\?' is not a number"):
+        load_run(tmp_path / "b")
+    write_run(tmp_path / "c")
+    (tmp_path / "c" / "config.json").write_text('{"env_id": ')
+    with pytest.raises(ValueError, match="config.json: run config is not valid JSON"):
+        load_run(tmp_path / "c")
+
+
+def test_vec_env_appends_after_a_torn_monitor_line(tmp_path):
+    monitor = tmp_path / "monitor.csv"
+    monitor.write_text('#{"t_start": 0}\nr,l,t\n1.5,8,0.1\n2.5,')
+    venv = make_vec_env(HEX, 1, 0, ENV_KW, monitor, kind="dummy")
+    try:
+        step_episodes(venv, ENV_KW["max_episode_steps"])
+    finally:
+        venv.close()
+    m = read_monitor(monitor)
+    assert m.lengths.tolist() == [8, 8] and m.returns[0] == 1.5

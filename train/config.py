@@ -102,7 +102,7 @@ def check_training_config(data: dict, source: str = "training config") -> dict:
     cfg = {**DEFAULTS, **{k: v for k, v in data.items() if v is not None}}
     cfg["hyperparams"], cfg["env_kwargs"] = dict(cfg["hyperparams"]), dict(cfg["env_kwargs"])
     for key in ("timesteps", "n_envs", "seed", "checkpoint_every"):
-        value = cfg[key]
+        value = cfg[key] = _integer(cfg[key])
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):
             raise ValueError(f"{source}: {key!r} must be an integer >= {0 if key == 'seed' else 1}, got {value!r}")
     from .vecenv import check_kind
@@ -111,6 +111,21 @@ def check_training_config(data: dict, source: str = "training config") -> dict:
     if not isinstance(cfg["normalize"], bool):
         raise ValueError(f"{source}: 'normalize' must be true or false, got {cfg['normalize']!r}")
     return {k: cfg[k] for k in KEYS}
+
+
+def _integer(value):
+    """An integer written as a number in any notation: ``100000``, ``1e5`` (YAML reads it as a string),
+    ``1.0e+5`` (a float) or ``100_000``; anything else is returned unchanged (and refused by the caller)."""
+    if isinstance(value, float) and value.is_integer():
+        return int(value)
+    if isinstance(value, str):
+        try:
+            number = float(value.replace("_", ""))
+        except ValueError:
+            return value
+        if number.is_integer():
+            return int(number)
+    return value
 
 
 def load_training_config(name_or_path) -> dict:

@@ -38,8 +38,10 @@ Baselines (``--baseline``, repeatable), drawn as horizontal lines:
 from __future__ import annotations
 
 import csv
+import io
 import json
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -99,6 +101,10 @@ def read_monitor(path) -> Monitor:
         lines = [(i, line) for i, line in enumerate(fh, 1) if line.strip() and not line.startswith("#")]
     if not lines:
         raise ValueError(f"{path} is empty: no header line r,l,t")
+    if len(lines) > 1 and not lines[-1][1].endswith("\n"):  # the process was stopped while writing it
+        lineno, _ = lines.pop()
+        warnings.warn(f"{path} line {lineno} is incomplete (the run stopped while writing it); left out",
+                      RuntimeWarning, stacklevel=2)
     header = next(csv.reader([lines[0][1]]))
     missing = [c for c in ("r", "l") if c not in header]
     if missing:
@@ -132,11 +138,19 @@ def read_progress(run_dir) -> tuple[np.ndarray, np.ndarray] | None:
     steps, means = [], []
     for path in sorted(Path(run_dir).glob("logs/from_*/progress.csv")):
         with open(path, newline="") as fh:
-            for row in csv.DictReader(fh):
-                s, m = row.get("time/total_timesteps", ""), row.get("rollout/ep_rew_mean", "")
-                if s and m:
+            text = fh.read()
+        if text and not text.endswith("\n"):  # a line cut by a stopped process
+            text = text[: text.rfind("\n") + 1]
+        reader = csv.DictReader(io.StringIO(text))
+        for row in reader:
+            s, m = row.get("time/total_timesteps", ""), row.get("rollout/ep_rew_mean", "")
+            if s and m:
+                try:
                     steps.append(float(s))
                     means.append(float(m))
+                except ValueError:
+                    raise ValueError(f"{path} line {reader.line_num}: time/total_timesteps {s!r} or "
+                                     f"rollout/ep_rew_mean {m!r} is not a number") from None
     if not steps:
         return None
     order = np.argsort(steps, kind="stable")
@@ -154,8 +168,9 @@ def load_run(path, label: str | None = None) -> Run:
                          f"written by 'mjrft train')")
     env_id, env_kwargs = None, {}
     if (path / CONFIG).is_file():
-        with open(path / CONFIG) as fh:
-            cfg = json.load(fh)
+        from .artefacts import read_json
+
+        cfg = read_json(path / CONFIG, "run config")
         env_id, env_kwargs = cfg.get("env_id"), dict(cfg.get("env_kwargs") or {})
     return Run(path, label or path.resolve().name, read_monitor(path / MONITOR), read_progress(path), env_id,
                env_kwargs)

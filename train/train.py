@@ -181,16 +181,39 @@ def valid_env_kwargs(env_id: str) -> list[str]:
     return sorted(names | {"max_episode_steps"})
 
 
+class MujocoWarning(RuntimeWarning):
+    """A warning of MuJoCo's own (e.g. "Nan, Inf or huge value in QACC"), issued as a Python warning."""
+
+
+def route_mujoco_warnings() -> None:
+    """Issue MuJoCo's warnings as :class:`MujocoWarning` instead of MuJoCo's default, which appends them to
+    ``MUJOCO_LOG.TXT`` in the current folder. While training they land in the run's ``warnings.csv``
+    (:mod:`mjrft.train.run_warnings`). A warning handler installed by the caller is left in place."""
+    import mujoco
+
+    if mujoco.get_mju_user_warning() is None:
+        mujoco.set_mju_user_warning(_mujoco_warning)
+
+
+def _mujoco_warning(message: str) -> None:
+    try:
+        warnings.warn(f"MuJoCo: {message}", MujocoWarning, stacklevel=2)
+    except Exception:  # warnings turned into errors: an exception cannot cross MuJoCo's C code
+        sys.stderr.write(f"MuJoCo warning: {message}\n")
+
+
 def make_env(env_id: str, env_kwargs: dict | None = None, rank: int = 0):
     """One environment: ``gymnasium.make(env_id, **env_kwargs)`` (``max_episode_steps`` goes to the
     time limit). Inside a vec-env worker process SIGINT is ignored, so Ctrl-C stops only the trainer,
-    which then saves cleanly and closes the workers."""
+    which then saves cleanly and closes the workers. MuJoCo's warnings become Python warnings
+    (:func:`route_mujoco_warnings`)."""
     import gymnasium
 
     import mjrft  # noqa: F401  (registers the mjrft environments in a fresh worker process)
 
     if multiprocessing.parent_process() is not None:
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+    route_mujoco_warnings()
     try:
         return gymnasium.make(env_id, **dict(env_kwargs or {}))
     except TypeError as exc:

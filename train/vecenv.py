@@ -226,6 +226,16 @@ def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: dict | None = 
     if monitor_file is not None:
         monitor_file = Path(monitor_file)
         append = monitor_file.exists() and monitor_file.stat().st_size > 0
+        if append:
+            _drop_torn_line(monitor_file)
         venv.results_writer = ResultsWriter(str(monitor_file), header={"t_start": venv.t_start, "env_id": env_id},
                                             extra_keys=keys, override_existing=not append)
     return venv
+
+
+def _drop_torn_line(path: Path) -> None:
+    """Cut a last line that a stopped process left without its newline, so appended rows start a line."""
+    with open(path, "rb+") as fh:
+        data = fh.read()
+        if data and not data.endswith(b"\n"):
+            fh.truncate(data.rfind(b"\n") + 1)
