@@ -174,3 +174,24 @@ def test_stress_colors():
     np.testing.assert_array_equal(c[0], [68, 1, 84])
     np.testing.assert_array_equal(c[2], [253, 231, 37])
     np.testing.assert_array_equal(c[3], c[2])  # clipped
+
+
+def test_a_spawned_viewer_listens_on_this_machine_only_unless_asked(monkeypatch):
+    from mjrft.tools import rerun_log
+
+    started, listening = [], {"now": False}
+
+    def popen(argv, **kwargs):
+        started.append(argv)
+        listening["now"] = True
+
+    monkeypatch.setattr(rerun_log.subprocess, "Popen", popen)
+    monkeypatch.setattr(rerun_log, "_listening", lambda host, port: listening["now"])
+    url = rerun_log.spawn_viewer(port=9911)
+    assert url == "rerun+http://127.0.0.1:9911/proxy"
+    argv = started[-1]
+    assert argv[argv.index("--bind") + 1] == "127.0.0.1" and argv[argv.index("--port") + 1] == "9911"
+    assert rerun_log.spawn_viewer(port=9911) == url and len(started) == 1  # one already listens: reused
+    listening["now"] = False
+    assert rerun_log.spawn_viewer(port=9912, bind="0.0.0.0") == "rerun+http://127.0.0.1:9912/proxy"
+    assert started[-1][started[-1].index("--bind") + 1] == "0.0.0.0"

@@ -90,13 +90,16 @@ def bind_policy(policy_or_spec, env, trust: bool = False):
 
 def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_path=None, *, steps: int | None = None,
             log_every: int = LOG_EVERY, seed: int = 0, env_kwargs: dict | None = None, spawn_viewer: bool = False,
-            deterministic: bool = True, progress: bool = False, trust: bool = False) -> dict:
+            deterministic: bool = True, progress: bool = False, trust: bool = False,
+            viewer_bind: str = "127.0.0.1") -> dict:
     """Run one rollout and return its summary (see the module docstring).
 
     ``env_id_or_env``: a gymnasium id (made with ``env_kwargs``) or an env (used as is, not closed).
     Give ``seconds`` (simulated) or ``steps`` (env steps). ``rrd_path`` None and ``spawn_viewer`` False
     runs without logging. ``progress``: a progress bar (tqdm, on stderr) over the env steps. ``trust``:
-    also load model files that need pickle (:func:`mjrft.train.evaluate.load_policy`).
+    also load model files that need pickle (:func:`mjrft.train.evaluate.load_policy`). ``viewer_bind``: the
+    address a spawned viewer listens on (:func:`mjrft.tools.rerun_log.spawn_viewer`; this machine only by
+    default).
     """
     if (seconds is None) == (steps is None):
         raise ValueError("give exactly one of seconds (simulated time) or steps (env steps)")
@@ -132,7 +135,8 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
             from mjrft.tools.rerun_log import episode_logger
 
             source = policy_or_spec if isinstance(policy_or_spec, (str, Path)) else type(policy_or_spec).__name__
-            logger = episode_logger(rrd_path, env, spawn=spawn_viewer, name=f"mjrft-rollout-{Path(str(source)).name}")
+            logger = episode_logger(rrd_path, env, spawn=spawn_viewer, name=f"mjrft-rollout-{Path(str(source)).name}",
+                                    viewer_bind=viewer_bind)
         t0 = time.perf_counter()
         obs, info = env.reset(seed=seed)
         x0 = float(info.get("x_position", u.data.qpos[0]))
@@ -230,6 +234,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("--seed", type=int, default=0, help="reset seed (default 0)")
     parser.add_argument("--spawn-viewer", action="store_true", help="also stream to a newly started rerun viewer")
+    parser.add_argument("--viewer-bind", default="127.0.0.1", metavar="ADDRESS",
+                        help="with --spawn-viewer: the address the viewer listens on (default 127.0.0.1, this "
+                             "machine only; 0.0.0.0 opens it to the network)")
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     parser.add_argument("--trust", action="store_true", help=TRUST_HELP)
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE", help="environment keyword arguments")
@@ -256,7 +263,7 @@ def main(args) -> int:
         env_kwargs = {**saved_kwargs, **env_kwargs}
     summary = rollout(env_id, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
                       seed=args.seed, env_kwargs=env_kwargs, spawn_viewer=args.spawn_viewer, progress=args.progress,
-                      trust=args.trust)
+                      trust=args.trust, viewer_bind=args.viewer_bind)
     print(format_summary(summary))
     print(f"wrote {summary['rrd']} ({summary['frames']} frames, every {args.log_every} env steps)")
     print(open_hint(summary["rrd"]))

@@ -33,6 +33,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("--seed", type=int, default=0, help="reset seed (default 0)")
     parser.add_argument("--spawn-viewer", action="store_true", help="also stream to a newly started rerun viewer")
+    parser.add_argument("--viewer-bind", default="127.0.0.1", metavar="ADDRESS",
+                        help="with --spawn-viewer: the address the viewer listens on (default 127.0.0.1, this "
+                             "machine only; 0.0.0.0 opens it to the network)")
 
 
 def main(args) -> int:
@@ -53,7 +56,8 @@ def main(args) -> int:
         for category in terrain_warnings:
             warnings.simplefilter("always", category)
         summary = rollout(ENV_ID, args.gait, seconds=args.seconds, rrd_path=out, log_every=args.log_every,
-                          seed=args.seed, env_kwargs={"medium": args.medium}, spawn_viewer=args.spawn_viewer)
+                          seed=args.seed, env_kwargs={"medium": args.medium}, spawn_viewer=args.spawn_viewer,
+                          viewer_bind=args.viewer_bind)
     print(format_summary(summary))
     for w in caught:  # the terrain's own warnings become notes under the summary; others are shown as usual
         if not issubclass(w.category, terrain_warnings):

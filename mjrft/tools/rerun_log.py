@@ -52,6 +52,11 @@ from __future__ import annotations
 
 import math
 import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
 import uuid
 
 import mujoco
@@ -62,6 +67,41 @@ LOG_EVERY = 5  # env steps between logged frames: the default of mjrft demo, rol
 #: colour map anchors (viridis-like) for stress, from 0 to stress_max
 _CMAP = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], dtype=np.float64)
 _SAND_RGBA = (219, 189, 133, 110)
+
+
+#: the port a spawned viewer listens on (rerun's default)
+VIEWER_PORT = 9876
+
+
+def spawn_viewer(port: int = VIEWER_PORT, bind: str = "127.0.0.1", timeout: float = 15.0) -> str:
+    """Start a rerun viewer that listens on ``bind``:``port``, unless one listens there already; return the
+    URL to stream to. ``rerun.spawn`` would listen on every network interface; mjrft's default is this
+    machine only (``bind="0.0.0.0"`` opens it to the network)."""
+    host = "127.0.0.1" if bind in ("0.0.0.0", "::", "") else bind
+    url_host = f"[{host}]" if ":" in host else host
+    url = f"rerun+http://{url_host}:{int(port)}/proxy"
+    if _listening(host, port):
+        return url
+    exe = shutil.which("rerun") or os.path.join(os.path.dirname(sys.executable), "rerun")
+    if not os.path.isfile(exe):
+        raise ValueError("the rerun viewer executable is not installed (pip install 'mjrft[rerun]')")
+    subprocess.Popen([exe, "--port", str(int(port)), "--bind", bind], stdin=subprocess.DEVNULL,
+                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
+                     env={**os.environ, "RERUN_APP_ONLY": "true"})
+    deadline = time.monotonic() + timeout
+    while not _listening(host, port):
+        if time.monotonic() > deadline:
+            raise RuntimeError(f"the rerun viewer did not start listening on {bind}:{port} within {timeout:g} s")
+        time.sleep(0.05)
+    return url
+
+
+def _listening(host: str, port: int) -> bool:
+    try:
+        with socket.create_connection((host, int(port)), timeout=0.2):
+            return True
+    except OSError:
+        return False
 
 
 def stress_colors(stress: np.ndarray, vmax: float) -> np.ndarray:
@@ -139,7 +179,9 @@ class RerunLogger:
         model: the ``MjModel``.
         terrain: the :class:`mjrft.GranularTerrain` (None: robot poses only, e.g. rigid ground).
         path: ``.rrd`` file to write (None: no file; then ``spawn`` must be True).
-        spawn: also start a rerun viewer and stream to it.
+        spawn: also start a rerun viewer and stream to it (:func:`spawn_viewer`).
+        viewer_bind: the address the spawned viewer listens on (default ``127.0.0.1``: this machine only;
+            ``0.0.0.0`` lets any machine on the network connect to it).
         name: application id shown in the viewer.
         bodies: body names for the per-leg plots (default: every granular body of the terrain).
         force_scale: m per N of the net-force arrows (default: robot extent / weight).
@@ -150,7 +192,7 @@ class RerunLogger:
 
     def __init__(self, model: mujoco.MjModel, terrain=None, path=None, *, spawn: bool = False, name: str = "mjrft",
                  bodies=None, force_scale: float | None = None, element_force_scale: float | None = None,
-                 stress_max: float | None = None, recording_id: str | None = None):
+                 stress_max: float | None = None, recording_id: str | None = None, viewer_bind: str = "127.0.0.1"):
         try:
             import rerun as rr
         except ImportError:  # pragma: no cover - rerun is an optional extra
@@ -213,8 +255,7 @@ class RerunLogger:
                     raise ValueError(f"cannot write {self.path!r}: folder {parent!r} does not exist")
                 sinks.append(rr.FileSink(self.path))
             if spawn:
-                self.rec.spawn(connect=False)
-                sinks.append(rr.GrpcSink())
+                sinks.append(rr.GrpcSink(spawn_viewer(bind=viewer_bind)))
             self.rec.set_sinks(*sinks)
             self._log_static()
         except BaseException:
