@@ -120,6 +120,8 @@ FILES = [
     ("plot run --out c.png", {"run/monitor.csv": b"r,l,t\n1,2,3\n", "run/logs/from_0000000000/progress.csv":
                               b"time/total_timesteps,rollout/ep_rew_mean\n512,x\n"}, "progress.csv line 2"),
     ("train --env nosuch/Env-v0 --out new/run", {}, "unknown env id"),
+    (f"sweep --env {ENV} --gait cut.zip --grid medium=poppy_lp --out sw", {"cut.zip": b"PK\x03\x04"},
+     "cut.zip: not a readable zip file"),
 ]
 
 

@@ -176,6 +176,9 @@ def _gait_params(gait: str) -> tuple[str | None, dict]:
     if not is_gait_spec(gait):
         if not Path(gait).exists():
             raise ValueError(f"--gait {gait!r} is neither a gait ({', '.join(sorted(GAITS))}) nor a model zip / run folder")
+        from .evaluate import resolve_model
+
+        resolve_model(gait)  # a damaged or incomplete model file: one error naming it, before any point runs
         return None, {}
     name, given = parse_gait_spec(gait)
     return name, given
