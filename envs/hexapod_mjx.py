@@ -1,0 +1,209 @@
+"""The hexapod on sand as a batched MJX environment (Brax's ``Env`` interface, as MuJoCo Playground uses).
+
+:class:`HexapodSandMJX` is ``mjrft/HexapodSand-v0`` on the GPU: the same robot (the CPU env's model and its
+:class:`~mjrft.GranularTerrain`, evaluated by :class:`mjrft.mjx.Sand`), the same action, observation,
+reward and termination (the tables of :class:`mjrft.envs.hexapod.HexapodSand`), written as pure functions
+``reset(rng) -> State`` and ``step(state, action) -> State`` that ``jax.jit`` and ``jax.vmap`` batch over
+thousands of worlds. Brax's training wrappers (``brax.envs.wrappers.training.wrap``: episode length,
+auto-reset, vmap) and Brax's PPO take it as it is (:mod:`mjrft.train.mjx_ppo`).
+
+>>> env = HexapodSandMJX()                                  # keyword arguments as mjrft/HexapodSand-v0
+>>> state = jax.jit(env.reset)(jax.random.PRNGKey(0))
+>>> state = jax.jit(env.step)(state, jnp.zeros(env.action_size))
+
+Differences from the CPU env, each by design:
+
+* the bed's rigid bottom (a plane 30 cm below the sand surface, below the healthy height range) has no
+  contacts here: a contact pair costs MJX's collision and constraint solver on every step and every world,
+  and no healthy episode reaches it;
+* a non-finite action does not raise (nothing can inside ``jit``): it ends the episode like a divergence
+  (``done``, reward 0, ``metrics["diverged"] = 1``), as does a non-finite state or granular force;
+* ``info`` holds arrays only (Brax's ``State.metrics``: ``x_velocity``, ``power``, ``cost_of_transport``,
+  the reward terms, ``diverged``); per-leg ``sinkage`` and ``granular_force`` are in
+  ``state.pipeline_state.sand``.
+
+The physics is MJX's (the same model, integrator and timestep): trajectories agree with MuJoCo's C
+pipeline to rounding at first and then drift apart as any two chaotic simulations do; the granular wrench
+on a given state equals the CPU kernel's (``tests/test_mjx.py``).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import mujoco
+import numpy as np
+from brax.envs.base import Env, State
+from mujoco import mjx
+
+from mjrft.mjx import Sand, SandState
+
+from .hexapod import HexapodSand
+
+G = 9.81
+
+
+class HexapodPipeline(NamedTuple):
+    """Per-world physics state: MJX's data, the terrain's state and the hip servo targets (rad)."""
+
+    data: mjx.Data
+    sand: SandState
+    target: jax.Array
+
+
+class HexapodSandMJX(Env):
+    """``mjrft/HexapodSand-v0`` for MJX. Keyword arguments: those of :class:`~mjrft.envs.hexapod.HexapodSand`
+    (``medium``, ``law``, ``curvature``, ``frame_skip``, reward weights, ...); ``cull`` goes to
+    :class:`mjrft.mjx.Sand`; ``impl`` to ``mjx.put_model`` (``"jax"``, or ``"warp"`` where MuJoCo Warp is
+    installed). ``sand=False`` gives the rigid twin (``mjrft/HexapodRigid-v0``: MJX's contacts on a rigid
+    floor). Terrain randomisation and render modes are options of the CPU env only."""
+
+    def __init__(self, sand: bool = True, *, cull: int | None = None, impl: str | None = None, **kwargs):
+        if kwargs.get("terrain_randomization") is not None:
+            raise NotImplementedError("terrain_randomization is an option of the CPU env; the MJX env draws no "
+                                      "terrain (Sand.params_of gives per-world media to a custom reset)")
+        cpu = HexapodSand(sand=sand, **kwargs)
+        self.cpu_kwargs = dict(sand=sand, **kwargs)
+        model = cpu.model
+        bottom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "bed_bottom")
+        if sand and bottom >= 0:
+            model.geom_contype[bottom] = 0
+            model.geom_conaffinity[bottom] = 0
+        self.sand = Sand.from_terrain(cpu.terrain, cull=cull) if sand else None
+        self.model = model
+        self.mx = mjx.put_model(model) if impl is None else mjx.put_model(model, impl=impl)
+        self.frame_skip = int(cpu.frame_skip)
+        self.dt = float(cpu.dt)
+        self.init_qpos = np.array(cpu.init_qpos)
+        self.init_qvel = np.array(cpu.init_qvel)
+        self._hip_qadr = np.array(cpu._hip_qadr)
+        self._hip_dadr = np.array(cpu._hip_dadr)
+        self._act_dof = np.array(cpu._act_dof)
+        self._torso = int(cpu._torso_id)
+        self._feet = np.array(cpu._foot_ids)
+        self._mass = float(cpu._total_mass)
+        self._max_hip_speed = float(cpu._max_hip_speed)
+        self._max_lag = float(cpu._max_lag)
+        self._noise = float(cpu._reset_noise_scale)
+        self._z_range = tuple(cpu._healthy_z_range)
+        self._max_tilt = float(cpu._max_tilt)
+        self._w_forward = float(cpu._forward_reward_weight)
+        self._w_energy = float(cpu._energy_cost_weight)
+        self._w_ctrl = float(cpu._ctrl_cost_weight)
+        self._healthy_reward = float(cpu._healthy_reward)
+        self._terminate = bool(cpu._terminate_when_unhealthy)
+        self._quat = int(model.jnt_qposadr[0]) + 3 if model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE else None
+        if cpu.planar:
+            raise NotImplementedError("planar=True is an option of the CPU env only")
+        cpu.close()
+
+    # ------------------------------------------------------------------ Brax Env interface
+    @property
+    def observation_size(self) -> int:
+        return 35
+
+    @property
+    def action_size(self) -> int:
+        return 6
+
+    @property
+    def backend(self) -> str:
+        return "mjx"
+
+    def reset(self, rng: jax.Array) -> State:
+        """A new episode: the initial pose with uniform noise of ``reset_noise_scale`` on qpos and qvel (the
+        free joint's quaternion normalised), no memory in the sand, servo targets at the hip angles."""
+        k1, k2 = jax.random.split(rng)
+        nq, nv = self.model.nq, self.model.nv
+        qpos = jnp.asarray(self.init_qpos) + jax.random.uniform(k1, (nq,), minval=-self._noise, maxval=self._noise)
+        qvel = jnp.asarray(self.init_qvel) + jax.random.uniform(k2, (nv,), minval=-self._noise, maxval=self._noise)
+        if self._quat is not None:
+            q = qpos[self._quat:self._quat + 4]
+            qpos = qpos.at[self._quat:self._quat + 4].set(q / jnp.linalg.norm(q))
+        target = qpos[self._hip_qadr]
+        d = mjx.make_data(self.mx).replace(qpos=qpos, qvel=qvel, ctrl=target)
+        d = mjx.forward(self.mx, d)
+        sand = self.sand.init() if self.sand is not None else _no_sand(self.model.nbody)
+        pipeline = HexapodPipeline(d, sand, target)
+        zero = jnp.zeros(())
+        metrics = {name: zero for name in METRICS}
+        return State(pipeline, self._obs(d, target), zero, zero, metrics, {})
+
+    def step(self, state: State, action: jax.Array) -> State:
+        """One control step: the hip-velocity command integrated into the servo targets, ``frame_skip`` physics
+        steps with the granular wrench, then observation, reward and termination."""
+        ps: HexapodPipeline = state.pipeline_state
+        d0 = ps.data
+        bad_action = ~jnp.all(jnp.isfinite(action))
+        a = jnp.clip(jnp.where(bad_action, 0.0, action), -1.0, 1.0)
+        q = d0.qpos[self._hip_qadr]
+        target = jnp.clip(ps.target + a * self._max_hip_speed * self.dt, q - self._max_lag, q + self._max_lag)
+        d = d0.replace(ctrl=target)
+        sand = ps.sand
+
+        def physics(_, carry):
+            d, sand = carry
+            if self.sand is None:
+                return mjx.step(self.mx, d), sand
+            return self.sand.step(self.mx, d, sand)
+
+        d, sand = jax.lax.fori_loop(0, self.frame_skip, physics, (d, sand))
+        x_velocity = (d.qpos[0] - d0.qpos[0]) / self.dt
+        power = jnp.sum(jnp.abs(d.actuator_force * d.qvel[self._act_dof]))
+        z = d.xpos[self._torso, 2]
+        tilt = jnp.arccos(jnp.clip(d.xmat[self._torso, 2, 2], -1.0, 1.0))
+        finite = jnp.all(jnp.isfinite(d.qpos)) & jnp.all(jnp.isfinite(d.qvel))
+        healthy = (z > self._z_range[0]) & (z < self._z_range[1]) & (tilt < self._max_tilt) & finite
+        diverged = bad_action | ~finite | (sand.bad_body != -1)
+        forward = self._w_forward * x_velocity
+        healthy_reward = jnp.where(healthy | (not self._terminate), self._healthy_reward, 0.0)
+        energy = self._w_energy * power / (self._mass * G)
+        ctrl_cost = self._w_ctrl * jnp.sum(a * a)
+        reward = forward + healthy_reward - energy - ctrl_cost
+        done = diverged | (~healthy if self._terminate else False)
+        obs = self._obs(d, target)
+        obs = jnp.where(diverged, 0.0, obs)
+        reward = jnp.where(diverged, 0.0, reward)
+        metrics = {
+            "x_velocity": jnp.where(diverged, 0.0, x_velocity),
+            "power": power,
+            "cost_of_transport": power / (self._mass * G * jnp.maximum(jnp.abs(x_velocity), 1e-3)),
+            "reward_forward": forward,
+            "reward_energy": -energy,
+            "reward_ctrl": -ctrl_cost,
+            "reward_healthy": healthy_reward,
+            "diverged": diverged.astype(reward.dtype),
+        }
+        metrics = {**state.metrics,
+                   **{k: jnp.where(diverged, 0.0, v) if k != "diverged" else v for k, v in metrics.items()}}
+        pipeline = HexapodPipeline(d, sand, target)
+        return state.replace(pipeline_state=pipeline, obs=obs, reward=reward, done=done.astype(reward.dtype),
+                             metrics=metrics)
+
+    # ------------------------------------------------------------------ pieces
+    def _obs(self, d, target) -> jax.Array:
+        hips = d.qpos[self._hip_qadr]
+        return jnp.concatenate([d.qpos[2:7], jnp.sin(hips), jnp.cos(hips), d.qvel[:6], d.qvel[self._hip_dadr],
+                                target - hips])
+
+    def foot_sinkage(self, state: State) -> jax.Array:
+        """Deepest element of each leg (m), order ``HexapodSand.foot_names`` (zeros on rigid ground)."""
+        return state.pipeline_state.sand.sinkage[..., self._feet]
+
+    def foot_granular_force(self, state: State) -> jax.Array:
+        """Net granular force on each leg (N, world frame) applied by the last physics step."""
+        return state.pipeline_state.sand.wrench[..., self._feet, :3]
+
+
+#: the metrics every step reports (Brax's ``State.metrics``)
+METRICS = ("x_velocity", "power", "cost_of_transport", "reward_forward", "reward_energy", "reward_ctrl",
+           "reward_healthy", "diverged")
+
+
+def _no_sand(nbody: int) -> SandState:
+    """A placeholder terrain state for the rigid twin (no elements, no force)."""
+    z = jnp.zeros(())
+    return SandState(u=jnp.zeros((0, 3)), params=jnp.zeros(0), wrench=jnp.zeros((nbody, 6)), sinkage=jnp.zeros(nbody),
+                     bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=z)

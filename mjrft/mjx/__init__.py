@@ -1,0 +1,15 @@
+"""mjrft on the GPU: the granular wrench as pure JAX functions of MJX's ``Model`` / ``Data``.
+
+>>> import jax, mujoco, mjrft.mjx
+>>> sand = mjrft.mjx.Sand(model, floor="auto")        # a mujoco.MjModel; GranularTerrain's arguments
+>>> mx, step = sand.put_model(), jax.jit(sand.step)   # step(mx, d, state) -> (d, state)
+
+:mod:`mjrft.mjx.terrain` (:class:`Sand`, :class:`SandState`) and :mod:`mjrft.mjx.laws` (the JAX force laws).
+Needs the optional extra ``mjrft[mjx]`` (JAX and ``mujoco-mjx``); the rest of mjrft does not import it.
+The GPU guide is docs/gpu.md.
+"""
+
+from .laws import LAWS, UNSUPPORTED
+from .terrain import Sand, SandState, resting_load
+
+__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "resting_load"]

@@ -1,0 +1,373 @@
+"""Brax PPO on the MJX hexapod: thousands of worlds per GPU, the policy saved for ``mjrft eval`` on the CPU env.
+
+``mjrft train-mjx --config hexapod-sand --out runs/hex-mjx`` trains :class:`mjrft.envs.hexapod_mjx.HexapodSandMJX`
+(``mjrft/HexapodSand-v0`` for MJX) with ``brax.training.agents.ppo.train`` under a named recipe
+(``train/configs/mjx/<name>.yaml``) or a YAML / JSON file, and writes to the run folder:
+
+* ``policy.npz`` (the observation normaliser and the policy and value networks' weights, plain arrays,
+  loaded with ``allow_pickle=False``) and ``policy.json`` (the networks' layout, the recipe, the env's
+  keyword arguments, the training summary): no pickled code, so a shared run folder is safe to load;
+* ``progress.csv``: steps, wall time, mean episode return, speed and length of each evaluation.
+
+:func:`load_policy` rebuilds the deterministic policy (the mean action of Brax's tanh-normal) as a plain
+function of one observation; ``mjrft eval --policy runs/hex-mjx`` runs it on the CPU env
+(:mod:`mjrft.train.evaluate`) and ``--backend mjx`` on the MJX env (:func:`evaluate_mjx`): the same policy on
+both backends is the cross-check of the two physics paths.
+
+Recipe keys (:data:`RECIPE_KEYS`): ``env_kwargs`` (of the env), ``num_timesteps``, ``num_envs``,
+``episode_length`` (control steps), ``seed``, ``network`` (``policy_hidden_layer_sizes``,
+``value_hidden_layer_sizes``), ``ppo`` (keyword arguments of Brax's ``ppo.train``: ``learning_rate``,
+``unroll_length``, ``batch_size``, ``num_minibatches``, ``num_updates_per_batch``, ``entropy_cost``,
+``discounting``, ``num_evals``, ...) and ``description``.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import json
+import math
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from mjrft.errors import unknown
+
+#: folder of the named MJX recipes (``<name>.yaml``)
+RECIPE_DIR = Path(__file__).resolve().parent / "configs" / "mjx"
+RECIPE_DEFAULTS = {"env_kwargs": {}, "num_timesteps": 10_000_000, "num_envs": 2048, "episode_length": 1000,
+                   "seed": 0, "network": {}, "ppo": {}, "description": ""}
+RECIPE_KEYS = tuple(RECIPE_DEFAULTS)
+NETWORK_KEYS = ("policy_hidden_layer_sizes", "value_hidden_layer_sizes")
+#: Brax ppo.train arguments that the recipe sets itself (from its own keys) or that mjrft does not support
+PPO_RESERVED = ("environment", "num_timesteps", "num_envs", "episode_length", "seed", "network_factory",
+                "progress_fn", "policy_params_fn", "wrap_env", "wrap_env_fn", "eval_env", "randomization_fn",
+                "save_checkpoint_path", "restore_checkpoint_path", "restore_params", "vision")
+POLICY_FILE, META_FILE, PROGRESS_FILE = "policy.npz", "policy.json", "progress.csv"
+FORMAT = "mjrft-brax-ppo/1"
+
+
+# ---------------------------------------------------------------------- recipes
+def named_recipes() -> list[str]:
+    """Names of the MJX recipes shipped with mjrft (``mjrft train-mjx --config NAME``)."""
+    return sorted(p.stem for p in RECIPE_DIR.glob("*.yaml"))
+
+
+def load_recipe(name_or_path) -> dict:
+    """A named recipe or a YAML / JSON file, checked, with :data:`RECIPE_DEFAULTS` filled in."""
+    path = Path(name_or_path)
+    if not (path.suffix.lower() in (".yaml", ".yml", ".json") or path.is_file()):
+        path = RECIPE_DIR / f"{name_or_path}.yaml"
+        if not path.is_file():
+            raise unknown("MJX training recipe", str(name_or_path), named_recipes())
+    if not path.is_file():
+        raise ValueError(f"MJX training recipe file {str(path)!r} does not exist")
+    try:
+        if path.suffix.lower() == ".json":
+            data = json.loads(path.read_text())
+        else:
+            import yaml
+
+            data = yaml.safe_load(path.read_text())
+    except Exception as exc:  # the parser's reason, with the file's name
+        raise ValueError(f"MJX training recipe {str(path)!r} cannot be read: {exc}") from None
+    return check_recipe(data, f"MJX training recipe {str(path)!r}")
+
+
+def check_recipe(data, source: str = "MJX training recipe") -> dict:
+    """Validate a recipe's keys and values (before anything is compiled); return it with the defaults filled in."""
+    if not isinstance(data, dict):
+        raise ValueError(f"{source} must hold a mapping of keys ({', '.join(RECIPE_KEYS)}), got {type(data).__name__}")
+    bad = sorted(set(data) - set(RECIPE_KEYS))
+    if bad:
+        raise ValueError(f"{source}: unknown key(s) {', '.join(map(repr, bad))}; valid keys: {', '.join(RECIPE_KEYS)}")
+    cfg = {**RECIPE_DEFAULTS, **{k: v for k, v in data.items() if v is not None}}
+    for key in ("env_kwargs", "network", "ppo"):
+        if not isinstance(cfg[key], dict):
+            raise ValueError(f"{source}: {key!r} must be a mapping, got {cfg[key]!r}")
+        cfg[key] = dict(cfg[key])
+    for key in ("num_timesteps", "num_envs", "episode_length", "seed"):
+        value = cfg[key]
+        if isinstance(value, float) and value.is_integer():
+            value = cfg[key] = int(value)
+        if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):
+            raise ValueError(f"{source}: {key!r} must be an integer >= {0 if key == 'seed' else 1}, got {value!r}")
+    bad = sorted(set(cfg["network"]) - set(NETWORK_KEYS))
+    if bad:
+        raise ValueError(f"{source}: unknown network key(s) {', '.join(map(repr, bad))}; valid: {', '.join(NETWORK_KEYS)}")
+    for key, sizes in cfg["network"].items():
+        if not (isinstance(sizes, (list, tuple)) and sizes and all(isinstance(s, int) and s > 0 for s in sizes)):
+            raise ValueError(f"{source}: network {key!r} must be a list of layer sizes (integers > 0), got {sizes!r}")
+    reserved = sorted(set(cfg["ppo"]) & set(PPO_RESERVED))
+    if reserved:
+        raise ValueError(f"{source}: ppo key(s) {', '.join(map(repr, reserved))} are set by mjrft from the recipe's "
+                         f"own keys ({', '.join(RECIPE_KEYS)}) and cannot be given under 'ppo'")
+    import inspect
+
+    from brax.training.agents.ppo import train as ppo
+
+    valid = set(inspect.signature(ppo.train).parameters) - set(PPO_RESERVED)
+    bad = sorted(set(cfg["ppo"]) - valid)
+    if bad:
+        raise ValueError(f"{source}: unknown ppo key(s) {', '.join(map(repr, bad))}; Brax's ppo.train takes "
+                         f"{', '.join(sorted(valid))}")
+    batch = cfg["ppo"].get("batch_size", 32) * cfg["ppo"].get("num_minibatches", 16)
+    if batch % cfg["num_envs"] and cfg["num_envs"] % batch:
+        raise ValueError(f"{source}: batch_size x num_minibatches = {batch} and num_envs = {cfg['num_envs']} must "
+                         "divide one another (Brax's PPO splits the rollout of every env into minibatches)")
+    return {k: cfg[k] for k in RECIPE_KEYS}
+
+
+# ---------------------------------------------------------------------- networks and files
+def _networks(meta: dict):
+    from brax.training.acme import running_statistics
+    from brax.training.agents.ppo import networks as ppo_networks
+
+    kw = {k: tuple(v) for k, v in meta.get("network", {}).items()}
+    return ppo_networks.make_ppo_networks(meta["observation_size"], meta["action_size"],
+                                          preprocess_observations_fn=running_statistics.normalize, **kw)
+
+
+def _template(meta: dict):
+    """Brax's (normaliser, policy, value) parameter tree for ``meta``'s networks, with fresh values."""
+    import jax
+    import jax.numpy as jnp
+    from brax.training import acme
+
+    nets = _networks(meta)
+    key = jax.random.PRNGKey(0)
+    norm = acme.running_statistics.init_state(acme.specs.Array((meta["observation_size"],), jnp.dtype("float32")))
+    return nets, (norm, nets.policy_network.init(key), nets.value_network.init(key))
+
+
+def _flat(tree) -> dict:
+    import jax
+
+    leaves = jax.tree_util.tree_flatten_with_path(tree)[0]
+    return {jax.tree_util.keystr(path): np.asarray(leaf) for path, leaf in leaves}
+
+
+def save_policy(out: Path, params, meta: dict) -> tuple[Path, Path]:
+    """Write ``params`` (Brax's (normaliser, policy, value) tuple) to ``out/policy.npz`` and ``meta`` to
+    ``out/policy.json``; each file is written whole to a temporary name and renamed into place."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    npz, js = out / POLICY_FILE, out / META_FILE
+    tmp = out / (POLICY_FILE + ".tmp.npz")
+    np.savez(tmp, **_flat(params))
+    os.replace(tmp, npz)
+    tmp = out / (META_FILE + ".tmp")
+    tmp.write_text(json.dumps({"format": FORMAT, **meta}, indent=2) + "\n")
+    os.replace(tmp, js)
+    return npz, js
+
+
+def is_mjx_policy(path) -> bool:
+    """Whether ``path`` is a run folder (or its ``policy.json``) of :func:`train_recipe`."""
+    path = Path(path)
+    meta = path / META_FILE if path.is_dir() else path
+    return meta.name == META_FILE and meta.is_file() and (meta.parent / POLICY_FILE).is_file()
+
+
+class MjxPolicy:
+    """A policy trained by :func:`train_recipe`: ``policy(obs) -> action`` (deterministic: the mean of Brax's
+    tanh-normal), for one observation (35,) or a batch (k, 35); ``meta`` is its ``policy.json``."""
+
+    def __init__(self, meta: dict, params):
+        import jax
+
+        from brax.training.agents.ppo import networks as ppo_networks
+
+        self.meta = meta
+        self.params = params
+        nets = _networks(meta)
+        self._fn = jax.jit(ppo_networks.make_inference_fn(nets)(params, deterministic=True))
+        self._key = jax.random.PRNGKey(0)
+
+    def __call__(self, obs) -> np.ndarray:
+        import jax.numpy as jnp
+
+        action, _ = self._fn(jnp.asarray(obs, dtype=jnp.float32), self._key)
+        return np.asarray(action, dtype=np.float64)
+
+    def jax_fn(self):
+        """The jitted ``(obs, key) -> (action, extras)`` function, for use inside JAX code."""
+        return self._fn
+
+
+def load_policy(path) -> MjxPolicy:
+    """The policy of a run folder (or its ``policy.json``); one line naming the file on anything malformed."""
+    path = Path(path)
+    folder = path if path.is_dir() else path.parent
+    meta_path, npz_path = folder / META_FILE, folder / POLICY_FILE
+    for p in (meta_path, npz_path):
+        if not p.is_file():
+            raise ValueError(f"{p} is missing: an MJX run folder holds {META_FILE} and {POLICY_FILE}")
+    try:
+        meta = json.loads(meta_path.read_text())
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{meta_path} is not valid JSON ({exc})") from None
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise ValueError(f"{meta_path} is not an mjrft MJX policy (format {FORMAT!r} expected)")
+    import jax
+
+    _, template = _template(meta)
+    try:
+        with np.load(npz_path, allow_pickle=False) as z:
+            stored = {k: z[k] for k in z.files}
+    except Exception as exc:  # zipfile.BadZipFile, ValueError, EOFError: a truncated or foreign file
+        raise ValueError(f"{npz_path} cannot be read as an npz archive ({type(exc).__name__}: {exc})") from None
+    leaves, treedef = jax.tree_util.tree_flatten_with_path(template)
+    values = []
+    for path_, leaf in leaves:
+        key = jax.tree_util.keystr(path_)
+        if key not in stored or np.shape(stored[key]) != np.shape(leaf):
+            raise ValueError(f"{npz_path}: array {key!r} is missing or has the wrong shape for the networks in "
+                             f"{meta_path}")
+        values.append(jax.numpy.asarray(stored[key], dtype=np.asarray(leaf).dtype))
+    return MjxPolicy(meta, jax.tree_util.tree_unflatten(treedef, values))
+
+
+# ---------------------------------------------------------------------- training
+def train_recipe(cfg: dict, out, *, report=print) -> dict:
+    """Train with the checked recipe ``cfg`` (:func:`check_recipe`) into the run folder ``out``; returns the
+    summary written into ``policy.json``."""
+    import jax
+    from brax.training.agents.ppo import networks as ppo_networks
+    from brax.training.agents.ppo import train as ppo
+
+    from mjrft.envs.hexapod_mjx import HexapodSandMJX
+
+    cfg = check_recipe(cfg)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    env = HexapodSandMJX(**cfg["env_kwargs"])
+    net_kw = {k: tuple(v) for k, v in cfg["network"].items()}
+    factory = functools.partial(ppo_networks.make_ppo_networks, **net_kw)
+    rows = []
+    t0 = time.perf_counter()
+    progress_path = out / PROGRESS_FILE
+    with progress_path.open("w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow(["steps", "wall_s", "episode_return", "speed", "episode_length"])
+        fh.flush()
+
+        def progress(step, metrics):
+            ret = float(metrics.get("eval/episode_reward", math.nan))
+            length = float(metrics.get("eval/avg_episode_length", math.nan))
+            speed = float(metrics.get("eval/episode_x_velocity", math.nan)) / max(length, 1.0)
+            row = [int(step), round(time.perf_counter() - t0, 3), ret, speed, length]
+            rows.append(row)
+            writer.writerow(row)
+            fh.flush()
+            report(f"  {int(step):>10d} steps  {row[1]:8.1f} s  return {ret:9.3f}  speed {speed:.3f} m/s  "
+                   f"length {length:.0f}")
+
+        ppo_kw = {"num_evals": 2, **cfg["ppo"]}
+        make_policy, params, metrics = ppo.train(
+            environment=env, num_timesteps=cfg["num_timesteps"], num_envs=cfg["num_envs"],
+            episode_length=cfg["episode_length"], seed=cfg["seed"], network_factory=factory,
+            progress_fn=progress, **ppo_kw)
+    wall = time.perf_counter() - t0
+    del make_policy
+    summary = {
+        "env_id": "mjrft/HexapodSand-v0", "env_kwargs": cfg["env_kwargs"], "recipe": cfg,
+        "observation_size": env.observation_size, "action_size": env.action_size,
+        "network": {k: list(v) for k, v in net_kw.items()},
+        "normalize_observations": bool(cfg["ppo"].get("normalize_observations", False)),
+        "num_timesteps": cfg["num_timesteps"], "wall_s": round(wall, 1),
+        "device": str(jax.devices()[0]), "jax": jax.__version__,
+        "final": {k: float(v) for k, v in metrics.items() if np.ndim(v) == 0},
+    }
+    if not summary["normalize_observations"]:
+        raise ValueError("the MJX recipes normalise observations (ppo: normalize_observations: true); the saved "
+                         "policy format stores the normaliser")
+    save_policy(out, params, summary)
+    return summary
+
+
+# ---------------------------------------------------------------------- evaluation on MJX
+def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, seed: int = 0, env_kwargs=None) -> dict:
+    """The policy on the MJX env, ``episodes`` worlds in one batch, each up to ``seconds`` (until it falls):
+    mean forward speed (m/s), cost of transport and the fraction of episodes that fell, as ``mjrft eval``
+    reports them for the CPU env (speed and CoT from the torso's x displacement and the summed power)."""
+    import jax
+    import jax.numpy as jnp
+
+    from mjrft.envs.hexapod_mjx import HexapodSandMJX
+
+    env = HexapodSandMJX(**(policy.meta.get("env_kwargs", {}) if env_kwargs is None else env_kwargs))
+    steps = int(round(seconds / env.dt))
+    act = policy.jax_fn()
+    key = jax.random.PRNGKey(0)
+
+    def run(rng):
+        state = env.reset(rng)
+        x0 = state.pipeline_state.data.qpos[0]
+
+        def body(carry, _):
+            state, alive, energy, n = carry
+            action, _ = act(state.obs, key)
+            nxt = env.step(state, action)
+            keep = alive
+            state = jax.tree_util.tree_map(lambda a, b: jnp.where(keep, a, b), nxt, state)
+            energy = energy + jnp.where(keep, nxt.metrics["power"] * env.dt, 0.0)
+            n = n + keep
+            alive = alive & (nxt.done < 0.5)
+            return (state, alive, energy, n), None
+
+        (state, alive, energy, n), _ = jax.lax.scan(body, (state, jnp.array(True), jnp.zeros(()), jnp.zeros(())),
+                                                    None, length=steps)
+        dist = state.pipeline_state.data.qpos[0] - x0
+        return dist, energy, n, alive
+
+    keys = jax.random.split(jax.random.PRNGKey(seed), episodes)
+    dist, energy, n, alive = jax.jit(jax.vmap(run))(keys)
+    dist, energy, n, alive = map(np.asarray, (dist, energy, n, alive))
+    t = np.maximum(n, 1) * env.dt
+    speed = dist / t
+    weight = env._mass * 9.81
+    cot = energy / (weight * np.maximum(np.abs(dist), 1e-6))
+    return {"episodes": int(episodes), "speed": float(speed.mean()), "speed_std": float(speed.std()),
+            "cost_of_transport": float(np.median(cot)), "fell": float(np.mean(~alive)), "backend": "mjx",
+            "device": str(jax.devices()[0])}
+
+
+# ---------------------------------------------------------------------- command line
+def add_arguments(parser) -> None:
+    parser.add_argument("--config", default="hexapod-sand",
+                        help=f"named MJX recipe ({', '.join(named_recipes()) or 'none'}) or a .yaml / .json file")
+    parser.add_argument("--out", default="runs/hexapod-sand-mjx", help="run folder (policy.npz, policy.json, "
+                                                                         "progress.csv)")
+    parser.add_argument("--timesteps", type=float, default=None, help="override num_timesteps (e.g. 2e7)")
+    parser.add_argument("--num-envs", type=int, default=None, help="override num_envs (worlds per batch)")
+    parser.add_argument("--seed", type=int, default=None, help="override seed")
+    parser.add_argument("--eval-episodes", type=int, default=8,
+                        help="episodes of the final policy on the MJX env (0: none)")
+
+
+def main(args) -> int:
+    cfg = load_recipe(args.config)
+    if args.timesteps is not None:
+        if not (math.isfinite(args.timesteps) and args.timesteps >= 1 and float(args.timesteps).is_integer()):
+            raise ValueError(f"--timesteps must be a whole number >= 1, got {args.timesteps!r}")
+        cfg["num_timesteps"] = int(args.timesteps)
+    if args.num_envs is not None:
+        cfg["num_envs"] = args.num_envs
+    if args.seed is not None:
+        cfg["seed"] = args.seed
+    cfg = check_recipe(cfg, f"MJX training recipe {args.config!r} with the command-line overrides")
+    import jax
+
+    print(f"Brax PPO on HexapodSandMJX ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
+          f"{jax.devices()[0]}; run folder {args.out}")
+    summary = train_recipe(cfg, args.out)
+    print(f"trained in {summary['wall_s']:.1f} s; policy {Path(args.out) / POLICY_FILE}")
+    if args.eval_episodes > 0:
+        res = evaluate_mjx(load_policy(args.out), episodes=args.eval_episodes)
+        print(f"MJX evaluation ({res['episodes']} episodes of 10 s): speed {res['speed']:.3f} m/s, "
+              f"CoT {res['cost_of_transport']:.2f}, fell {res['fell']:.0%}")
+    print(f"evaluate on the CPU env: mjrft eval --policy {args.out} --episodes 10")
+    return 0
