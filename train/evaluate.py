@@ -468,7 +468,7 @@ def _episode(env, policy, meter, ep, seed, deterministic, logger, log_every, bar
 
 def _open_logger(rrd, env, source):
     """The rerun logger of :mod:`mjrft.tools.rerun_log` writing ``rrd`` (see that module)."""
-    from mjrft import rerun_log
+    from mjrft.tools import rerun_log
 
     return rerun_log.episode_logger(rrd, env, name=f"mjrft eval {source}")
 
