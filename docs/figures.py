@@ -31,7 +31,7 @@ import numpy as np  # noqa: E402
 
 import gymnasium  # noqa: E402
 import mjrft  # noqa: E402
-from mjrft import rigs  # noqa: E402
+from mjrft.tools import rigs  # noqa: E402
 from mjrft.tools.gaits import make_gait  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent

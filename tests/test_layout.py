@@ -1,10 +1,10 @@
-"""The package's two layers: the physics core imports no tool, the tools live in mjrft.tools, and each tool's
-former path ``mjrft.<tool>`` still imports the same module (with a DeprecationWarning naming the new path)."""
+"""The package's layers: the physics core (every module of mjrft/ outside mjrft/tools/, its ``__init__``
+included) imports nothing from mjrft.tools, mjrft.envs or mjrft.train, and the tools live in mjrft.tools."""
 
 import ast
 import importlib
+import importlib.util
 import pathlib
-import pickle
 import subprocess
 import sys
 import tomllib
@@ -46,9 +46,16 @@ def file_imports(path: pathlib.Path) -> set[str]:
     return imported_modules(path.read_text(), module_name(path), path.name == "__init__.py")
 
 
-def is_tool(module: str) -> bool:
+ABOVE = ("tools", "envs", "train")
+#: the one import of a layer above the core: mjrft/__init__.py imports mjrft.envs, when gymnasium is installed, so
+#: that ``import mjrft`` registers the gymnasium ids
+ALLOWED = {"__init__.py": {"mjrft.envs"}}
+
+
+def is_above(module: str) -> bool:
+    """Whether ``module`` is in one of the layers above the core (mjrft.tools, mjrft.envs, mjrft.train)."""
     parts = module.split(".")
-    return parts[0] == "mjrft" and len(parts) > 1 and (parts[1] in TOOLS or (parts[1] == "tools" and len(parts) > 2))
+    return parts[0] == "mjrft" and len(parts) > 1 and parts[1] in ABOVE
 
 
 CORE_FILES = sorted(p for p in PKG.rglob("*.py") if "tools" not in p.relative_to(PKG).parts)
@@ -56,25 +63,38 @@ CORE_FILES = sorted(p for p in PKG.rglob("*.py") if "tools" not in p.relative_to
 
 def test_core_files_are_found():
     names = {module_name(p) for p in CORE_FILES}
-    assert {"mjrft.coupler", "mjrft.kernel", "mjrft.batch", "mjrft.media", "mjrft.errors", "mjrft.laws.rft",
-            "mjrft.geometry.discretize"} <= names
+    assert {"mjrft", "mjrft._jit_cache", "mjrft.coupler", "mjrft.kernel", "mjrft.batch", "mjrft.media", "mjrft.errors",
+            "mjrft.laws.rft", "mjrft.geometry.discretize"} <= names
     assert not any(n.startswith("mjrft.tools") for n in names)
 
 
 @pytest.mark.parametrize("path", CORE_FILES, ids=lambda p: str(p.relative_to(PKG)))
-def test_core_imports_no_tool(path):
-    tools = sorted(m for m in file_imports(path) if is_tool(m))
-    assert not tools, f"{path.relative_to(REPO)} imports tool module(s) {tools}; the core must not depend on mjrft.tools"
+def test_core_imports_nothing_above_it(path):
+    allowed = ALLOWED.get(str(path.relative_to(PKG)), set())
+    above = sorted(m for m in file_imports(path) if is_above(m) and m not in allowed)
+    assert not above, (f"{path.relative_to(REPO)} imports {above}; the core must not depend on mjrft.tools, "
+                       "mjrft.envs or mjrft.train")
 
 
-def test_the_check_sees_tool_imports():
-    src = ("from ..tools import gaits\nfrom .. import rigs\nimport mjrft.presets\n"
+def test_the_check_sees_imports_from_above():
+    src = ("from ..tools import gaits\nfrom .. import envs\nimport mjrft.train.evaluate\n"
            "def f():\n    from mjrft.tools.validation import case\n")
-    found = sorted(m for m in imported_modules(src, "mjrft.laws.probe") if is_tool(m))
-    assert found == ["mjrft.presets", "mjrft.rigs", "mjrft.tools.gaits", "mjrft.tools.validation",
-                     "mjrft.tools.validation.case"]
-    core = "from ..media import Medium\nfrom . import registry\nimport mjrft.models.rigs\nfrom .. import tools\n"
-    assert not [m for m in imported_modules(core, "mjrft.laws.probe") if is_tool(m)]
+    found = sorted(m for m in imported_modules(src, "mjrft.laws.probe") if is_above(m))
+    assert found == ["mjrft.envs", "mjrft.tools", "mjrft.tools.gaits", "mjrft.tools.validation",
+                     "mjrft.tools.validation.case", "mjrft.train.evaluate"]
+    assert [m for m in imported_modules("from . import tools\n", "mjrft", is_package=True) if is_above(m)] == [
+        "mjrft.tools"]
+    core = "from ..media import Medium\nfrom . import registry\nimport mjrft.models.rigs\nfrom .. import kernel\n"
+    assert not [m for m in imported_modules(core, "mjrft.laws.probe") if is_above(m)]
+
+
+def test_import_mjrft_loads_no_tool_and_no_training_code(tmp_path):
+    code = ("import sys, mjrft\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[:2] in (['mjrft', 'tools'], ['mjrft', 'train'])))\n"
+            "print(mjrft.tools.__name__, 'mjrft.tools' in sys.modules)\n")
+    out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.splitlines() == ["[]", "mjrft.tools True"]  # mjrft.tools: imported on first access
 
 
 def test_tools_all_lists_every_tool_and_the_docstring_names_them():
@@ -97,47 +117,16 @@ def test_public_names_import():
     from mjrft import GranularTerrain, MEDIA, Region, calibrate, laws, models, tools  # noqa: F401
 
 
-@pytest.mark.parametrize("tool", TOOLS)
-def test_former_path_is_the_same_module_with_a_warning(tool, monkeypatch):
-    new = importlib.import_module(f"mjrft.tools.{tool}")
-    monkeypatch.delitem(sys.modules, f"mjrft.{tool}", raising=False)  # as if first imported now
-    monkeypatch.delattr(mjrft, tool, raising=False)
-    with pytest.warns(DeprecationWarning, match=rf"mjrft\.{tool} is now mjrft\.tools\.{tool}"):
-        old = importlib.import_module(f"mjrft.{tool}")
-    assert old is new
-    assert old.__name__ == old.__spec__.name == f"mjrft.tools.{tool}"  # the module keeps its own identity
-    assert getattr(mjrft, tool) is new
+def test_tools_have_only_their_path_under_mjrft_tools():
+    for tool in TOOLS:
+        assert importlib.util.find_spec(f"mjrft.{tool}") is None, tool
 
 
-def test_former_paths_of_submodules_and_from_imports(monkeypatch):
-    for name in ("mjrft.validation", "mjrft.validation.cases", "mjrft.validation.cases.li2013", "mjrft.gaits"):
-        monkeypatch.delitem(sys.modules, name, raising=False)
-    monkeypatch.delattr(mjrft, "gaits", raising=False)
-    with pytest.warns(DeprecationWarning) as record:
-        import mjrft.validation.cases.li2013 as old
-    import mjrft.tools.validation.cases.li2013 as new
-    assert old is new
-    assert {str(w.message).split()[0] for w in record} == {"mjrft.validation", "mjrft.validation.cases",
-                                                           "mjrft.validation.cases.li2013"}
-    with pytest.warns(DeprecationWarning, match="mjrft.tools.gaits"):
-        from mjrft import gaits
-        from mjrft.gaits import make_gait
-    assert gaits is mjrft.tools.gaits and make_gait is mjrft.tools.gaits.make_gait
-
-
-def test_pickles_naming_a_former_path_load():
-    import mjrft.tools.gaits as gaits
-    assert pickle.loads(b"cmjrft.gaits\nmake_gait\n.") is gaits.make_gait  # protocol 0: module path as text
-    assert b"mjrft.tools.gaits" in pickle.dumps(gaits.make_gait)
-
-
-@pytest.mark.parametrize("module", ["mjrft.tools.cli", "mjrft.cli"])
-def test_python_dash_m_runs_the_cli(module, tmp_path):
-    out = subprocess.run([sys.executable, "-W", "default::DeprecationWarning", "-m", module, "--help"],
-                         cwd=tmp_path, capture_output=True, text=True, timeout=300)
+def test_python_dash_m_runs_the_cli(tmp_path):
+    out = subprocess.run([sys.executable, "-m", "mjrft.tools.cli", "--help"], cwd=tmp_path, capture_output=True,
+                         text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.startswith("usage: mjrft"), out.stdout[:200]
-    assert ("mjrft.cli is now mjrft.tools.cli" in out.stderr) == (module == "mjrft.cli"), out.stderr[-2000:]
 
 
 def test_console_script_and_packages_in_pyproject():

@@ -185,7 +185,7 @@ def _gait_params(gait: str) -> tuple[str | None, dict]:
 
 
 def _rig_names(rig: str) -> list[str]:
-    from mjrft import rigs
+    from mjrft.tools import rigs
     from mjrft.models.rigs import leg_geometry
 
     fns = [rigs.rotating_leg, leg_geometry] if rig == "leg" else [rigs.plate_intrusion]
@@ -301,7 +301,7 @@ def _run_env(settings: dict, params: dict, role: dict) -> dict:
 def _run_rig(settings: dict, params: dict) -> dict:
     import numpy as np
 
-    from mjrft import rigs
+    from mjrft.tools import rigs
 
     kw = {**settings["rig_kwargs"], **params}
     if settings["rig"] == "leg":
