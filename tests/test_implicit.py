@@ -16,8 +16,9 @@ from hypothesis import strategies as st
 
 import mjrft
 from mjrft import kernel
-from test_extremes import (G, LAWS, MEDIA_X, POPPY, assert_finite, chatter, enough, hinged_leg, plate, run,
-                           settled_depth, turn_number)
+
+from helpers import (G, LAWS, MEDIA_X, POPPY, assert_finite, chatter, enough, hinged_leg, plate, run, settled_depth,
+                     turn_number)
 
 FLAP = """<mujoco><option timestep="{dt}"/><worldbody>
 <body name="plate" pos="0 0 0.004"><freejoint/>

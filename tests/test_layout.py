@@ -1,5 +1,6 @@
 """The package's layers: the physics core (every module of mjrft/ outside mjrft/tools/, its ``__init__``
-included) imports nothing from mjrft.tools, mjrft.envs or mjrft.train, and the tools live in mjrft.tools."""
+included) imports nothing from mjrft.tools, mjrft.envs or mjrft.train, and the tools live in mjrft.tools. No test
+module imports another."""
 
 import ast
 import importlib
@@ -139,3 +140,11 @@ def test_console_script_and_packages_in_pyproject():
     on_disk = {module_name(p) for p in PKG.rglob("__init__.py")}
     assert on_disk <= packages, f"packages missing from pyproject.toml: {sorted(on_disk - packages)}"
     assert "data/*.json" in meta["tool"]["setuptools"]["package-data"]["mjrft.tools.validation"]
+
+
+def test_no_test_module_imports_another():
+    for path in sorted((REPO / "tests").glob("test_*.py")):
+        found = sorted(m for m in imported_modules(path.read_text(), path.stem)
+                       if m.split(".")[0].startswith("test_") or m.split(".")[0] in ("conftest", "tests"))
+        assert not found, (f"{path.relative_to(REPO)} imports {found}: shared fixtures go in tests/conftest.py, shared "
+                           "helpers in tests/helpers.py")

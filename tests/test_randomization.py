@@ -21,7 +21,6 @@ from gymnasium.utils.env_checker import data_equivalence  # noqa: E402
 
 from mjrft.envs import make_vector  # noqa: E402
 from mjrft.envs.randomization import TerrainRandomization, rough_field  # noqa: E402
-from test_vector import run_both  # noqa: E402  (same seeds and actions into two vector envs)
 
 HEX = "mjrft/HexapodSand-v0"
 SAND = "sea_sand_saturated"
@@ -363,7 +362,7 @@ def test_drawn_strips_replace_the_scenes():
     assert (m.geom_pos[first, 0] - m.geom_size[first, 0], m.geom_pos[first, 0] + m.geom_size[first, 0]) == (-0.5, 2.5)
 
 
-def test_vector_env_with_randomization_equals_the_single_envs():
+def test_vector_env_with_randomization_equals_the_single_envs(run_both):
     kw = dict(terrain_randomization=ALL, healthy_z_range=(0.0455, 0.5))
     ours = make_vector(HEX, 3, max_episode_steps=6, **kw)
     sync = gymnasium.make_vec(HEX, num_envs=3, vectorization_mode="sync", max_episode_steps=6, **kw)

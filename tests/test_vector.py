@@ -161,23 +161,8 @@ def test_batched_bad_input():
 
 
 # ---------------------------------------------------------------------------------------------- vector env
-def run_both(a, b, steps, seed=0, reset_seed=5):
-    """Same seeds and actions into two vector envs; every returned value must be identical."""
-    out_a, out_b = a.reset(seed=reset_seed), b.reset(seed=reset_seed)
-    assert data_equivalence(out_a, out_b)
-    rng = np.random.default_rng(seed)
-    ended = 0
-    for _ in range(steps):
-        actions = rng.uniform(-1, 1, size=a.action_space.shape).astype(np.float32)
-        out_a, out_b = a.step(actions), b.step(actions)
-        for x, y in zip(out_a, out_b):
-            assert data_equivalence(x, y, exact=True), (x, y)
-        ended += int(np.sum(out_a[2] | out_a[3]))
-    return ended
-
-
 @pytest.mark.parametrize("mode", ["NextStep", "SameStep", "Disabled"])
-def test_vector_env_equals_sync_vector_env(mode):
+def test_vector_env_equals_sync_vector_env(mode, run_both):
     kw = dict(num_envs=3, max_episode_steps=6, vector_kwargs={"autoreset_mode": mode}, **ENDING)
     sync = gymnasium.make_vec(HEX, vectorization_mode="sync", **kw)
     kw.pop("vector_kwargs")
@@ -211,7 +196,7 @@ def test_vector_env_equals_sync_vector_env(mode):
     assert ours.closed
 
 
-def test_rigid_vector_env_equals_sync():
+def test_rigid_vector_env_equals_sync(run_both):
     kw = dict(num_envs=2, max_episode_steps=4)
     ours = make_vector("mjrft/HexapodRigid-v0", **kw)
     sync = gymnasium.make_vec("mjrft/HexapodRigid-v0", vectorization_mode="sync", **kw)
@@ -219,7 +204,7 @@ def test_rigid_vector_env_equals_sync():
     run_both(ours, sync, 6)
 
 
-def test_vector_api_contract_and_seeding():
+def test_vector_api_contract_and_seeding(run_both):
     envs = make_vector(HEX, 4, parallel=False)
     single = envs.single_observation_space
     assert envs.num_envs == 4 and single.shape == (35,) and single.dtype == np.float64
