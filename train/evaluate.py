@@ -241,6 +241,11 @@ def load_policy(policy, device: str = "cpu", *, env=None, trust: bool = False) -
 
         parse_gait_spec(policy)  # a bad parameter fails here, before any env is built
         return LoadedPolicy(policy, "gait")
+    if _is_mjx_policy(policy):  # a run folder of `mjrft train-mjx` (Brax PPO): plain arrays, nothing unpickled
+        from .mjx_ppo import load_policy as load_mjx_policy
+
+        mjx_policy = load_mjx_policy(policy)
+        return LoadedPolicy(str(policy), "brax-ppo", model=mjx_policy, config=mjx_policy.meta)
     path, note = resolve_model(policy)
     cfg_path = find_config(path)
     config = load_config(cfg_path) if cfg_path else None
@@ -260,6 +265,11 @@ def policy_config(policy) -> dict | None:
 
     if not isinstance(policy, (str, Path)) or (isinstance(policy, str) and is_gait_spec(policy)):
         return None
+    if _is_mjx_policy(policy):
+        from .mjx_ppo import read_meta
+
+        meta = read_meta(policy)
+        return {"env_id": meta["env_id"], "env_kwargs": meta.get("env_kwargs") or {}}
     cfg_path = find_config(resolve_model(policy)[0])
     return load_config(cfg_path) if cfg_path else None
 
@@ -558,6 +568,9 @@ def add_arguments(parser) -> None:
                         help=f"with --rrd: log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     parser.add_argument("--trust", action="store_true", help=TRUST_HELP)
+    parser.add_argument("--backend", choices=("cpu", "mjx"), default="cpu",
+                        help="cpu: the gymnasium env (default); mjx: a policy of 'mjrft train-mjx' on the MJX env, "
+                             "all episodes as one batch (mjrft.train.mjx_ppo.evaluate_mjx)")
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
                         help="environment keyword arguments (override the run's), e.g. max_episode_steps=500")
 
@@ -567,6 +580,8 @@ def main(args) -> int:
     from mjrft.tools.outputs import output_file
 
     env_kwargs = parse_kwargs(args.env_kwargs, "env kwarg")
+    if args.backend == "mjx":
+        return _main_mjx(args, env_kwargs)
     for option in ("csv", "json", "rrd"):
         if getattr(args, option):
             output_file(getattr(args, option), f"--{option}")
@@ -591,15 +606,45 @@ def main(args) -> int:
     return 0
 
 
+def _main_mjx(args, env_kwargs: dict) -> int:
+    """``mjrft eval --backend mjx``: the policy of an MJX run folder on the MJX env, every episode in one batch."""
+    if not _is_mjx_policy(args.policy):
+        raise ValueError(f"--backend mjx evaluates a run folder of 'mjrft train-mjx' (policy.json + policy.npz); "
+                         f"{args.policy!r} is not one")
+    for option in ("csv", "rrd", "env_id"):
+        if getattr(args, option):
+            raise ValueError(f"--{option.replace('_id', '')} is an option of the CPU backend only")
+    from .mjx_ppo import evaluate_mjx, load_policy as load_mjx_policy
+
+    policy = load_mjx_policy(args.policy)
+    kwargs = {**(policy.meta.get("env_kwargs") or {}), **env_kwargs}
+    res = evaluate_mjx(policy, episodes=args.episodes, seed=args.seed, env_kwargs=kwargs)
+    print(f"{args.policy} on HexapodSandMJX ({res['device']}), {res['episodes']} episode(s), seed {args.seed}, "
+          "deterministic")
+    print(f"  speed {res['speed']:.3f} +- {res['speed_std']:.3f} m/s   CoT {res['cost_of_transport']:.2f}   "
+          f"fell {res['fell']:.0%}   diverged {res['diverged']}")
+    if args.json:
+        Path(args.json).write_text(json.dumps(res, indent=2) + "\n")
+        print(f"wrote {args.json}")
+    return DIVERGED_EXIT if res["diverged"] == res["episodes"] else 0
+
+
 #: exit status of ``mjrft eval`` / ``mjrft rollout`` when the simulation diverged in every episode
 DIVERGED_EXIT = 1
+
+
+def _is_mjx_policy(policy) -> bool:
+    """Whether ``policy`` names a run folder of ``mjrft train-mjx`` (:mod:`mjrft.train.mjx_ppo`)."""
+    from .mjx_ppo import is_mjx_policy
+
+    return isinstance(policy, (str, Path)) and not str(policy).startswith(PRETRAINED) and is_mjx_policy(policy)
 
 
 def announce_model(policy) -> None:
     """Print which file of a run folder a command uses when it is not its model.zip (and why)."""
     from mjrft.tools.gaits import is_gait_spec
 
-    if isinstance(policy, str) and not is_gait_spec(policy):
+    if isinstance(policy, str) and not is_gait_spec(policy) and not _is_mjx_policy(policy):
         note = resolve_model(policy)[1]
         if note:
             print(f"note: {note}")

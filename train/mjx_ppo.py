@@ -192,9 +192,31 @@ class MjxPolicy:
         action, _ = self._fn(jnp.asarray(obs, dtype=jnp.float32), self._key)
         return np.asarray(action, dtype=np.float64)
 
+    def predict(self, observation, state=None, episode_start=None, deterministic: bool = True):
+        """SB3's ``predict`` signature (``mjrft eval`` on the CPU env): the deterministic action and no state."""
+        return self(observation), None
+
     def jax_fn(self):
         """The jitted ``(obs, key) -> (action, extras)`` function, for use inside JAX code."""
         return self._fn
+
+
+def read_meta(path) -> dict:
+    """The ``policy.json`` of a run folder (or the file itself), checked; one line naming the file if malformed."""
+    path = Path(path)
+    meta_path = path / META_FILE if path.is_dir() else path
+    if not meta_path.is_file():
+        raise ValueError(f"{meta_path} is missing: an MJX run folder holds {META_FILE} and {POLICY_FILE}")
+    try:
+        meta = json.loads(meta_path.read_text())
+    except (OSError, ValueError) as exc:
+        raise ValueError(f"{meta_path} is not valid JSON ({exc})") from None
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
+        raise ValueError(f"{meta_path} is not an mjrft MJX policy (format {FORMAT!r} expected)")
+    for key in ("env_id", "observation_size", "action_size"):
+        if key not in meta:
+            raise ValueError(f"{meta_path} lacks {key!r}")
+    return meta
 
 
 def load_policy(path) -> MjxPolicy:
@@ -202,15 +224,9 @@ def load_policy(path) -> MjxPolicy:
     path = Path(path)
     folder = path if path.is_dir() else path.parent
     meta_path, npz_path = folder / META_FILE, folder / POLICY_FILE
-    for p in (meta_path, npz_path):
-        if not p.is_file():
-            raise ValueError(f"{p} is missing: an MJX run folder holds {META_FILE} and {POLICY_FILE}")
-    try:
-        meta = json.loads(meta_path.read_text())
-    except (OSError, ValueError) as exc:
-        raise ValueError(f"{meta_path} is not valid JSON ({exc})") from None
-    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
-        raise ValueError(f"{meta_path} is not an mjrft MJX policy (format {FORMAT!r} expected)")
+    meta = read_meta(meta_path)
+    if not npz_path.is_file():
+        raise ValueError(f"{npz_path} is missing: an MJX run folder holds {META_FILE} and {POLICY_FILE}")
     import jax
 
     _, template = _template(meta)
@@ -226,7 +242,7 @@ def load_policy(path) -> MjxPolicy:
         if key not in stored or np.shape(stored[key]) != np.shape(leaf):
             raise ValueError(f"{npz_path}: array {key!r} is missing or has the wrong shape for the networks in "
                              f"{meta_path}")
-        values.append(jax.numpy.asarray(stored[key], dtype=np.asarray(leaf).dtype))
+        values.append(jax.numpy.asarray(np.asarray(stored[key]).astype(jax.numpy.asarray(leaf).dtype)))
     return MjxPolicy(meta, jax.tree_util.tree_unflatten(treedef, values))
 
 
@@ -241,6 +257,9 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
     from mjrft.envs.hexapod_mjx import HexapodSandMJX
 
     cfg = check_recipe(cfg)
+    if not cfg["ppo"].get("normalize_observations", False):
+        raise ValueError("the MJX recipes normalise observations (ppo: normalize_observations: true): the saved "
+                         "policy stores the normaliser with the networks")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     env = HexapodSandMJX(**cfg["env_kwargs"])
@@ -281,18 +300,16 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
         "device": str(jax.devices()[0]), "jax": jax.__version__,
         "final": {k: float(v) for k, v in metrics.items() if np.ndim(v) == 0},
     }
-    if not summary["normalize_observations"]:
-        raise ValueError("the MJX recipes normalise observations (ppo: normalize_observations: true); the saved "
-                         "policy format stores the normaliser")
     save_policy(out, params, summary)
     return summary
 
 
 # ---------------------------------------------------------------------- evaluation on MJX
 def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, seed: int = 0, env_kwargs=None) -> dict:
-    """The policy on the MJX env, ``episodes`` worlds in one batch, each up to ``seconds`` (until it falls):
-    mean forward speed (m/s), cost of transport and the fraction of episodes that fell, as ``mjrft eval``
-    reports them for the CPU env (speed and CoT from the torso's x displacement and the summed power)."""
+    """The policy on the MJX env, ``episodes`` worlds in one batch, each for ``seconds`` or until it ends (a fall or
+    a divergence): the metrics of ``mjrft eval`` on the CPU env, computed the same way per episode (speed = torso x
+    displacement / time, CoT = actuator energy / (m g max(|dx|, 1e-3 t)), fell = ended without diverging) and
+    averaged over the episodes that did not diverge."""
     import jax
     import jax.numpy as jnp
 
@@ -308,30 +325,31 @@ def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, s
         x0 = state.pipeline_state.data.qpos[0]
 
         def body(carry, _):
-            state, alive, energy, n = carry
+            state, alive, energy, n, diverged = carry
             action, _ = act(state.obs, key)
             nxt = env.step(state, action)
-            keep = alive
-            state = jax.tree_util.tree_map(lambda a, b: jnp.where(keep, a, b), nxt, state)
-            energy = energy + jnp.where(keep, nxt.metrics["power"] * env.dt, 0.0)
-            n = n + keep
+            state = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), nxt, state)
+            energy = energy + jnp.where(alive, nxt.metrics["power"] * env.dt, 0.0)
+            n = n + alive
+            diverged = diverged | (alive & (nxt.metrics["diverged"] > 0.5))
             alive = alive & (nxt.done < 0.5)
-            return (state, alive, energy, n), None
+            return (state, alive, energy, n, diverged), None
 
-        (state, alive, energy, n), _ = jax.lax.scan(body, (state, jnp.array(True), jnp.zeros(()), jnp.zeros(())),
-                                                    None, length=steps)
-        dist = state.pipeline_state.data.qpos[0] - x0
-        return dist, energy, n, alive
+        init = (state, jnp.array(True), jnp.zeros(()), jnp.zeros(()), jnp.array(False))
+        (state, alive, energy, n, diverged), _ = jax.lax.scan(body, init, None, length=steps)
+        return state.pipeline_state.data.qpos[0] - x0, energy, n, alive, diverged
 
     keys = jax.random.split(jax.random.PRNGKey(seed), episodes)
-    dist, energy, n, alive = jax.jit(jax.vmap(run))(keys)
-    dist, energy, n, alive = map(np.asarray, (dist, energy, n, alive))
-    t = np.maximum(n, 1) * env.dt
-    speed = dist / t
-    weight = env._mass * 9.81
-    cot = energy / (weight * np.maximum(np.abs(dist), 1e-6))
-    return {"episodes": int(episodes), "speed": float(speed.mean()), "speed_std": float(speed.std()),
-            "cost_of_transport": float(np.median(cot)), "fell": float(np.mean(~alive)), "backend": "mjx",
+    dx, energy, n, alive, diverged = map(np.asarray, jax.jit(jax.vmap(run))(keys))
+    t = n * env.dt
+    ok = ~diverged
+    speed = np.where(t > 0, dx / np.maximum(t, 1e-12), 0.0)
+    cot = energy / (env._mass * 9.81 * np.maximum(np.maximum(np.abs(dx), 1e-3 * t), 1e-12))
+    mean = (lambda v: float(v[ok].mean())) if ok.any() else (lambda v: math.nan)
+    std = (lambda v: float(v[ok].std())) if ok.any() else (lambda v: math.nan)
+    return {"episodes": int(episodes), "diverged": int(diverged.sum()), "speed": mean(speed), "speed_std": std(speed),
+            "cost_of_transport": mean(cot), "cost_of_transport_std": std(cot),
+            "fell": mean((~alive).astype(float)), "seconds": mean(t), "backend": "mjx",
             "device": str(jax.devices()[0])}
 
 
@@ -368,6 +386,6 @@ def main(args) -> int:
     if args.eval_episodes > 0:
         res = evaluate_mjx(load_policy(args.out), episodes=args.eval_episodes)
         print(f"MJX evaluation ({res['episodes']} episodes of 10 s): speed {res['speed']:.3f} m/s, "
-              f"CoT {res['cost_of_transport']:.2f}, fell {res['fell']:.0%}")
+              f"CoT {res['cost_of_transport']:.2f}, fell {res['fell']:.0%}, diverged {res['diverged']}")
     print(f"evaluate on the CPU env: mjrft eval --policy {args.out} --episodes 10")
     return 0

@@ -1,0 +1,163 @@
+"""The MJX hexapod env (Brax interface) against mjrft/HexapodSand-v0, and the Brax PPO recipe end to end on CPU JAX:
+``mjrft train-mjx`` trains a few hundred steps, writes pickle-free policy files, and ``mjrft eval`` runs the policy
+on the CPU env and on the MJX env."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+jax = pytest.importorskip("jax", reason="the MJX env needs the optional extra mjrft[mjx] (JAX)")
+pytest.importorskip("brax", reason="the MJX env and recipe need Brax (mjrft[mjx])")
+gymnasium = pytest.importorskip("gymnasium")
+
+import jax.numpy as jnp  # noqa: E402
+
+import mjrft.envs  # noqa: E402,F401  (registers the ids)
+from mjrft.envs.hexapod_mjx import HexapodSandMJX  # noqa: E402
+from mjrft.tools.cli import main as cli  # noqa: E402
+from mjrft.train import mjx_ppo  # noqa: E402
+
+TRIPOD = np.full(6, 2 * np.pi * 2.0 / (6 * np.pi))  # 2 Hz on every hip: the legs start in the tripod's phases
+
+
+@pytest.fixture(scope="module")
+def mjx_env():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        env = HexapodSandMJX()
+    return env, jax.jit(env.reset), jax.jit(env.step)
+
+
+def cpu_env_at(state):
+    """mjrft/HexapodSand-v0 put in the MJX env's state (pose, velocity, servo targets)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        env = gymnasium.make("mjrft/HexapodSand-v0")
+    env.reset(seed=0)
+    u = env.unwrapped
+    d = state.pipeline_state.data
+    u.set_state(np.asarray(d.qpos, dtype=np.float64), np.asarray(d.qvel, dtype=np.float64))
+    u.terrain.reset()
+    u._target = np.asarray(state.pipeline_state.target, dtype=np.float64)
+    u.data.ctrl[:] = u._target
+    return env
+
+
+def test_env_matches_the_cpu_env_step_for_step(mjx_env):
+    env, reset, step = mjx_env
+    state = reset(jax.random.PRNGKey(3))
+    cpu = cpu_env_at(state)
+    assert env.observation_size == cpu.observation_space.shape[0] and env.action_size == cpu.action_space.shape[0]
+    np.testing.assert_allclose(np.asarray(state.obs), cpu.unwrapped._get_obs(), atol=1e-6)
+    for k in range(30):
+        state = step(state, jnp.asarray(TRIPOD))
+        obs, reward, terminated, truncated, info = cpu.step(TRIPOD)
+        if k < 5:  # float32 MJX against float64 MuJoCo: equal to rounding while the legs enter the sand
+            np.testing.assert_allclose(np.asarray(state.obs), obs, rtol=1e-3, atol=2e-3)
+            assert float(state.reward) == pytest.approx(reward, rel=0.05, abs=5e-3)
+    # after 0.3 s of gait the two simulations still walk the same way
+    assert float(state.pipeline_state.data.qpos[0]) == pytest.approx(info["x_position"], abs=3e-3)
+    assert float(state.done) == 0.0 and not terminated
+    np.testing.assert_allclose(np.asarray(env.foot_sinkage(state)), info["sinkage"], atol=3e-3)
+    assert float(state.metrics["power"]) == pytest.approx(info["power"], rel=0.3)
+    cpu.close()
+
+
+def test_nonfinite_action_ends_the_episode_as_diverged(mjx_env):
+    env, reset, step = mjx_env
+    state = step(reset(jax.random.PRNGKey(0)), jnp.full(6, jnp.nan))
+    assert float(state.done) == 1.0 and float(state.metrics["diverged"]) == 1.0 and float(state.reward) == 0.0
+    assert np.all(np.isfinite(np.asarray(state.obs)))
+    ok = step(reset(jax.random.PRNGKey(0)), jnp.zeros(6))  # control: a finite action does not
+    assert float(ok.done) == 0.0 and float(ok.metrics["diverged"]) == 0.0
+
+
+def test_env_refuses_cpu_only_options():
+    with pytest.raises(NotImplementedError, match="terrain_randomization"):
+        HexapodSandMJX(terrain_randomization={"media": ["poppy_lp"]})
+    with pytest.raises(NotImplementedError, match="planar"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        HexapodSandMJX(planar=True)
+
+
+TINY = {"num_timesteps": 400, "num_envs": 4, "episode_length": 50,
+        "network": {"policy_hidden_layer_sizes": [16, 16], "value_hidden_layer_sizes": [16, 16]},
+        "ppo": {"unroll_length": 5, "batch_size": 4, "num_minibatches": 2, "num_updates_per_batch": 1,
+                "num_evals": 2, "num_eval_envs": 4, "normalize_observations": True, "learning_rate": 3e-4}}
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory):
+    root = tmp_path_factory.mktemp("mjx")
+    recipe = root / "tiny.json"
+    recipe.write_text(json.dumps(TINY))
+    out = root / "run"
+    assert cli(["train-mjx", "--config", str(recipe), "--out", str(out), "--eval-episodes", "0"]) == 0
+    return out
+
+
+def test_recipe_trains_and_writes_pickle_free_files(trained):
+    assert sorted(p.name for p in trained.iterdir()) == ["policy.json", "policy.npz", "progress.csv"]
+    meta = json.loads((trained / "policy.json").read_text())
+    assert meta["format"] == mjx_ppo.FORMAT and meta["env_id"] == "mjrft/HexapodSand-v0"
+    assert meta["recipe"]["num_timesteps"] == 400 and meta["observation_size"] == 35
+    rows = (trained / "progress.csv").read_text().splitlines()
+    assert rows[0].startswith("steps,") and len(rows) == 3 and rows[-1].startswith("400,")
+    with np.load(trained / "policy.npz", allow_pickle=False) as z:
+        assert all(z[k].dtype != object for k in z.files) and len(z.files) > 6
+    policy = mjx_ppo.load_policy(trained)
+    a = policy(np.zeros(35))
+    assert a.shape == (6,) and np.all(np.abs(a) <= 1.0)
+
+
+def test_eval_runs_the_policy_on_both_backends(trained, capsys):
+    assert cli(["eval", "--policy", str(trained), "--episodes", "1", "--no-progress", "max_episode_steps=20"]) == 0
+    cpu_out = capsys.readouterr().out
+    assert "mjrft/HexapodSand-v0" in cpu_out and "fall rate 0%" in cpu_out
+    assert cli(["eval", "--policy", str(trained), "--episodes", "2", "--backend", "mjx"]) == 0
+    mjx_out = capsys.readouterr().out
+    assert "HexapodSandMJX" in mjx_out and "diverged 0" in mjx_out
+
+
+def test_damaged_or_foreign_policy_files_are_named(trained, tmp_path):
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    (bad / "policy.json").write_text((trained / "policy.json").read_text())
+    (bad / "policy.npz").write_bytes((trained / "policy.npz").read_bytes()[:200])
+    with pytest.raises(ValueError, match=r"policy\.npz cannot be read"):
+        mjx_ppo.load_policy(bad)
+    (bad / "policy.json").write_text("{not json")
+    with pytest.raises(ValueError, match=r"policy\.json is not valid JSON"):
+        mjx_ppo.load_policy(bad)
+    with pytest.raises(ValueError, match="a run folder of 'mjrft train-mjx'"):
+        from mjrft.train.evaluate import _main_mjx
+        import argparse
+
+        _main_mjx(argparse.Namespace(policy=str(tmp_path), csv=None, rrd=None, env_id=None, episodes=1, seed=0,
+                                     json=None), {})
+
+
+@pytest.mark.parametrize("change, match", [
+    ({"nonsense": 1}, "unknown key"),
+    ({"num_envs": 0}, "'num_envs' must be an integer >= 1"),
+    ({"ppo": {"num_timesteps": 5}}, "set by mjrft"),
+    ({"ppo": {"learning_rat": 1e-3}}, "unknown ppo key"),
+    ({"network": {"policy_hidden_layer_sizes": [0]}}, "list of layer sizes"),
+    ({"num_envs": 3}, "must divide one another"),
+])
+def test_bad_recipes_are_refused_before_compiling(change, match):
+    cfg = {**TINY, **change}
+    with pytest.raises(ValueError, match=match):
+        mjx_ppo.check_recipe(cfg)
+
+
+def test_named_recipe_is_valid():
+    assert "hexapod-sand" in mjx_ppo.named_recipes()
+    cfg = mjx_ppo.load_recipe("hexapod-sand")
+    assert cfg["num_envs"] >= 1024 and cfg["ppo"]["normalize_observations"] is True
+    with pytest.raises(ValueError, match="unknown MJX training recipe"):
+        mjx_ppo.load_recipe("hexapod-sandy")
