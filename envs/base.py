@@ -35,7 +35,7 @@ Common keyword arguments (all environments):
 ``render_mode``            ``None``, ``"human"``, ``"rgb_array"``, ``"depth_array"`` or ``"rgbd_tuple"``.
                            Off-screen rendering needs an OpenGL backend chosen before mujoco is
                            imported: ``MUJOCO_GL=egl`` (headless; a GPU, or Mesa's software EGL, which
-                           this project's tests use) or ``MUJOCO_GL=osmesa`` (software).
+                           works without a GPU) or ``MUJOCO_GL=osmesa`` (software).
 ``width``, ``height``      off-screen image size in pixels (default 480 x 480).
 ``camera_name``,           the camera to render from (a named MJCF camera, or its id); default: the
 ``camera_id``              free camera tracking the torso.

@@ -76,10 +76,10 @@ _FLOOR_TYPES = {int(mujoco.mjtGeom.mjGEOM_PLANE): "plane", int(mujoco.mjtGeom.mj
 #: 3,000 is measured (``benchmarks/element_budget.py``, output in ``benchmarks/results/element_budget.txt``):
 #: on gymnasium's five robots, a 2 s random-action rollout replayed through terrains of 250 to 8,000 elements
 #: against a 32,000-element one. 3,000 is the coarsest budget of that ladder at which the net granular force is
-#: within 2 % (RMS; the issue's weight-balance tolerance, far inside the laws' own errors) of the reference for
-#: HalfCheetah, Hopper, Walker2d and Humanoid (0.45-1.96 %; at 2,000 Humanoid's is 2.7 %, at 4,000 all four are
-#: 0.3-1.3 %); at rest the vertical force balances the weight within 0.05 % and the centre of mass lies within
-#: 0.6 mm of the reference's at every budget from 2,000 up; the kernel's cost grows with the buried element count.
+#: within 2 % (RMS; far inside the laws' own errors) of the reference for HalfCheetah, Hopper, Walker2d and
+#: Humanoid (0.45-1.96 %; at 2,000 Humanoid's is 2.7 %, at 4,000 all four are 0.3-1.3 %); at rest the vertical
+#: force balances the weight within 0.05 % and the centre of mass lies within 0.6 mm of the reference's at every
+#: budget from 2,000 up; the kernel's cost grows with the buried element count.
 #: Ant is the exception: 0.9 kg on 4 m^2 of 8 cm capsules sinks ~10 mm at rest, a contact patch a few elements
 #: wide, and its force error is 4.9 % at 3,000 (4.3 % at 4,000, 1.8 % at 8,000 = 24 mm elements): a light robot
 #: on large geoms needs an explicit finer ``resolution``.
@@ -87,7 +87,7 @@ AUTO_ELEMENTS = 3000
 AUTO_MIN_RESOLUTION = 0.005
 STABILITY_CHECK_EVERY = 50
 #: largest element count a terrain builds unless told otherwise (``max_elements``): about 15 s and 0.4 GB
-#: to build on this project's machines, and far past where a finer resolution changes a robot's forces
+#: to build on a 2-core machine, and far past where a finer resolution changes a robot's forces
 MAX_ELEMENTS = 1_000_000
 CULL_GROUP = 32  # elements per cull box (the kernel skips a box lying wholly above the surface)
 CULL_PAD = 1e-9  # m, added to each cull box's half sizes: rounding never culls an element at the surface

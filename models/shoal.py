@@ -6,7 +6,7 @@ regions, carried in the MJCF ``<custom>`` section):
 =================  ==================  =======  ===========  ===========================================
 x (m)              medium              law      water (m)    what
 =================  ==================  =======  ===========  ===========================================
-x < 0.5            ``poppy_cp``        ``rft``  0            dry grains (the project's reference medium)
+x < 0.5            ``poppy_cp``        ``rft``  0            dry grains (mjrft's reference medium)
 0.5 <= x < 1.0     ``sea_sand_...``    ``wet``  0            saturated sea sand (SGRFT), water table at
                                                              the surface
 x >= 1.0           ``sea_sand_...``    ``wet``  0.02         2 cm of standing water over saturated sand

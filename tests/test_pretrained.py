@@ -2,7 +2,7 @@
 
 The full comparison (10 episodes, every tripod frequency, every ground) is
 ``python benchmarks/learning_transfer.py`` (benchmarks/results/learning/); here one episode of each on the
-env the policy was trained on checks the issue's criteria: faster than the tripod at its best frequency,
+env the policy was trained on checks its criteria: faster than the tripod at its best frequency,
 cost of transport at most 1.5x the tripod's, no fall.
 """
 

@@ -17,7 +17,7 @@ def test_named_recipe_is_shipped_and_complete():
     cfg = load_training_config("hexapod-sand")
     assert list(cfg) == list(KEYS)
     assert cfg["env_id"] == "mjrft/HexapodSand-v0" and cfg["algo"] == "ppo"
-    assert cfg["timesteps"] <= 3_000_000  # the budget for the recipe
+    assert cfg["timesteps"] <= 3_000_000  # the recipe's budget: at most 3M steps
     assert cfg["description"]
 
 

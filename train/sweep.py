@@ -45,7 +45,7 @@ Output folder (``--out``):
 ``table.csv``      the same table as CSV
 =================  ====================================================================================
 
-Choices (the issue is silent on them):
+Behaviour:
 
 * Resume: a point whose parameters already have a line in ``results.jsonl`` is not run again, so an
   interrupted sweep, or a grid with added values, runs only the missing points. A point that raised
