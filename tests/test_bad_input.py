@@ -157,6 +157,7 @@ def test_config_files_take_integers_in_any_number_notation(tmp_path):
             load_training_config(path)
 
 
+@pytest.mark.slow
 def test_eval_exits_1_when_every_episode_diverged_and_leaves_no_mujoco_log(tmp_path, capsys, monkeypatch):
     pytest.importorskip("stable_baselines3")
     monkeypatch.chdir(tmp_path)

@@ -44,6 +44,7 @@ def element_kinematics(m, d, terrain):
 
 
 @pytest.mark.filterwarnings("ignore::mjrft.TerrainStabilityWarning")  # v_eps = 1e-9 is deliberately stiff
+@pytest.mark.slow
 def test_uses_current_kinematics_and_wrench_is_brute_force_sum():
     m = mujoco.MjModel.from_xml_string(LEGGED)
     d = mujoco.MjData(m)

@@ -74,6 +74,7 @@ def test_env_ends_a_diverged_episode_with_the_reason(env_id):
     env.close()
 
 
+@pytest.mark.slow
 def test_vector_env_ends_only_the_diverged_episode():
     from mjrft.envs.vector import GranularVectorEnv
 

@@ -45,6 +45,7 @@ def test_bad_configs_name_the_problem(tmp_path):
         check_training_config({"env_id": "x", "timesteps": 1.5})
 
 
+@pytest.mark.slow
 def test_train_with_the_named_config_writes_the_run_and_round_trips(tmp_path, capsys):
     out = tmp_path / "run"
     # the named recipe, shortened on the command line (the overrides are part of the run's settings)

@@ -43,6 +43,7 @@ def test_dynaroach_robot():
                    "and shortens the legs' reach, so the stride falls at 7-12 Hz instead of rising (fig. 3B), and the "
                    "legs sink deepest near 6 Hz, not 3 Hz (fig. 4A); DynaRoACH's swing-and-lift leg kinematics "
                    "(figs. 1B, E, lost) are not modelled")
+@pytest.mark.slow
 def test_dynaroach_robot_nonlinear_speed_and_sinkage():
     r = run_case("dynaroach_robot", quick=True)
     checks = r.by_name

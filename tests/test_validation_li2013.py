@@ -50,6 +50,7 @@ def test_scaling():
             assert c.reference == pytest.approx(zeta[name])
 
 
+@pytest.mark.slow
 def test_leg_rig(leg):
     assert not leg.failed_outcomes
     largest = [c for c in leg.checks if c.name.startswith("largest depth-only over-prediction")]

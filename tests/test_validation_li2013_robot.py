@@ -21,6 +21,7 @@ def robot():
     return validation.run_case("li2013_robot", quick=True)
 
 
+@pytest.mark.slow
 def test_li2013_robot(robot):
     assert not robot.failed_outcomes
     by = {c.name.split(":")[0]: c for c in robot.checks}

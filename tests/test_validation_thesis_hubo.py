@@ -30,6 +30,7 @@ def gait():
     return validation.run_case("thesis_hubo_gait", quick=True)
 
 
+@pytest.mark.slow
 def test_stance_width_outcomes(stance):
     by = stance.by_name
     # what mjrft reproduces: the natural foot falls, the 30.4 cm board stands (CoM on the sole centre)
@@ -40,6 +41,7 @@ def test_stance_width_outcomes(stance):
 
 
 @pytest.mark.xfail(strict=True, reason=STANCE_CAUSE)
+@pytest.mark.slow
 def test_stance_cutout_falls(stance):
     assert not stance.failed_outcomes
 

@@ -48,6 +48,7 @@ def assert_same(a, b):
 
 
 # ---------------------------------------------------------------------------------------------- BatchedTerrain
+@pytest.mark.slow
 def test_batched_equals_single_bit_for_bit():
     E = 3
     _, dats, ters = hexapods(E)
