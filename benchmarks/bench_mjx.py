@@ -12,7 +12,9 @@ turn behind) from the hexapod's initial pose, perturbed per world. For each numb
 
 Scenes: ``sand``: ``mjrft.mjx.Sand`` on the hexapod's granular bed (1,408 elements, Li RFT with the rest memory;
 the bed's rigid bottom, 30 cm down, without contacts as in :class:`mjrft.envs.hexapod_mjx.HexapodSandMJX`);
-``rigid``: the same robot on ``hexapod_rigid`` (MJX's collision and constraint solver on a rigid plane).
+``rigid``: the same robot on ``hexapod_rigid`` (MJX's collision and constraint solver on a rigid plane);
+``sand-cull``: ``sand`` with ``Sand(cull=K)`` (``--cull``, default 704: half the elements; the tripod at 1 to 5 Hz
+buries at most 603).
 ``--cpu-path`` also measures mjrft's CPU path on this machine: the numba kernel through
 ``GranularTerrain.step``, one process per core (``os.cpu_count()``), each stepping its own hexapod with the same
 gait; its steps/s is the sum over the processes.
@@ -52,7 +54,7 @@ def scene(kind: str, cull=None):
     import mjrft
     import mjrft.mjx as rmjx
 
-    if kind == "sand":
+    if kind in ("sand", "sand-cull"):
         model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod"))
         bottom = model.geom("bed_bottom").id
         model.geom_contype[bottom] = model.geom_conaffinity[bottom] = 0
@@ -123,7 +125,7 @@ def measure(kind: str, worlds: int, steps: int, repeats: int, cull=None) -> dict
     import numpy as np
 
     finite = bool(np.all(np.isfinite(np.asarray(d.qpos))))
-    bad = int(np.sum(np.asarray(s.bad_body) != -1)) if kind == "sand" else 0
+    bad = int(np.sum(np.asarray(s.bad_body) != -1)) if kind != "rigid" else 0
     med = statistics.median(times)
     return {"scene": kind, "worlds": worlds, "steps": steps, "compile_s": round(compile_s, 2),
             "wall_s": round(med, 4), "steps_per_s": worlds * steps / med, "memory_mib": mem,
@@ -174,8 +176,10 @@ def main(argv=None) -> int:
                         help="numbers of worlds (default: 1 4 16 64 on a CPU, 1024 ... 16384 on a GPU)")
     parser.add_argument("--steps", type=int, default=None, help="physics steps per timed call (CPU 100, GPU 1000)")
     parser.add_argument("--repeats", type=int, default=3, help="timed calls per point (median)")
-    parser.add_argument("--scenes", nargs="+", default=["sand", "rigid"], choices=["sand", "rigid"])
-    parser.add_argument("--cull", type=int, default=None, help="Sand(cull=K): evaluate at most K buried elements")
+    parser.add_argument("--scenes", nargs="+", default=["sand", "rigid", "sand-cull"],
+                        choices=["sand", "rigid", "sand-cull"])
+    parser.add_argument("--cull", type=int, default=704, help="K of the sand-cull scene: Sand(cull=K) evaluates at "
+                                                               "most K buried elements per world (default 704)")
     parser.add_argument("--cpu-path", action="store_true", help="also the numba path, one process per core")
     parser.add_argument("--cpu-seconds", type=float, default=10.0, help="seconds of the CPU path per process")
     parser.add_argument("--out", default=None, help="results file (.txt; a .json is written beside it)")
@@ -193,32 +197,32 @@ def main(argv=None) -> int:
     gpu = dev.platform != "cpu"
     worlds = args.worlds or ([1024, 2048, 4096, 8192, 16384] if gpu else [1, 4, 16, 64])
     steps = args.steps or (1000 if gpu else 100)
-    out = Path(args.out) if args.out else RESULTS / f"bench_mjx_{dev.platform}{'_cull' if args.cull else ''}.txt"
+    out = Path(args.out) if args.out else RESULTS / f"bench_mjx_{dev.platform}.txt"
     import mujoco
 
     header = [f"python benchmarks/bench_mjx.py {' '.join(argv if argv is not None else sys.argv[1:])}".rstrip(),
               f"device: {dev.device_kind} ({dev.platform}), {len(jax.devices())} device(s); host"
               f" {os.cpu_count()} cores; jax {jax.__version__}, mujoco {mujoco.__version__}, "
               f"float{'64' if jax.config.jax_enable_x64 else '32'}; {steps} physics steps per call, median of "
-              f"{args.repeats}; cull {args.cull}"]
+              f"{args.repeats}"]
     print("\n".join(header), flush=True)
     rows = []
-    lines = [f"{'scene':<6} {'worlds':>7} {'steps/s':>12} {'compile s':>10} {'memory MiB':>11} {'peak MiB':>9} "
+    lines = [f"{'scene':<9} {'worlds':>7} {'steps/s':>12} {'compile s':>10} {'memory MiB':>11} {'peak MiB':>9} "
              f"{'finite':>6} {'bad':>4} {'torso z':>8}"]
     print(lines[0], flush=True)
     for n in worlds:
         for kind in args.scenes:
             try:
-                r = measure(kind, n, steps, args.repeats, args.cull if kind == "sand" else None)
+                r = measure(kind, n, steps, args.repeats, args.cull if kind == "sand-cull" else None)
             except Exception as exc:  # an out-of-memory or launch failure is a result too
                 r = {"scene": kind, "worlds": n, "error": f"{type(exc).__name__}: {str(exc).splitlines()[0][:200]}"}
             rows.append(r)
             if "error" in r:
-                line = f"{kind:<6} {n:>7} failed: {r['error']}"
+                line = f"{kind:<9} {n:>7} failed: {r['error']}"
             else:
                 mem = f"{r['memory_mib']:.1f}" if r["memory_mib"] is not None else "n/a"
                 peak = f"{r['device_peak_mib']:.0f}" if r["device_peak_mib"] is not None else "n/a"
-                line = (f"{kind:<6} {n:>7} {r['steps_per_s']:>12,.0f} {r['compile_s']:>10.1f} {mem:>11} {peak:>9} "
+                line = (f"{kind:<9} {n:>7} {r['steps_per_s']:>12,.0f} {r['compile_s']:>10.1f} {mem:>11} {peak:>9} "
                         f"{str(r['finite']):>6} {r['bad_worlds']:>4} {r['torso_z_mean']:>8.4f}")
             print(line, flush=True)
             lines.append(line)
@@ -226,8 +230,11 @@ def main(argv=None) -> int:
     for n in worlds:
         s = next((r for r in rows if r["scene"] == "sand" and r["worlds"] == n and "error" not in r), None)
         g = next((r for r in rows if r["scene"] == "rigid" and r["worlds"] == n and "error" not in r), None)
+        c = next((r for r in rows if r["scene"] == "sand-cull" and r["worlds"] == n and "error" not in r), None)
         if s and g:
             ratios.append(f"sand / rigid at {n} worlds: {s['steps_per_s'] / g['steps_per_s']:.2f}")
+        if s and c:
+            ratios.append(f"sand-cull / sand at {n} worlds: {c['steps_per_s'] / s['steps_per_s']:.2f}")
     cpu = None
     if args.cpu_path:
         cpu = cpu_path(args.cpu_seconds)

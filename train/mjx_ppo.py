@@ -367,6 +367,8 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
+    # leave device memory outside XLA's pool for kernel launches (docs/gpu.md); a user's own setting wins
+    os.environ.setdefault("XLA_PYTHON_CLIENT_MEM_FRACTION", "0.6")
     cfg = load_recipe(args.config)
     if args.timesteps is not None:
         if not (math.isfinite(args.timesteps) and args.timesteps >= 1 and float(args.timesteps).is_integer()):
