@@ -19,6 +19,8 @@ import mjrft  # noqa: E402
 import mjrft.mjx as rmjx  # noqa: E402
 from mjrft.errors import NonFiniteError  # noqa: E402
 
+pytestmark = pytest.mark.slow  # every test compiles MJX programs (5-60 s each on 2 cores)
+
 LAWS = ("rft", "rft3d", "depth_only")
 HEXAPOD = mjrft.models.model_path("hexapod")
 

@@ -21,6 +21,8 @@ from mjrft.envs.hexapod_mjx import HexapodSandMJX  # noqa: E402
 from mjrft.tools.cli import main as cli  # noqa: E402
 from mjrft.train import mjx_ppo  # noqa: E402
 
+pytestmark = pytest.mark.slow  # every test compiles MJX programs (5-60 s each on 2 cores)
+
 TRIPOD = np.full(6, 2 * np.pi * 2.0 / (6 * np.pi))  # 2 Hz on every hip: the legs start in the tripod's phases
 
 
