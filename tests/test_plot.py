@@ -217,6 +217,8 @@ def test_vec_env_bad_kind_and_auto():
     assert resolve_kind("auto", HEX, 4, cpu_count=2) == "batched"
     assert resolve_kind("auto", "mjrft/HopperSand-v5", 4, cpu_count=2) == "dummy"
     assert resolve_kind("auto", HEX, 4, cpu_count=8) == "subproc"
+    assert resolve_kind("auto", HEX, 16, cpu_count=16) == "subproc"  # batched would step 16 envs on one core
+    assert resolve_kind("auto", HEX, 8, cpu_count=3) == "batched"
     assert resolve_kind("subproc", HEX, 4) == "subproc"
 
 

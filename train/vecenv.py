@@ -13,8 +13,8 @@ Kinds (``kind``):
 ``batched``  mjrft's :class:`mjrft.envs.vector.SB3VecEnv`: the envs in the trainer's process, the physics
              of all of them in one compiled call (:mod:`mjrft.batch`); only the mjrft envs
              (``mjrft.envs.ENV_IDS``), not gymnasium's robots on sand
-``auto``     :func:`resolve_kind`: ``dummy`` for one env, ``subproc`` with more cores than envs, else
-             ``batched`` (mjrft envs) or ``dummy`` (others), from ``benchmarks/bench_training.py``
+``auto``     :func:`resolve_kind`: ``dummy`` for one env, ``subproc`` with more cores than envs or with 4
+             cores or more, else ``batched`` (mjrft envs) or ``dummy`` (others)
 ===========  =========================================================================================
 
 Every kind seeds env ``i`` with ``seed + i`` (at the first reset), puts the warnings the envs raise
@@ -42,6 +42,8 @@ import numpy as np
 from mjrft.errors import unknown
 
 KINDS = ("auto", "subproc", "dummy", "batched")
+#: from this many cores on, ``auto`` steps the envs in worker processes whatever their number (:func:`resolve_kind`)
+PARALLEL_CORES = 4
 #: the monitor column holding each episode's forward speed (m/s)
 SPEED_KEY = "speed"
 MONITOR_COLUMNS = ("r", "l", "t")
@@ -68,14 +70,15 @@ def resolve_kind(kind: str, env_id: str, n_envs: int, cpu_count: int | None = No
     ``auto``:
 
     1. one env: ``dummy`` (nothing to run side by side);
-    2. more cores than envs: ``subproc`` (every worker and the trainer get a core of their own, the one
-       case in which the workers' physics runs at the same time; not covered by the measurement below);
-    3. otherwise ``batched`` for the mjrft envs (:func:`batchable`), ``dummy`` for the others.
+    2. more cores than envs, or at least :data:`PARALLEL_CORES` cores: ``subproc``. Its workers' physics runs
+       on as many cores as there are envs (up to the cores), while ``batched`` and ``dummy`` step every env
+       in the trainer's process on one core: with many cores that single core is the limit;
+    3. otherwise (2 or 3 cores, at least as many envs) ``batched`` for the mjrft envs (:func:`batchable`),
+       ``dummy`` for the others.
 
     Measured by ``benchmarks/bench_training.py`` (``benchmarks/results/bench_training.txt``: PPO on 2 cores
-    with 2, 4 and 8 envs, the machine also running another training job): on HexapodSand-v0 ``batched``
-    trained fastest at every size, ``dummy`` at 0.64-0.92x of it and ``subproc`` at 0.48-0.58x; on the
-    rigid twin ``batched`` and ``dummy`` were within 0.82-1.00x of each other and ``subproc`` 0.54-0.75x.
+    with 2, 4 and 8 envs): on HexapodSand-v0 ``batched`` trained fastest at 4 and 8 envs, ``dummy`` within
+    10 % of it and ``subproc`` at 0.82-0.91x, the slowest kind on 2 cores.
     """
     kind = check_kind(kind)
     if kind != "auto":
@@ -83,7 +86,7 @@ def resolve_kind(kind: str, env_id: str, n_envs: int, cpu_count: int | None = No
     cpus = cpu_count or os.cpu_count() or 1
     if n_envs == 1:
         return "dummy"
-    if cpus > n_envs:
+    if cpus > n_envs or cpus >= PARALLEL_CORES:
         return "subproc"
     return "batched" if batchable(env_id) else "dummy"
 
