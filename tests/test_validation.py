@@ -140,3 +140,27 @@ def test_warnings_of_a_case_are_collected_once_per_kind_not_printed(tmp_path, re
                           "UserWarning: something else"]
     md = open(write_report([r], str(tmp_path))["report"]).read()
     assert "*Warnings during the run*" in md and "speed 1.2 m/s is outside (and 2 more like it)" in md
+
+
+def test_report_names_the_command_run_and_the_real_data_path(tmp_path, capsys):
+    """The report's header names the command line that produced it (as run) and the folder that really holds the
+    published numbers; validate's --help states the exit statuses."""
+    import pathlib
+
+    from mjrft.tools.validation.report import DATA_PATH, run_command
+
+    r = CaseResult(name="c", title="t", paper="p", source="-", setup="-",
+                   checks=[check_outcome("x", True, published="-", simulated="-", source="-")])
+    out = tmp_path / "rep"
+    command = run_command(str(out), quick=True, cases=["c"])
+    md = open(write_report([r], str(out), quick=True, command=command)["report"]).read()
+    assert f"Produced by `mjrft validate --quick --case c --out {out}`" in md
+    assert f"`{DATA_PATH}`" in md
+    root = pathlib.Path(validation.__file__).resolve().parent / "data"
+    assert root.is_dir() and any(root.glob("*.json")) and DATA_PATH.startswith("mjrft/tools/validation/data/")
+    default = open(write_report([r], str(tmp_path / "d"))["report"]).read()
+    assert f"Produced by `mjrft validate --out {tmp_path / 'd'}`" in default
+    with pytest.raises(SystemExit):
+        cli.main(["validate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "exit status: 0 when every case agrees in every check, 1 when a case fails a check, 130" in text

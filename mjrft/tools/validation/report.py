@@ -24,7 +24,15 @@ from ..outputs import output_dir
 from .case import CaseResult
 
 DEFAULT_OUT = "validation-report"
-COMMAND = "mjrft validate --out benchmarks/results/validation"
+DATA_PATH = "mjrft/tools/validation/data/<paper>.json"  # where the published numbers live (package data)
+EXIT_HELP = ("exit status: 0 when every case agrees in every check, 1 when a case fails a check, 130 when "
+             "interrupted (the report then holds the cases that finished)")
+
+
+def run_command(out: str, quick: bool = False, cases=()) -> str:
+    """The ``mjrft validate`` command line that writes a report to ``out`` with these options."""
+    parts = ["mjrft validate", *(["--quick"] if quick else []), *[f"--case {c}" for c in cases], f"--out {out}"]
+    return " ".join(parts)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -130,7 +138,7 @@ def summary_table(results) -> list[str]:
     return rows
 
 
-def _markdown(results, quick: bool, total: int | None = None) -> str:
+def _markdown(results, quick: bool, total: int | None = None, command: str = "mjrft validate") -> str:
     n_pass = sum(r.passed for r in results)
     n_checks = sum(len(r.checks) for r in results)
     n_cpass = sum(c.passed for r in results for c in r.checks)
@@ -139,10 +147,10 @@ def _markdown(results, quick: bool, total: int | None = None) -> str:
         out += [f"**Interrupted after {len(results)} of {total} cases**: only the cases that finished are "
                 "reported below; run the command again for the rest.", ""]
     out += [
-           f"Produced by `{COMMAND}`{' --quick (coarse settings)' if quick else ''}. "
+           f"Produced by `{command}`{' (--quick: coarse settings)' if quick else ''}. "
            f"{n_pass} of {len(results)} cases agree in every check; {n_cpass} of {n_checks} checks pass. "
            "Each case reruns a published experiment under the paper's setup; published numbers come from "
-           "`mjrft/validation/data/<paper>.json` with their source.", "",
+           f"`{DATA_PATH}` with their source.", "",
            "| case | paper | reproduces | verdict | time (s) |", "|---|---|---|---|---|"]
     for r in results:
         out.append(f"| [{r.name}](#{r.name}) | {_cell(r.paper)} | {_cell(r.source)} | {r.verdict} | {r.seconds:.1f} |")
@@ -212,9 +220,10 @@ def _csv_rows(results):
                            line.source or "", "")
 
 
-def write_report(results, out: str, quick: bool = False, total: int | None = None) -> dict:
+def write_report(results, out: str, quick: bool = False, total: int | None = None, command: str | None = None) -> dict:
     """Write report.md, one PNG per case and results.csv into ``out``; returns their paths. ``total``: the
     number of cases asked for when the run was interrupted before all finished (the report says so).
+    ``command``: the command line the report names as its producer (default :func:`run_command` of ``out``).
     Each file is written under a temporary name and renamed, so an existing report is never half-replaced."""
     output_dir(out)
     paths = {"pngs": []}
@@ -224,7 +233,8 @@ def write_report(results, out: str, quick: bool = False, total: int | None = Non
     paths["csv"] = os.path.join(out, "results.csv")
     _replace(paths["csv"], lambda f: csv.writer(f).writerows(_csv_rows(results)))
     paths["report"] = os.path.join(out, "report.md")
-    _replace(paths["report"], lambda f: f.write(_markdown(results, quick, total)))
+    command = command or run_command(out, quick)
+    _replace(paths["report"], lambda f: f.write(_markdown(results, quick, total, command)))
     return paths
 
 
@@ -251,6 +261,7 @@ def add_arguments(p) -> None:
                    help="run only this case (repeatable; default: every case; --list shows them)")
     p.add_argument("--out", default=DEFAULT_OUT, help=f"output folder (default ./{DEFAULT_OUT})")
     p.add_argument("--list", action="store_true", help="list the cases and exit")
+    p.epilog = EXIT_HELP
 
 
 def main(args) -> int:
@@ -267,7 +278,8 @@ def main(args) -> int:
         results = run_cases(names, quick=args.quick)
     except Interrupted as stop:  # keep what finished, and say the report is partial
         results, total = stop.results, stop.total
-    paths = write_report(results, args.out, quick=args.quick, total=total)
+    paths = write_report(results, args.out, quick=args.quick, total=total,
+                         command=run_command(args.out, args.quick, args.case))
     for r in results:
         print(f"{r.name:28s} {r.verdict:24s} {r.seconds:6.1f} s")
     print(f"wrote {paths['report']}, {paths['csv']} and {len(paths['pngs'])} figures")
