@@ -104,10 +104,10 @@ def test_rollout_and_eval_say_a_run_diverged_instead_of_printing_numbers(capsys)
                              env_kwargs={"timestep": 0.1, "max_episode_steps": 5})
     assert summary["diverged"] == 2 and np.isnan(summary["speed"]) and all(r["diverged"] for r in rows)
     assert cli.main(["rollout", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod", "--seconds", "1",
-                     "--no-progress", "timestep=0.1"]) == 0
+                     "--no-progress", "timestep=0.1"]) == 1  # every episode diverged: exit status 1
     out = capsys.readouterr().out
     assert "DIVERGED after 1 steps" in out and "no distance, speed or sinkage" in out and " cm" not in out
     assert cli.main(["eval", "--env", "mjrft/HexapodSand-v0", "--policy", "tripod", "--episodes", "2", "--no-progress",
-                     "timestep=0.1", "max_episode_steps=5"]) == 0
+                     "timestep=0.1", "max_episode_steps=5"]) == 1
     out = capsys.readouterr().out
     assert "DIVERGED: 2 of 2 episodes" in out and "nan" not in out
