@@ -38,9 +38,11 @@ import numpy as np
 from brax.envs.base import Env, State
 from mujoco import mjx
 
+from mjrft.coupler import STRESS_SLOTS
 from mjrft.mjx import Sand, SandState
 
 from .hexapod import HexapodSand
+from .randomization import TerrainRandomization
 
 G = 9.81
 
@@ -58,12 +60,21 @@ class HexapodSandMJX(Env):
     (``medium``, ``law``, ``curvature``, ``frame_skip``, reward weights, ...); ``cull`` goes to
     :class:`mjrft.mjx.Sand`; ``impl`` to ``mjx.put_model`` (``"jax"``, or ``"warp"`` where MuJoCo Warp is
     installed). ``sand=False`` gives the rigid twin (``mjrft/HexapodRigid-v0``: MJX's contacts on a rigid
-    floor). Terrain randomisation and render modes are options of the CPU env only."""
+    floor). ``terrain_randomization`` takes the CPU env's ``media``, ``stress_scale`` and ``surface_height``
+    (:mod:`mjrft.envs.randomization`), drawn per world at reset (``state.info``: ``medium`` as an index into
+    :attr:`media`, ``stress_scale``, ``surface_height``); roughness, strips and render modes are options of the
+    CPU env only."""
 
     def __init__(self, sand: bool = True, *, cull: int | None = None, impl: str | None = None, **kwargs):
-        if kwargs.get("terrain_randomization") is not None:
-            raise NotImplementedError("terrain_randomization is an option of the CPU env; the MJX env draws no "
-                                      "terrain (Sand.params_of gives per-world media to a custom reset)")
+        randomization = TerrainRandomization.from_value(kwargs.pop("terrain_randomization", None))
+        if randomization is not None:
+            if not sand:
+                raise ValueError("terrain_randomization needs a sand environment; sand=False is the rigid twin")
+            cpu_only = [k for k in ("roughness", "strips") if getattr(randomization, k) not in (0.0, None, (0, 0))]
+            if cpu_only:
+                raise NotImplementedError(f"terrain_randomization {', '.join(cpu_only)}: the MJX env draws media, "
+                                          "stress_scale and surface_height (a height field and strips are options "
+                                          "of the CPU env)")
         cpu = HexapodSand(sand=sand, **kwargs)
         self.cpu_kwargs = dict(sand=sand, **kwargs)
         model = cpu.model
@@ -72,6 +83,11 @@ class HexapodSandMJX(Env):
             model.geom_contype[bottom] = 0
             model.geom_conaffinity[bottom] = 0
         self.sand = Sand.from_terrain(cpu.terrain, cull=cull) if sand else None
+        self.randomization = randomization if randomization is not None and randomization.active else None
+        if self.randomization is not None:
+            media = self.randomization.media or (self.sand.terrain.medium.name,)
+            self._media = tuple(media)
+            self._media_params = np.stack([self.sand.params_of(m) for m in media])
         self.model = model
         self.mx = mjx.put_model(model) if impl is None else mjx.put_model(model, impl=impl)
         self.frame_skip = int(cpu.frame_skip)
@@ -125,11 +141,41 @@ class HexapodSandMJX(Env):
         target = qpos[self._hip_qadr]
         d = mjx.make_data(self.mx).replace(qpos=qpos, qvel=qvel, ctrl=target)
         d = mjx.forward(self.mx, d)
-        sand = self.sand.init() if self.sand is not None else _no_sand(self.model.nbody)
+        info = {}
+        if self.sand is None:
+            sand = _no_sand(self.model.nbody)
+        elif self.randomization is None:
+            sand = self.sand.init()
+        else:
+            sand, info = self._draw_terrain(jax.random.fold_in(rng, 1))
         pipeline = HexapodPipeline(d, sand, target)
         zero = jnp.zeros(())
         metrics = {name: zero for name in METRICS}
-        return State(pipeline, self._obs(d, target), zero, zero, metrics, {})
+        return State(pipeline, self._obs(d, target), zero, zero, metrics, info)
+
+    def _draw_terrain(self, rng) -> tuple[SandState, dict]:
+        """A world's terrain (``terrain_randomization``): the medium drawn uniformly from ``media``, then the
+        stress scale and the surface's raise uniformly from their ranges; ``info`` holds what was drawn (the index
+        into :attr:`media`). Brax's auto-reset returns a world to its first state, so each world keeps the terrain
+        of its first reset."""
+        r = self.randomization
+        k_med, k_scale, k_surf = jax.random.split(rng, 3)
+        idx = jax.random.randint(k_med, (), 0, len(self._media))
+        params = jnp.asarray(self._media_params)[idx]
+        scale = jnp.ones(())
+        if r.stress_scale is not None:
+            scale = jax.random.uniform(k_scale, (), minval=r.stress_scale[0], maxval=r.stress_scale[1])
+            params = params.at[STRESS_SLOTS].multiply(scale)
+        raise_ = jnp.zeros(())
+        if r.surface_height is not None:
+            raise_ = jax.random.uniform(k_surf, (), minval=r.surface_height[0], maxval=r.surface_height[1])
+        state = self.sand.init(params=params, surface=self.sand.surface + raise_)
+        return state, {"medium": idx, "stress_scale": scale, "surface_height": raise_}
+
+    @property
+    def media(self) -> tuple:
+        """The media that ``info["medium"]`` indexes (with ``terrain_randomization``)."""
+        return getattr(self, "_media", ())
 
     def step(self, state: State, action: jax.Array) -> State:
         """One control step: the hip-velocity command integrated into the servo targets, ``frame_skip`` physics
@@ -205,5 +251,5 @@ METRICS = ("x_velocity", "power", "cost_of_transport", "reward_forward", "reward
 def _no_sand(nbody: int) -> SandState:
     """A placeholder terrain state for the rigid twin (no elements, no force)."""
     z = jnp.zeros(())
-    return SandState(u=jnp.zeros((0, 3)), params=jnp.zeros(0), wrench=jnp.zeros((nbody, 6)), sinkage=jnp.zeros(nbody),
+    return SandState(u=jnp.zeros((0, 3)), params=jnp.zeros(0), surface=z, wrench=jnp.zeros((nbody, 6)), sinkage=jnp.zeros(nbody),
                      bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=z)

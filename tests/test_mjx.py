@@ -210,3 +210,22 @@ def test_bad_cull_is_refused():
     for bad in (0, -3, 2.5, True, 10**9):
         with pytest.raises(ValueError, match="cull must be"):
             rmjx.Sand(model, cull=bad)
+
+
+def test_per_world_medium_and_surface_equal_the_cpu_terrain_changed_in_place():
+    """state.params / state.surface of a world (Sand.params_of, as the MJX env's terrain_randomization draws them)
+    give the wrench of the CPU terrain after set_medium(medium, stress_scale) and set_surface(height)."""
+    model, terrain, states = record_walk("rft", count=2)
+    sand = rmjx.Sand.from_terrain(terrain)
+    data, u0, w_own, _ = states[-1]
+    terrain.set_medium("poppy_lp", stress_scale=1.2)
+    terrain.set_surface(0.003)
+    terrain._bind(data)  # binding to another MjData forgets the memory: bind first, then restore it
+    terrain._u[:] = u0
+    w_ref = terrain.compute(data).copy()
+    assert relative_error(w_own, w_ref) > 0.05  # the change matters
+    with jax.enable_x64(True):
+        d = mjx.put_data(model, data)
+        state = sand.init(params=sand.params_of("poppy_lp", stress_scale=1.2), surface=0.003)
+        w, _ = jax.jit(sand.wrench)(d, state._replace(u=jnp.asarray(u0)), model.opt.timestep)
+    assert relative_error(w, w_ref) <= 1e-9

@@ -78,9 +78,35 @@ def test_nonfinite_action_ends_the_episode_as_diverged(mjx_env):
     assert float(ok.done) == 0.0 and float(ok.metrics["diverged"]) == 0.0
 
 
+def test_terrain_randomization_draws_per_world_and_repeats_for_a_seed():
+    media = ["poppy_cp", "poppy_lp", "glass03_cp"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        env = HexapodSandMJX(terrain_randomization={"media": media, "stress_scale": [0.7, 1.3],
+                                                    "surface_height": [-0.005, 0.005]})
+    reset = jax.jit(jax.vmap(env.reset))
+    keys = jax.random.split(jax.random.PRNGKey(0), 16)
+    a, b = reset(keys), reset(keys)
+    info = {k: np.asarray(v) for k, v in a.info.items()}
+    assert env.media == tuple(media) and set(info["medium"]) == {0, 1, 2}  # 16 worlds draw every medium
+    assert np.all((info["stress_scale"] >= 0.7) & (info["stress_scale"] <= 1.3))
+    assert np.all(np.abs(info["surface_height"]) <= 0.005) and np.std(info["surface_height"]) > 1e-3
+    for k in a.info:
+        np.testing.assert_array_equal(np.asarray(a.info[k]), np.asarray(b.info[k]))
+    sand = a.pipeline_state.sand
+    k = 3
+    expected = env.sand.params_of(media[info["medium"][k]], stress_scale=float(info["stress_scale"][k]))
+    np.testing.assert_allclose(np.asarray(sand.params[k]), expected, rtol=1e-6)
+    np.testing.assert_allclose(np.asarray(sand.surface), info["surface_height"], atol=1e-7)
+    plain = jax.jit(jax.vmap(HexapodSandMJX().reset))(keys)  # control: no option, no draw
+    assert plain.info == {} and np.all(np.asarray(plain.pipeline_state.sand.surface) == 0.0)
+
+
 def test_env_refuses_cpu_only_options():
-    with pytest.raises(NotImplementedError, match="terrain_randomization"):
-        HexapodSandMJX(terrain_randomization={"media": ["poppy_lp"]})
+    with pytest.raises(NotImplementedError, match="roughness"):
+        HexapodSandMJX(terrain_randomization={"roughness": 0.002})
+    with pytest.raises(ValueError, match="unknown terrain_randomization medium .poppy_cpx."):
+        HexapodSandMJX(terrain_randomization={"media": ["poppy_cpx"]})
     with pytest.raises(NotImplementedError, match="planar"), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         HexapodSandMJX(planar=True)

@@ -23,7 +23,7 @@ in ``state.bad_time``), which stays set until :meth:`Sand.reset`; :meth:`Sand.ch
 
 Supported: one region (the terrain's own medium and law), laws ``rft``, ``rft3d`` and ``depth_only``
 (:mod:`mjrft.mjx.laws`), the rest memory or the viscous ramp, a flat surface (also from ``floor=...``),
-``stress_scale`` and a per-world medium through ``state.params``. Refused with an error naming the option:
+``stress_scale``, and a per-world medium and surface height through ``state.params`` / ``state.surface``. Refused with an error naming the option:
 regions, water, buoyancy, the inertial regime, a height-field surface, laws without a JAX twin.
 
 Culling: the CPU kernel skips elements above the surface in groups; here every element's position is
@@ -58,13 +58,15 @@ class SandState(NamedTuple):
     """The per-world state of :class:`Sand` (a pytree: stack it over worlds with ``jax.vmap``).
 
     ``u`` (n, 3): each element's elastic displacement (the rest memory, m); ``params`` (P_SIZE,): the
-    medium's parameter vector (stresses times ``stress_scale``); ``wrench`` (nbody, 6) and ``sinkage``
+    medium's parameter vector (stresses times ``stress_scale``); ``surface``: the sand surface's height (m);
+    ``wrench`` (nbody, 6) and ``sinkage``
     (nbody,): the granular wrench applied by the last step and each body's deepest element (m, >= 0);
     ``bad_body``: -1 while every state and force was finite, else the first body with a non-finite one
     (-2: more than ``cull`` buried elements); ``bad_time``: the simulation time when it happened."""
 
     u: jax.Array
     params: jax.Array
+    surface: jax.Array
     wrench: jax.Array
     sinkage: jax.Array
     bad_body: jax.Array
@@ -146,11 +148,13 @@ class Sand:
         self.onehot = onehot  # body-from-element sums as one matrix product (no scatter)
 
     # ------------------------------------------------------------------ state
-    def init(self, params=None) -> SandState:
+    def init(self, params=None, surface=None) -> SandState:
         """A fresh state (no memory) with the terrain's medium parameters or ``params`` (a medium's
-        :meth:`~mjrft.media.Medium.params` vector, already scaled)."""
+        :meth:`~mjrft.media.Medium.params` vector, already scaled: :meth:`params_of`) and its surface height or
+        ``surface`` (m)."""
         p = self.params if params is None else params
-        return SandState(u=jnp.zeros((self.n_elements, 3)), params=jnp.asarray(p),
+        z = self.surface if surface is None else surface
+        return SandState(u=jnp.zeros((self.n_elements, 3)), params=jnp.asarray(p), surface=jnp.asarray(z),
                          wrench=jnp.zeros((self.nbody, 6)), sinkage=jnp.zeros(self.nbody),
                          bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.array(0.0))
 
@@ -216,7 +220,7 @@ class Sand:
         area = jnp.asarray(self.area, dtype)
         onehot = jnp.asarray(self.onehot, dtype)
         params = state.params.astype(dtype)
-        depth = self.surface - pos[:, 2]
+        depth = state.surface.astype(dtype) - pos[:, 2]
         if self.cull is None:
             f, u = self._forces(depth, nrm, vel, state.u, area, params, dt)
             over = jnp.array(False)
