@@ -13,7 +13,6 @@
 
 from __future__ import annotations
 
-import copy
 import sys
 import warnings
 from pathlib import Path
@@ -26,44 +25,22 @@ from mujoco import mjx
 
 import mjrft
 import mjrft.mjx as rmjx
+from mjrft.mjx.compare import record_states
+from mjrft.mjx.compare import wrench_errors as errors
 
 OUT = Path(__file__).resolve().parent / "results" / "mjx_accuracy.txt"
 OFFSETS = np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
 LAWS = ("rft", "rft3d", "depth_only")
 
 
-def record(law: str, every: int = 40, count: int = 10):
+def wrench_errors(law: str) -> list[str]:
     model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod"))
     terrain = mjrft.GranularTerrain(model, law=law)
-    data = mujoco.MjData(model)
-    states = []
-    for k in range(every * count):
-        data.ctrl[:] = 2 * np.pi * 2.0 * data.time + OFFSETS
-        mujoco.mj_step1(model, data)
-        u0 = terrain._u.copy()
-        terrain.compute(data)
-        if k % every == every - 1:
-            states.append((copy.copy(data), u0, terrain.wrench.copy(), terrain._u.copy()))
-        saved = data.xfrc_applied.copy()
-        data.xfrc_applied[:] += terrain.wrench
-        mujoco.mj_step2(model, data)
-        data.xfrc_applied[:] = saved
-    return model, terrain, states
-
-
-def wrench_errors(law: str) -> list[str]:
-    model, terrain, states = record(law)
+    states = record_states(model, terrain, steps=400, every=40, ctrl=lambda t: 2 * np.pi * 2.0 * t + OFFSETS)
     sand = rmjx.Sand.from_terrain(terrain)
     lines = []
     for x64 in (True, False):
-        with jax.enable_x64(x64):
-            f = jax.jit(sand.wrench)
-            ew, eu = 0.0, 0.0
-            for data, u0, w_ref, u_ref in states:
-                d = mjx.put_data(model, data)
-                w, s = f(d, sand.init()._replace(u=jnp.asarray(u0, d.xpos.dtype)), model.opt.timestep)
-                ew = max(ew, float(np.abs(np.asarray(w) - w_ref).max() / np.abs(w_ref).max()))
-                eu = max(eu, float(np.abs(np.asarray(s.u) - u_ref).max() / np.abs(u_ref).max()))
+        ew, eu = errors(sand, model, states, x64)
         lines.append(f"{law:<11} {'float64' if x64 else 'float32':<8} {len(states):>6} {ew:>14.2e} {eu:>14.2e}")
     return lines
 

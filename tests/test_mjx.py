@@ -3,8 +3,6 @@ equal single ones, non-finite states are reported, and unsupported options are r
 
 from __future__ import annotations
 
-import copy
-
 import numpy as np
 import pytest
 
@@ -18,6 +16,7 @@ from mujoco import mjx  # noqa: E402
 import mjrft  # noqa: E402
 import mjrft.mjx as rmjx  # noqa: E402
 from mjrft.errors import NonFiniteError  # noqa: E402
+from mjrft.mjx.compare import record_states, wrench_errors  # noqa: E402
 
 pytestmark = pytest.mark.slow  # every test compiles MJX programs (5-60 s each on 2 cores)
 
@@ -31,25 +30,12 @@ def tripod_ctrl(t: float) -> np.ndarray:
 
 
 def record_walk(law: str, every: int = 40, count: int = 5, **kw):
-    """Walk the hexapod on the CPU path (mj_step1, GranularTerrain.compute, mj_step2) and record, every ``every``
-    steps, the MjData after mj_step1, the memory before the evaluation and the kernel's wrench and memory after."""
+    """Walk the hexapod on the CPU path and record a state every ``every`` steps (mjrft.mjx.compare)."""
     model = mujoco.MjModel.from_xml_path(HEXAPOD)
-    terrain = mjrft.GranularTerrain(model, law=law, **kw)
-    data = mujoco.MjData(model)
-    out = []
     with _quiet():
-        for k in range(every * count):
-            data.ctrl[:] = tripod_ctrl(data.time)
-            mujoco.mj_step1(model, data)
-            u0 = terrain._u.copy()
-            terrain.compute(data)
-            if k % every == every - 1:
-                out.append((copy.copy(data), u0, terrain.wrench.copy(), terrain._u.copy()))
-            saved = data.xfrc_applied.copy()
-            data.xfrc_applied[:] += terrain.wrench
-            mujoco.mj_step2(model, data)
-            data.xfrc_applied[:] = saved
-    return model, terrain, out
+        terrain = mjrft.GranularTerrain(model, law=law, **kw)
+        states = record_states(model, terrain, every * count, every, ctrl=tripod_ctrl)
+    return model, terrain, states
 
 
 class _quiet:
@@ -78,16 +64,14 @@ def test_wrench_equals_numba_kernel_on_walking_states(walk, x64, tol):
     law, model, terrain, states = walk
     sand = rmjx.Sand.from_terrain(terrain)
     assert any(np.abs(w[:, 2]).max() > 0.05 for _, _, w, _ in states)  # the legs really push on the sand
+    ew, eu = wrench_errors(sand, model, states, x64)
+    assert ew <= tol and eu <= tol, law
     with jax.enable_x64(x64):
-        f = jax.jit(sand.wrench)
-        for data, u0, w_ref, u_ref in states:
-            d = mjx.put_data(model, data)
-            state = sand.init()._replace(u=jnp.asarray(u0, d.xpos.dtype))
-            w, new = f(d, state, model.opt.timestep)
-            assert w.dtype == (jnp.float64 if x64 else jnp.float32)
-            assert relative_error(w, w_ref) <= tol, law
-            assert relative_error(new.u, u_ref) <= tol, law
-            assert int(new.bad_body) == -1
+        s = states[-1]
+        d = mjx.put_data(model, s.data)
+        w, new = jax.jit(sand.wrench)(d, sand.init()._replace(u=jnp.asarray(s.u_before, d.xpos.dtype)),
+                                      model.opt.timestep)
+        assert w.dtype == (jnp.float64 if x64 else jnp.float32) and int(new.bad_body) == -1
 
 
 def test_wrong_physics_is_rejected_by_the_comparison(walk):

@@ -4,12 +4,14 @@
 >>> sand = mjrft.mjx.Sand(model, floor="auto")        # a mujoco.MjModel; GranularTerrain's arguments
 >>> mx, step = sand.put_model(), jax.jit(sand.step)   # step(mx, d, state) -> (d, state)
 
-:mod:`mjrft.mjx.terrain` (:class:`Sand`, :class:`SandState`) and :mod:`mjrft.mjx.laws` (the JAX force laws).
+:mod:`mjrft.mjx.terrain` (:class:`Sand`, :class:`SandState`), :mod:`mjrft.mjx.laws` (the JAX force laws) and
+:mod:`mjrft.mjx.compare` (checking a JAX terrain against the CPU path on recorded states).
 Needs the optional extra ``mjrft[mjx]`` (JAX and ``mujoco-mjx``); the rest of mjrft does not import it.
 The GPU guide is docs/gpu.md.
 """
 
+from . import compare
 from .laws import LAWS, UNSUPPORTED
 from .terrain import Sand, SandState, resting_load
 
-__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "resting_load"]
+__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "compare", "resting_load"]

@@ -1,0 +1,72 @@
+"""Check a JAX terrain against the CPU path on one's own model: record states on the CPU, evaluate them in JAX.
+
+>>> states = record_states(model, terrain, steps=400, every=40, ctrl=lambda t: ...)   # CPU path (numba)
+>>> errors = wrench_errors(Sand.from_terrain(terrain), model, states, x64=True)       # max relative differences
+
+:func:`record_states` steps ``mj_step1`` / :meth:`~mjrft.GranularTerrain.compute` / ``mj_step2`` (the CPU path
+with the wrench applied for the step) and keeps, every ``every`` steps, a copy of the ``MjData`` after
+``mj_step1``, the elements' memory before the evaluation, and the kernel's wrench and memory after it.
+:func:`wrench_errors` evaluates :meth:`Sand.wrench` on each recorded state with the recorded memory and returns
+the largest difference of the wrench and of the memory, each relative to the largest value of the CPU result.
+``benchmarks/mjx_accuracy.py`` and ``tests/test_mjx.py`` use them on the hexapod.
+"""
+
+from __future__ import annotations
+
+import copy
+from typing import Callable, NamedTuple
+
+import mujoco
+import numpy as np
+
+from ..coupler import GranularTerrain
+
+
+class RecordedState(NamedTuple):
+    """One recorded CPU step: ``data`` (a copy of the MjData after ``mj_step1``), ``u_before`` (the memory it was
+    evaluated with), ``wrench`` and ``u_after`` (the kernel's result)."""
+
+    data: mujoco.MjData
+    u_before: np.ndarray
+    wrench: np.ndarray
+    u_after: np.ndarray
+
+
+def record_states(model: mujoco.MjModel, terrain: GranularTerrain, steps: int, every: int,
+                  ctrl: Callable[[float], np.ndarray] | None = None, data: mujoco.MjData | None = None
+                  ) -> list[RecordedState]:
+    """``steps`` CPU steps of ``model`` on ``terrain`` with ``data.ctrl = ctrl(time)`` before each (when given);
+    a :class:`RecordedState` every ``every`` steps."""
+    data = mujoco.MjData(model) if data is None else data
+    out = []
+    for k in range(steps):
+        if ctrl is not None:
+            data.ctrl[:] = ctrl(data.time)
+        mujoco.mj_step1(model, data)
+        u0 = terrain._u.copy()
+        terrain.compute(data)
+        if k % every == every - 1:
+            out.append(RecordedState(copy.copy(data), u0, terrain.wrench.copy(), terrain._u.copy()))
+        saved = data.xfrc_applied.copy()
+        data.xfrc_applied[:] += terrain.wrench
+        mujoco.mj_step2(model, data)
+        data.xfrc_applied[:] = saved
+    return out
+
+
+def wrench_errors(sand, model: mujoco.MjModel, states: list[RecordedState], x64: bool) -> tuple[float, float]:
+    """(wrench, memory): the largest ``|JAX - CPU|`` over the recorded states, each over the largest ``|CPU|``, with
+    the JAX arrays in float64 (``x64``) or float32."""
+    import jax
+    import jax.numpy as jnp
+    from mujoco import mjx
+
+    ew = eu = 0.0
+    with jax.enable_x64(x64):
+        f = jax.jit(sand.wrench)
+        for s in states:
+            d = mjx.put_data(model, s.data)
+            w, new = f(d, sand.init()._replace(u=jnp.asarray(s.u_before, d.xpos.dtype)), model.opt.timestep)
+            ew = max(ew, float(np.abs(np.asarray(w) - s.wrench).max() / np.abs(s.wrench).max()))
+            eu = max(eu, float(np.abs(np.asarray(new.u) - s.u_after).max() / max(np.abs(s.u_after).max(), 1e-300)))
+    return ew, eu
