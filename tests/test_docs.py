@@ -69,8 +69,14 @@ def compiled():
         env.close()
 
 
+#: pages whose examples need an optional extra: the modules they import (skipped where one is missing)
+REQUIRES = {"docs/gpu.md": ("jax", "mujoco.mjx", "brax")}
+
+
 @pytest.mark.parametrize("page", PAGES, ids=_rel)
 def test_python_blocks_run(page, compiled, tmp_path, monkeypatch):
+    for module in REQUIRES.get(_rel(page), ()):
+        pytest.importorskip(module, reason=f"{_rel(page)}'s examples need the optional extra mjrft[mjx]")
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(sys, "argv", ["doc-example"])
     namespace = {"__name__": "__doc_example__"}
