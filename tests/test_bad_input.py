@@ -166,3 +166,22 @@ def test_eval_exits_1_when_every_episode_diverged_and_leaves_no_mujoco_log(tmp_p
     assert rc == 1
     assert "every episode (2) diverged" in capsys.readouterr().err
     assert not (tmp_path / "MUJOCO_LOG.TXT").exists()
+
+
+def test_mjx_commands_without_the_optional_extra_say_which_extra(monkeypatch, capsys):
+    """Where JAX / Brax / MJX are missing, train-mjx and an MJX policy give one line naming mjrft[mjx]."""
+    import importlib.util
+
+    from mjrft.tools import cli
+    from mjrft.train import mjx_ppo
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name in ("jax", "brax") else real(name, *a))
+    with pytest.raises(SystemExit) as exit_:
+        cli.main(["train-mjx", "--config", "hexapod-sand"])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert "optional extra mjrft[mjx] (jax, brax not installed)" in err and "Traceback" not in err
+    monkeypatch.setattr(importlib.util, "find_spec", real)
+    if real("jax") is not None and real("brax") is not None:  # control: with the extra it passes
+        mjx_ppo.require_extra()

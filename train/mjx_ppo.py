@@ -49,6 +49,21 @@ POLICY_FILE, META_FILE, PROGRESS_FILE = "policy.npz", "policy.json", "progress.c
 FORMAT = "mjrft-brax-ppo/1"
 
 
+def require_extra() -> None:
+    """Raise a one-line ``ValueError`` (the CLI prints it) when the optional extra ``mjrft[mjx]`` is missing."""
+    import importlib.util
+
+    missing = [m for m in ("jax", "brax", "flax") if importlib.util.find_spec(m) is None]
+    try:
+        if importlib.util.find_spec("mujoco.mjx") is None:
+            missing.append("mujoco-mjx")
+    except ModuleNotFoundError:
+        missing.append("mujoco-mjx")
+    if missing:
+        raise ValueError(f"MJX training and MJX policies need the optional extra mjrft[mjx] ({', '.join(missing)} "
+                         "not installed): pip install 'mjrft[mjx]' (Python >= 3.11; docs/gpu.md)")
+
+
 # ---------------------------------------------------------------------- recipes
 def named_recipes() -> list[str]:
     """Names of the MJX recipes shipped with mjrft (``mjrft train-mjx --config NAME``)."""
@@ -104,6 +119,7 @@ def check_recipe(data, source: str = "MJX training recipe") -> dict:
     if reserved:
         raise ValueError(f"{source}: ppo key(s) {', '.join(map(repr, reserved))} are set by mjrft from the recipe's "
                          f"own keys ({', '.join(RECIPE_KEYS)}) and cannot be given under 'ppo'")
+    require_extra()
     import inspect
 
     from brax.training.agents.ppo import train as ppo
@@ -225,6 +241,7 @@ def load_policy(path) -> MjxPolicy:
     folder = path if path.is_dir() else path.parent
     meta_path, npz_path = folder / META_FILE, folder / POLICY_FILE
     meta = read_meta(meta_path)
+    require_extra()
     if not npz_path.is_file():
         raise ValueError(f"{npz_path} is missing: an MJX run folder holds {META_FILE} and {POLICY_FILE}")
     import jax

@@ -10,8 +10,15 @@ Needs the optional extra ``mjrft[mjx]`` (JAX and ``mujoco-mjx``); the rest of mj
 The GPU guide is docs/gpu.md.
 """
 
-from . import compare
-from .laws import LAWS, UNSUPPORTED
-from .terrain import Sand, SandState, resting_load
+try:
+    import jax  # noqa: F401
+    from mujoco import mjx  # noqa: F401
+except ImportError as exc:  # say which extra brings it
+    raise ImportError(f"mjrft.mjx needs JAX and MJX: pip install 'mjrft[mjx]' (Python >= 3.11; docs/gpu.md); "
+                      f"{exc}") from exc
+
+from . import compare  # noqa: E402
+from .laws import LAWS, UNSUPPORTED  # noqa: E402
+from .terrain import Sand, SandState, resting_load  # noqa: E402
 
 __all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "compare", "resting_load"]
