@@ -141,3 +141,56 @@ def test_go2_trots_on_sand(stride, sign):
     assert sign * moved[0] > 0.15  # measured +0.33 m forward, -0.24 m reversed in 2.5 s
     assert abs(moved[1]) < 0.5 * abs(moved[0])
     assert abs(np.mean(load) - 1.0) < 0.02  # the grains carry it throughout the gait (vertical momentum balance; measured 0.999, 0.998)
+
+
+# ----------------------------------------------------------------- MJX
+
+
+@pytest.mark.slow
+def test_go2_stands_on_sand_in_mjx():
+    """The same robot in MJX (float32) holding its home pose. The GPU path has no implicit granular step, so the
+    model's 2 ms is past the explicit limit there as on the CPU (the load oscillates by +-37 %): the model runs
+    at 0.5 ms (``model.opt.timestep`` set before ``put_model``), a third of the limit."""
+    jax = pytest.importorskip("jax", reason="mjrft.mjx needs the optional extra mjrft[mjx] (JAX)")
+    pytest.importorskip("mujoco.mjx", reason="mjrft.mjx needs mujoco-mjx (mjrft[mjx])")
+    import jax.numpy as jnp
+    from mujoco import mjx
+
+    import mjrft.mjx as rmjx
+
+    m = mujoco.MjModel.from_xml_path(GO2)
+    m.opt.timestep = 0.0005
+    sand = rmjx.Sand(m, "poppy_cp", floor="auto")
+    assert (m.geom_contype[m.geom("floor").id], m.geom_conaffinity[m.geom("floor").id]) == (0, 0)
+    mx = sand.put_model()
+    home = m.key("home")
+    d0 = mjx.make_data(mx).replace(qpos=jnp.asarray(home.qpos), ctrl=jnp.asarray(home.ctrl))
+    steps = int(round(1.5 / m.opt.timestep))
+
+    @jax.jit
+    def run(d, state):
+        def body(carry, _):
+            d, state = sand.step(mx, *carry)
+            return (d, state), state.wrench[:, 2].sum()
+
+        return jax.lax.scan(body, (d, state), None, length=steps)
+
+    (d, state), fz = run(d0, sand.init())
+    assert d.qpos.dtype == jnp.float32
+    sand.check(state)  # NonFiniteError if any state or force went non-finite
+    load = np.asarray(fz) / weight(m)
+    rest = load[-int(round(REST / m.opt.timestep)):]
+    assert abs(rest.mean() - 1.0) < 0.02  # measured 1.000005
+    assert np.abs(rest - 1.0).max() < 1e-3 and abs(rmjx.resting_load(sand, state) - 1.0) < 1e-3  # measured 1.2e-5
+    # the CPU path at the model's 2 ms with the implicit step rests at the same height
+    mc, dc, terrain = go2()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ValidityRangeWarning)
+        stand(mc, dc, terrain)
+    assert abs(float(d.qpos[2]) - dc.qpos[2]) < 1e-3  # measured 0.104 m both, 0.14 mm apart
+    calves = [m.body(f"{f}_calf").id for f in FEET]
+    np.testing.assert_allclose(np.asarray(state.sinkage)[calves], terrain.sinkage()[calves], atol=1e-3)
+    # control: the same compiled step with the grains' stresses scaled by 1e-6 (a per-world medium,
+    # state.params) lets it fall through the surface: nothing else holds it
+    (d, state), _ = run(d0, sand.init(params=sand.params_of("poppy_cp", stress_scale=1e-6)))
+    assert float(d.qpos[2]) < -5.0  # free fall
