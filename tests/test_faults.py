@@ -381,3 +381,25 @@ def test_an_interrupted_validate_writes_the_cases_that_finished(tmp_path, monkey
     assert "Interrupted after 1 of 3 cases" in md and f"[{names[0]}]" in md and f"[{names[2]}]" not in md
     assert "interrupted after 1 of 3" in capsys.readouterr().err
     assert not list(tmp_path.glob("*.tmp"))
+
+
+def test_sweep_passes_trust_to_every_point_without_saving_it(copy, tmp_path, monkeypatch):
+    """mjrft sweep --policy runs each point with --trust when given (load_policy refuses a pickled file otherwise,
+    tested above); trust is not saved in sweep.json, so a resumed sweep may add or drop it."""
+    import mjrft.train.evaluate as evaluate_module
+    from mjrft.train.sweep import sweep
+
+    seen = []
+
+    def fake_evaluate(spec, env_id, episodes, seed, kwargs, trust=False):
+        seen.append(trust)
+        row = {"speed": 0.1, "seconds": 1.0}
+        return [row], {"speed": 0.1, "cot": 1.0, "sink_mean_mm": 0.0, "sink_peak_mm": 0.0, "fall_rate": 0.0,
+                       "return": 1.0}
+
+    monkeypatch.setattr(evaluate_module, "evaluate", fake_evaluate)
+    kw = dict(env="mjrft/HexapodSand-v0", gait=str(copy / "model.zip"), seconds=0.05, workers=1, progress=None)
+    assert sweep({"medium": ["poppy_cp"]}, tmp_path / "s1", **kw)[0]["status"] == "ok"
+    assert sweep({"medium": ["poppy_lp"]}, tmp_path / "s2", trust=True, **kw)[0]["status"] == "ok"
+    assert seen == [False, True]
+    assert "trust" not in json.loads((tmp_path / "s2" / "sweep.json").read_text())["settings"]

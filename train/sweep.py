@@ -291,7 +291,8 @@ def _run_env(settings: dict, params: dict, role: dict) -> dict:
         spec = f"{name}:" + ",".join(f"{k}={v}" for k, v in {**fixed, **gait_params}.items())
     kwargs = {**settings["env_kwargs"], **env_params, "episode_seconds": settings["seconds"],
               "max_episode_steps": 10**9}
-    rows, summary = evaluate(spec, settings["env"], settings["episodes"], settings["seed"], kwargs)
+    rows, summary = evaluate(spec, settings["env"], settings["episodes"], settings["seed"], kwargs,
+                             trust=settings.get("trust", False))
     distance = sum(r["speed"] * r["seconds"] for r in rows) / len(rows)
     return {"distance_m": distance, "speed_m_s": summary["speed"], "cot": summary["cot"],
             "sink_mean_mm": summary["sink_mean_mm"], "sink_peak_mm": summary["sink_peak_mm"],
@@ -430,14 +431,15 @@ def _run_ray(todo, settings, role, address, record) -> None:
 
 
 def sweep(grid, out_dir, *, env=None, gait=None, rig=None, seconds=2.0, episodes=1, seed=0, env_kwargs=None,
-          rig_kwargs=None, workers=None, address=None, retry_errors=False, progress=print) -> list[dict]:
+          rig_kwargs=None, workers=None, address=None, retry_errors=False, progress=print, trust=False) -> list[dict]:
     """Run every point of ``grid`` not yet in ``out_dir``; write the table; return its rows.
 
     ``grid``: ``{name: [values]}`` (every combination), a list of point dicts, or a callable returning
     either. Either ``env`` + ``gait`` (a gait spec or model zip) with ``seconds``, ``episodes``,
     ``seed`` and fixed ``env_kwargs``, or ``rig`` (``"leg"``/``"plate"``) with fixed ``rig_kwargs``.
     ``workers``: local processes (default: CPUs - 1); ``address``: run on Ray instead (module doc).
-    ``progress``: called with one line per finished point (None: quiet).
+    ``progress``: called with one line per finished point (None: quiet). ``trust``: also load a model file
+    that needs pickle (:func:`mjrft.train.evaluate.load_policy`); not part of the saved settings.
     """
     settings = make_settings(env=env, gait=gait, rig=rig, seconds=seconds, episodes=episodes, seed=seed,
                              env_kwargs=env_kwargs, rig_kwargs=rig_kwargs)
@@ -494,12 +496,13 @@ def sweep(grid, out_dir, *, env=None, gait=None, rig=None, seconds=2.0, episodes
             body = rec["error"]
         say(f"[{count[0]}/{len(todo)}] {what}: {body} ({rec['wall_s']:.1f} s)")
 
+    run = {**settings, "trust": True} if trust else settings  # what each point runs with (trust is not saved)
     try:
         if todo:
             if address is not None:
-                _run_ray(todo, settings, role, address, record)
+                _run_ray(todo, run, role, address, record)
             else:
-                _run_local(todo, settings, role, min(workers, len(todo)), record)
+                _run_local(todo, run, role, min(workers, len(todo)), record)
     finally:
         results.close()
     metrics = ENV_METRICS if settings["kind"] == "env" else RIG_METRICS[settings["rig"]]
@@ -553,6 +556,7 @@ def write_table(rows: list[dict], names, metrics, out_dir) -> tuple[Path, Path]:
 
 # ---------------------------------------------------------------------------------------------- CLI
 def add_arguments(parser) -> None:
+    from .artefacts import TRUST_HELP
     from .train import _int_arg
 
     parser.add_argument("--env", default=None, help="environment id, e.g. mjrft/HexapodSand-v0 (with --gait)")
@@ -570,6 +574,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--address", default=None,
                         help="Ray cluster address (ray://host:10001, auto, or local): run the points as Ray tasks")
     parser.add_argument("--retry-errors", action="store_true", help="run again the points recorded as errors")
+    parser.add_argument("--trust", action="store_true", help=TRUST_HELP)
     parser.add_argument("kwargs", nargs="*", metavar="KEY=VALUE",
                         help="fixed keyword arguments of the env (or of the rig), e.g. medium=poppy_lp")
 
@@ -585,7 +590,7 @@ def main(args) -> int:
     kind = {"rig_kwargs": fixed} if args.rig else {"env_kwargs": fixed}
     rows = sweep(grid, args.out, env=args.env, gait=args.gait, rig=args.rig, seconds=args.seconds,
                  episodes=args.episodes, seed=args.seed, workers=args.workers, address=args.address,
-                 retry_errors=args.retry_errors, **kind)
+                 retry_errors=args.retry_errors, trust=args.trust, **kind)
     metrics = ENV_METRICS if not args.rig else RIG_METRICS[args.rig]
     print(markdown_table(rows, list(grid), metrics))
     out = Path(args.out)
