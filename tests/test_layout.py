@@ -148,3 +148,33 @@ def test_no_test_module_imports_another():
                        if m.split(".")[0].startswith("test_") or m.split(".")[0] in ("conftest", "tests"))
         assert not found, (f"{path.relative_to(REPO)} imports {found}: shared fixtures go in tests/conftest.py, shared "
                            "helpers in tests/helpers.py")
+
+
+def test_train_modules_import_each_other_in_one_direction():
+    """No import cycle among the modules of mjrft.train, imports inside functions included: shared helpers live
+    in mjrft.train.common."""
+    train_dir = REPO / "train"
+    graph = {}
+    for path in train_dir.glob("*.py"):
+        deps = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.level == 1 and node.module:
+                deps.add(node.module.split(".")[0])
+            elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith("mjrft.train."):
+                deps.add(node.module.split(".")[2])
+        graph[path.stem] = deps
+
+    def cycle_from(start):
+        stack = [(start, [start])]
+        while stack:
+            node, trail = stack.pop()
+            for dep in graph.get(node, ()):
+                if dep == start:
+                    return trail + [dep]
+                if dep not in trail:
+                    stack.append((dep, trail + [dep]))
+        return None
+
+    cycles = [c for c in map(cycle_from, graph) if c]
+    assert not cycles, f"import cycles in mjrft.train: {cycles}"
+    assert graph["common"] <= {"run_warnings"}  # the shared helpers depend on (almost) nothing

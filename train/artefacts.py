@@ -38,6 +38,8 @@ import zipfile
 import zlib
 from pathlib import Path
 
+from .common import algo_class, default_hyperparams
+
 import numpy as np
 
 VECNORM_FORMAT = "mjrft.vecnormalize/1"
@@ -203,7 +205,6 @@ def safe_objects(path, data: dict, algo: str, spaces=None, hyperparams: dict | N
     from stable_baselines3.common.buffers import BaseBuffer
     from stable_baselines3.common.policies import BasePolicy
 
-    from .train import default_hyperparams
 
     hp = {**default_hyperparams(algo), **(hyperparams or {})}
     out, unsafe = {}, []
@@ -252,7 +253,6 @@ def load_model(algo: str, path, *, env=None, spaces=None, device: str = "cpu", h
     without attaching an env; ``hyperparams``: the run's hyper-parameters (``train_freq`` of SAC);
     ``n_envs``: the number of environments the model will be attached to later with ``set_env``.
     """
-    from .train import algo_class
 
     cls = algo_class(algo)
     data = zip_data(path)

@@ -39,6 +39,8 @@ from pathlib import Path
 
 from mjrft.errors import unknown
 
+from .vecenv import check_kind
+
 #: folder of the named configurations shipped in the package (``<name>.yaml``)
 CONFIG_DIR = Path(__file__).resolve().parent / "configs"
 DEFAULTS = {"algo": "ppo", "timesteps": 100_000, "n_envs": 1, "seed": 0, "normalize": False, "hyperparams": {},
@@ -105,8 +107,6 @@ def check_training_config(data: dict, source: str = "training config") -> dict:
         value = cfg[key] = _integer(cfg[key])
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):
             raise ValueError(f"{source}: {key!r} must be an integer >= {0 if key == 'seed' else 1}, got {value!r}")
-    from .vecenv import check_kind
-
     check_kind(cfg["vec_env"])
     if not isinstance(cfg["normalize"], bool):
         raise ValueError(f"{source}: 'normalize' must be true or false, got {cfg['normalize']!r}")

@@ -57,9 +57,9 @@ from mjrft.tools.outputs import number
 from mjrft.tools.rerun_log import LOG_EVERY
 
 from .artefacts import TRUST_HELP
-from .rollout import progress_bar
-from .train import (ALGOS, MODEL_NAME, VECNORM_SUFFIX, check_env_id, default_hyperparams, find_config,
-                    list_checkpoints, load_config, make_env, parse_kwargs, side_file, vecnormalize_file, _int_arg)
+from .common import (ALGOS, check_env_id, check_int, default_hyperparams, int_arg, make_env, parse_kwargs,
+                     progress_bar)
+from .train import MODEL_NAME, VECNORM_SUFFIX, find_config, list_checkpoints, load_config, side_file, vecnormalize_file
 
 G = 9.81
 COLUMNS = ("episode", "return", "steps", "seconds", "speed", "cot", "sink_mean_mm", "sink_peak_mm", "slip", "fell")
@@ -409,11 +409,9 @@ def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed
     """
     from mjrft.tools.gaits import is_gait_spec
 
-    from .train import _check_int
-
-    episodes = _check_int("episodes", episodes, 1)
-    seed = _check_int("seed", seed, 0)
-    log_every = _check_int("log_every", log_every, 1)
+    episodes = check_int("episodes", episodes, 1)
+    seed = check_int("seed", seed, 0)
+    log_every = check_int("log_every", log_every, 1)
     is_file = isinstance(policy_or_spec, (str, Path)) and not (isinstance(policy_or_spec, str)
                                                                and is_gait_spec(policy_or_spec))
     # a gait or an object is checked now; a model file is checked now (cheaply) and loaded with the env's spaces
@@ -557,14 +555,14 @@ def add_arguments(parser) -> None:
                              "with mjrft), or a gait spec such as tripod:f=2.0")
     parser.add_argument("--env", dest="env_id", default=None,
                         help="environment id (default: the one the model was trained on; required for a gait)")
-    parser.add_argument("--episodes", type=_int_arg, default=10, help="episodes (default 10)")
-    parser.add_argument("--seed", type=_int_arg, default=0, help="episode i resets with seed + i (default 0)")
+    parser.add_argument("--episodes", type=int_arg, default=10, help="episodes (default 10)")
+    parser.add_argument("--seed", type=int_arg, default=0, help="episode i resets with seed + i (default 0)")
     parser.add_argument("--stochastic", action="store_true", help="sample actions instead of the mean action")
     parser.add_argument("--device", default="cpu", help="torch device for a model (default cpu)")
     parser.add_argument("--csv", default=None, metavar="FILE", help="also write the table as CSV")
     parser.add_argument("--json", default=None, metavar="FILE", help="also write rows and summary as JSON")
     parser.add_argument("--rrd", default=None, metavar="FILE", help="log the first episode to a rerun file")
-    parser.add_argument("--log-every", type=_int_arg, default=LOG_EVERY,
+    parser.add_argument("--log-every", type=int_arg, default=LOG_EVERY,
                         help=f"with --rrd: log every N-th env step (default {LOG_EVERY})")
     parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
     parser.add_argument("--trust", action="store_true", help=TRUST_HELP)

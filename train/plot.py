@@ -49,6 +49,8 @@ import numpy as np
 
 from mjrft.tools.outputs import number
 
+from .common import check_int, int_arg
+
 MONITOR = "monitor.csv"
 CONFIG = "config.json"
 #: default smoothing window (episodes) of the trailing mean
@@ -338,14 +340,12 @@ def plot_runs(runs, out, baselines=(), labels=None, window: int = WINDOW, csv_pa
     before any gait is evaluated or file written."""
     from mjrft.tools.outputs import output_file
 
-    from .train import _check_int
-
     runs = [runs] if isinstance(runs, (str, Path)) else list(runs)
     if not runs:
         raise ValueError("give at least one run folder")
-    window = _check_int("window", window, 1)
-    episodes = _check_int("episodes", episodes, 1)
-    seed = _check_int("seed", seed, 0)
+    window = check_int("window", window, 1)
+    episodes = check_int("episodes", episodes, 1)
+    seed = check_int("seed", seed, 0)
     if labels is not None and len(labels) != len(runs):
         raise ValueError(f"--labels takes one label per run: {len(runs)} run(s), {len(labels)} label(s)")
     suffix = Path(out).suffix.lstrip(".").lower()
@@ -369,19 +369,17 @@ def plot_runs(runs, out, baselines=(), labels=None, window: int = WINDOW, csv_pa
 
 # ---------------------------------------------------------------------------------------------- CLI
 def add_arguments(parser) -> None:
-    from .train import _int_arg
-
     parser.add_argument("runs", nargs="+", metavar="RUN", help="run folders written by 'mjrft train --out'")
     parser.add_argument("--out", required=True, metavar="FILE", help="figure file (.png, .pdf, .svg, ...)")
     parser.add_argument("--baseline", action="append", default=[], metavar="SPEC_OR_NUMBERS",
                         help="horizontal line, repeatable: a gait evaluated on the runs' env (tripod:f=2.5) or "
                              "numbers (return=338,speed=0.30)")
     parser.add_argument("--labels", nargs="+", default=None, help="one legend label per run (default: folder names)")
-    parser.add_argument("--window", type=_int_arg, default=WINDOW,
+    parser.add_argument("--window", type=int_arg, default=WINDOW,
                         help=f"episodes in the trailing mean (default {WINDOW})")
-    parser.add_argument("--episodes", type=_int_arg, default=3,
+    parser.add_argument("--episodes", type=int_arg, default=3,
                         help="episodes of a gait baseline's evaluation (default 3)")
-    parser.add_argument("--seed", type=_int_arg, default=0, help="a gait baseline's episode i resets with seed + i")
+    parser.add_argument("--seed", type=int_arg, default=0, help="a gait baseline's episode i resets with seed + i")
     parser.add_argument("--csv", default=None, metavar="FILE", help="also write the plotted series as CSV")
 
 

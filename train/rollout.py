@@ -51,19 +51,11 @@ from mjrft.tools.outputs import number
 from mjrft.tools.rerun_log import LOG_EVERY
 
 from .artefacts import TRUST_HELP
-
-
-def _check_int(name: str, value, minimum: int) -> int:
-    if isinstance(value, float) and value.is_integer():
-        value = int(value)
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return int(value)
+from .common import check_env_id, check_int, make_env, parse_kwargs, progress_bar
+from .evaluate import DIVERGED_EXIT, announce_model, load_policy, resolve_model, trained_env
 
 
 def _make_env(env_id: str, env_kwargs: dict):
-    from .train import check_env_id, make_env
-
     check_env_id(env_id)
     kwargs = dict(env_kwargs or {})
     # the rollout's own length governs; lift the registration's time limit out of the way
@@ -83,8 +75,6 @@ def bind_policy(policy_or_spec, env, trust: bool = False):
         return make_gait(policy_or_spec, env)
     if hasattr(policy_or_spec, "predict") and not isinstance(policy_or_spec, (str, Path)):
         return policy_or_spec
-    from .evaluate import load_policy
-
     return load_policy(policy_or_spec, env=env, trust=trust).bind(env)
 
 
@@ -106,17 +96,15 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
     if seconds is not None:
         check_positive("seconds", seconds)
     else:
-        steps = _check_int("steps", steps, 1)
-    log_every = _check_int("log_every", log_every, 1)
-    seed = _check_int("seed", seed, 0)
+        steps = check_int("steps", steps, 1)
+    log_every = check_int("log_every", log_every, 1)
+    seed = check_int("seed", seed, 0)
     if isinstance(policy_or_spec, str):  # fail on a bad spec / path before building anything
         from mjrft.tools.gaits import is_gait_spec, parse_gait_spec
 
         if is_gait_spec(policy_or_spec):
             parse_gait_spec(policy_or_spec)
         else:
-            from .evaluate import resolve_model
-
             resolve_model(policy_or_spec)  # a missing or damaged model file
     own_env = isinstance(env_id_or_env, str)
     if own_env:
@@ -193,13 +181,6 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
     }
 
 
-def progress_bar(total: int, what: str, enabled: bool):
-    """A tqdm bar over ``total`` env steps on stderr (a no-op bar when not ``enabled``)."""
-    from tqdm import tqdm
-
-    return tqdm(total=total, desc=what, unit="step", disable=not enabled, dynamic_ncols=True)
-
-
 def format_summary(s: dict) -> str:
     """A few aligned lines for the terminal (for a diverged run: what happened, no numbers)."""
     if s.get("diverged"):
@@ -245,20 +226,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def main(args) -> int:
     from mjrft.tools.outputs import output_file
 
-    from .train import parse_kwargs
-
     output_file(args.rrd, "--rrd")
     if args.spawn_viewer:
         from mjrft.tools.rerun_log import check_viewer_display
 
         check_viewer_display()
     env_id, env_kwargs = args.env, parse_kwargs(args.env_kwargs)
-    from .evaluate import DIVERGED_EXIT, announce_model
-
     announce_model(args.policy)
     if env_id is None:
-        from .evaluate import trained_env
-
         env_id, saved_kwargs = trained_env(args.policy)
         env_kwargs = {**saved_kwargs, **env_kwargs}
     summary = rollout(env_id, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,

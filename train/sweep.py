@@ -76,6 +76,8 @@ import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from pathlib import Path
 
+from .common import check_env_id, check_int, int_arg, parse_kwargs, parse_value, start_method, valid_env_kwargs
+
 ENV_METRICS = ("distance_m", "speed_m_s", "cot", "sink_mean_mm", "sink_peak_mm", "fall_rate", "return")
 RIG_METRICS = {"leg": ("forward_peak_N", "support_peak_N", "torque_peak_Nm", "depth_max_mm"),
                "plate": ("lift_peak_N", "drag_peak_N", "torque_peak_Nm", "depth_max_mm")}
@@ -86,8 +88,6 @@ RAY_HINT = 'Ray is not installed: pip install "mjrft[ray]" (or pip install "ray>
 
 # ---------------------------------------------------------------------------------------------- the grid
 def _value(text: str):
-    from .train import parse_value
-
     try:
         number = float(text)
     except ValueError:
@@ -207,8 +207,6 @@ def roles(settings: dict, names) -> dict[str, str]:
                 raise ValueError(f"rig {settings['rig']!r} has no parameter {n!r}; valid: {', '.join(valid)}")
             out[n] = "rig"
         return out
-    from .train import valid_env_kwargs
-
     gait_name, _ = _gait_params(settings["gait"])
     gait_valid = []
     if gait_name is not None:
@@ -244,8 +242,6 @@ def make_settings(*, env=None, gait=None, rig=None, seconds=2.0, episodes=1, see
     """The fixed settings of a sweep (checked); saved as ``sweep.json``."""
     from mjrft.errors import check_positive, unknown
 
-    from .train import _check_int, check_env_id
-
     if (env is None) == (rig is None):
         raise ValueError("give either an environment (env=..., with gait=...) or a rig (rig='leg' or 'plate')")
     if rig is not None:
@@ -265,7 +261,7 @@ def make_settings(*, env=None, gait=None, rig=None, seconds=2.0, episodes=1, see
         if k in env_kwargs:
             raise ValueError(f"{k} is set by the sweep's seconds; do not pass it as an env kwarg")
     return {"kind": "env", "env": env, "gait": gait, "seconds": check_positive("seconds", seconds),
-            "episodes": _check_int("episodes", episodes, 1), "seed": _check_int("seed", seed, 0),
+            "episodes": check_int("episodes", episodes, 1), "seed": check_int("seed", seed, 0),
             "env_kwargs": env_kwargs}
 
 
@@ -395,8 +391,6 @@ def _run_local(todo, settings, role, workers, record) -> None:
         for params in todo:
             record(run_point(settings, params, role))
         return
-    from .train import start_method
-
     pool = ProcessPoolExecutor(max_workers=workers, mp_context=multiprocessing.get_context(start_method()))
     try:
         futures = [pool.submit(run_point, settings, p, role) for p in todo]
@@ -557,8 +551,6 @@ def write_table(rows: list[dict], names, metrics, out_dir) -> tuple[Path, Path]:
 # ---------------------------------------------------------------------------------------------- CLI
 def add_arguments(parser) -> None:
     from .artefacts import TRUST_HELP
-    from .train import _int_arg
-
     parser.add_argument("--env", default=None, help="environment id, e.g. mjrft/HexapodSand-v0 (with --gait)")
     parser.add_argument("--gait", "--policy", dest="gait", default=None,
                         help="gait spec driving the env (e.g. tripod or tripod:duty=0.5), or a model zip")
@@ -566,10 +558,10 @@ def add_arguments(parser) -> None:
     parser.add_argument("--grid", action="append", default=[], metavar="NAME=V1,V2,...",
                         help="one grid axis (repeat for more); NAME=START:STOP:COUNT for evenly spaced values")
     parser.add_argument("--seconds", type=float, default=2.0, help="simulated seconds per episode (default 2)")
-    parser.add_argument("--episodes", type=_int_arg, default=1, help="episodes per point (default 1)")
-    parser.add_argument("--seed", type=_int_arg, default=0, help="episode i resets with seed + i (default 0)")
+    parser.add_argument("--episodes", type=int_arg, default=1, help="episodes per point (default 1)")
+    parser.add_argument("--seed", type=int_arg, default=0, help="episode i resets with seed + i (default 0)")
     parser.add_argument("--out", default="runs/sweep", help="output folder (default runs/sweep); rerun to resume")
-    parser.add_argument("--workers", type=_int_arg, default=None,
+    parser.add_argument("--workers", type=int_arg, default=None,
                         help="local worker processes (default: CPUs - 1; 1 runs in this process)")
     parser.add_argument("--address", default=None,
                         help="Ray cluster address (ray://host:10001, auto, or local): run the points as Ray tasks")
@@ -581,8 +573,6 @@ def add_arguments(parser) -> None:
 
 def main(args) -> int:
     from mjrft.tools.outputs import output_dir
-
-    from .train import parse_kwargs
 
     grid = parse_grid(args.grid)
     fixed = parse_kwargs(args.kwargs, "fixed kwarg")

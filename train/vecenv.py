@@ -41,6 +41,8 @@ import numpy as np
 
 from mjrft.errors import unknown
 
+from .common import FORKSERVER_PRELOAD, check_int, make_training_env, start_method, valid_env_kwargs
+
 KINDS = ("auto", "subproc", "dummy", "batched")
 #: from this many cores on, ``auto`` steps the envs in worker processes whatever their number (:func:`resolve_kind`)
 PARALLEL_CORES = 4
@@ -168,8 +170,6 @@ def monitor_keys(monitor_file) -> tuple[str, ...]:
 def _batched(env_id: str, n_envs: int, env_kwargs: dict):
     from mjrft.envs.vector import SB3VecEnv
 
-    from .train import valid_env_kwargs
-
     if not batchable(env_id):
         from mjrft.envs import ENV_IDS
 
@@ -187,8 +187,6 @@ def _batched(env_id: str, n_envs: int, env_kwargs: dict):
 def _subproc(env_id: str, n_envs: int, env_kwargs: dict):
     from stable_baselines3.common.vec_env import SubprocVecEnv
 
-    from .train import FORKSERVER_PRELOAD, make_training_env, start_method
-
     fns = [functools.partial(make_training_env, env_id, env_kwargs, i) for i in range(n_envs)]
     if start_method() == "forkserver":
         # the fork server imports these once; each worker forks from it instead of importing torch, SB3,
@@ -200,8 +198,6 @@ def _subproc(env_id: str, n_envs: int, env_kwargs: dict):
 def _dummy(env_id: str, n_envs: int, env_kwargs: dict):
     from stable_baselines3.common.vec_env import DummyVecEnv
 
-    from .train import make_training_env
-
     return DummyVecEnv([functools.partial(make_training_env, env_id, env_kwargs, i) for i in range(n_envs)])
 
 
@@ -212,10 +208,8 @@ def make_vec_env(env_id: str, n_envs: int, seed: int, env_kwargs: dict | None = 
     from stable_baselines3.common.monitor import ResultsWriter
     from stable_baselines3.common.vec_env import VecMonitor
 
-    from .train import _check_int
-
-    n_envs = _check_int("n_envs", n_envs, 1)
-    seed = _check_int("seed", seed, 0)
+    n_envs = check_int("n_envs", n_envs, 1)
+    seed = check_int("seed", seed, 0)
     kind = resolve_kind(kind, env_id, n_envs)
     env_kwargs = dict(env_kwargs or {})
     keys = monitor_keys(monitor_file) if monitor_file is not None else (SPEED_KEY,)
