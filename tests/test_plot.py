@@ -195,15 +195,19 @@ def test_vec_env_kinds_give_the_same_episodes():
     assert np.allclose(rows["dummy"], rows["batched"], rtol=1e-5)
 
 
-def test_vec_env_appends_to_a_monitor_without_speed(tmp_path):
-    monitor = tmp_path / "monitor.csv"
-    monitor.write_text('#{"t_start": 0}\nr,l,t\n1.5,8,0.1\n')
+def append_one_episode(monitor, text: str):
+    """A monitor file with ``text`` in it, one more episode appended by a dummy vec env, read back."""
+    monitor.write_text(text)
     venv = make_vec_env(HEX, 1, 0, ENV_KW, monitor, kind="dummy")
     try:
         step_episodes(venv, ENV_KW["max_episode_steps"])
     finally:
         venv.close()
-    m = read_monitor(monitor)
+    return read_monitor(monitor)
+
+
+def test_vec_env_appends_to_a_monitor_without_speed(tmp_path):
+    m = append_one_episode(tmp_path / "monitor.csv", '#{"t_start": 0}\nr,l,t\n1.5,8,0.1\n')
     assert m.lengths.tolist() == [8, 8] and m.speed is None
 
 
@@ -248,12 +252,5 @@ def test_a_torn_last_line_and_damaged_files_of_a_run(tmp_path):
 
 
 def test_vec_env_appends_after_a_torn_monitor_line(tmp_path):
-    monitor = tmp_path / "monitor.csv"
-    monitor.write_text('#{"t_start": 0}\nr,l,t\n1.5,8,0.1\n2.5,')
-    venv = make_vec_env(HEX, 1, 0, ENV_KW, monitor, kind="dummy")
-    try:
-        step_episodes(venv, ENV_KW["max_episode_steps"])
-    finally:
-        venv.close()
-    m = read_monitor(monitor)
+    m = append_one_episode(tmp_path / "monitor.csv", '#{"t_start": 0}\nr,l,t\n1.5,8,0.1\n2.5,')
     assert m.lengths.tolist() == [8, 8] and m.returns[0] == 1.5
