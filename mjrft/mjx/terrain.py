@@ -44,6 +44,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 from mujoco import mjx
+from mujoco.mjx._src.smooth import solve_m
 
 from ..coupler import STRESS_SLOTS, GranularTerrain
 from ..errors import NonFiniteError, check_positive
@@ -86,8 +87,6 @@ def _unsupported(terrain: GranularTerrain) -> list[str]:
         out.append("the inertial regime (inertial=True)")
     if terrain.surface_hfield is not None:
         out.append("a height-field surface")
-    if terrain.implicit:
-        out.append("implicit=True (the implicit granular step)")
     return out
 
 
@@ -146,6 +145,21 @@ class Sand:
         onehot = np.zeros((self.nbody, n))
         onehot[self.elem_body, np.arange(n)] = 1.0
         self.onehot = onehot  # body-from-element sums as one matrix product (no scatter)
+        self.implicit = bool(terrain.implicit)
+        # the implicit step's bodies (those with elements), their kinematic roots and the dofs that move them
+        model = terrain.model
+        rows = np.unique(self.elem_body)
+        self.imp_rows = rows.astype(np.int32)
+        self.imp_root = np.asarray(terrain._rootid)[rows].astype(np.int32)
+        mask = np.zeros((rows.size, model.nv))
+        for i, b in enumerate(rows):
+            while b > 0:  # the body and its ancestors: the dofs whose motion moves it
+                mask[i, model.dof_bodyid == b] = 1.0
+                b = model.body_parentid[b]
+        self.imp_dof_mask = mask
+        place = np.zeros((self.nbody, rows.size))
+        place[rows, np.arange(rows.size)] = 1.0
+        self.imp_place = place  # (nbody, nb): the bodies' rows back into (nbody, ...) as a product (no scatter)
 
     # ------------------------------------------------------------------ state
     def init(self, params=None, surface=None) -> SandState:
@@ -200,20 +214,55 @@ class Sand:
         mob = jnp.minimum(1.0, speed / self.v_eps) if self.v_eps > 0.0 else jnp.ones_like(speed)
         return jnp.zeros_like(u), vel, speed, mob
 
-    def _forces(self, depth, nrm, vel, u, area, params, dt):
-        """Element forces (k, 3) and new memory (k, 3) of elements at ``depth`` (> 0: buried)."""
+    def _forces(self, depth, nrm, vel, u, area, params, dt, implicit=False):
+        """Element forces (k, 3) and new memory (k, 3) of elements at ``depth`` (> 0: buried); with ``implicit``
+        also each element's ``T k`` (k,) for the implicit step (:meth:`_spring_tk`), else None."""
         buried = (depth > 0.0) & (area > 0.0)
         u, m, ml, mob = self._memory(u, vel, buried, dt)
         moving = buried & (ml > 0.0)
         mhat = m / jnp.where(moving, ml, 1.0)[:, None]
         stress = self._stress(depth, nrm, mhat, params)
         f = jnp.where(moving[:, None], stress * (area * mob)[:, None], 0.0)
-        return f, u
+        tk = None
+        if implicit:  # the springs' stiffness comes from the force at full mobilisation
+            tk = self._spring_tk(jnp.where(moving[:, None], stress * area[:, None], 0.0), ml, vel, dt)
+        return f, u, tk
+
+    def _spring_tk(self, f_yield, ml, vel, dt):
+        """Each element's ``T k`` for the implicit step (mjrft.kernel's ``_add_implicit``; its module docstring,
+        "Implicit step"): the linearised stiffness ``k = |F_yield| / max(|m|, delta)`` (the damper
+        ``|F| / max(|v|, v_eps)`` in the viscous mode) times ``T = tau + delta (1 - exp(-|v| dt / delta)) / |v|``
+        (``tau + dt`` at rest; 1 in the viscous mode) for elements below yield (``|m| <= delta``; viscous:
+        ``|v| <= v_eps``), 0 for the others (a yielding element's force only turns and stays explicit)."""
+        f_mag = jnp.sqrt(jnp.sum(f_yield * f_yield, axis=-1))
+        if self.delta > 0.0:
+            limit = self.delta
+            speed = jnp.sqrt(jnp.sum(vel * vel, axis=-1))
+            x = speed * (dt / self.delta)
+            small = x < 1e-6
+            t = jnp.where(small, self.tau + dt,
+                          self.tau - self.delta * jnp.expm1(-x) / jnp.where(small, 1.0, speed))
+        elif self.v_eps > 0.0:
+            limit, t = self.v_eps, 1.0
+        else:
+            return jnp.zeros_like(f_mag)
+        k = f_mag / jnp.maximum(ml, limit)
+        return jnp.where((ml <= limit) & (k > 0.0), t * k, 0.0)
 
     def wrench(self, d, state: SandState, dt) -> tuple[jax.Array, SandState]:
         """The granular wrench (nbody, 6: force, torque about each body's CoM, world frame) on ``d``'s current
         kinematics, and the state advanced by ``dt``. A non-finite element state or force gives a zero wrench
-        and the unchanged memory, with the body recorded in ``bad_body``."""
+        and the unchanged memory, with the body recorded in ``bad_body``. This is the explicit wrench (the
+        CPU terrain's :meth:`~mjrft.GranularTerrain.compute`) also for an implicit terrain: the implicit step
+        needs the model's dynamics, which :meth:`step` runs."""
+        w, u, sink, body_bad, over, _ = self._evaluate(d, state, dt, implicit=False)
+        return self._finish(d, state, w, u, sink, body_bad, over)
+
+    def _evaluate(self, d, state: SandState, dt, implicit: bool):
+        """The element pass: (wrench (nbody, 6), new memory (n, 3), sinkage (nbody,), non-finite bodies (nbody,
+        bool), more than ``cull`` buried (bool), the per-body moments (nbody, 10) of the elements' ``T k`` below
+        yield (``sum Tk``, ``sum Tk r``, ``sum Tk r r^T`` as ``xx xy xz yy yz zz``, r from the body's CoM) with
+        ``implicit``, else None)."""
         pos, nrm, vel = self.element_kinematics(d)
         dtype = pos.dtype
         dt = jnp.asarray(dt, dtype)
@@ -222,28 +271,42 @@ class Sand:
         params = state.params.astype(dtype)
         depth = state.surface.astype(dtype) - pos[:, 2]
         if self.cull is None:
-            f, u = self._forces(depth, nrm, vel, state.u, area, params, dt)
+            f, u, tk = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit)
             over = jnp.array(False)
         else:
             idx = jnp.nonzero(depth > 0.0, size=self.cull, fill_value=self.n_elements)[0]
             over = jnp.sum(depth > 0.0) > self.cull
             take = jnp.minimum(idx, self.n_elements - 1)
             valid = idx < self.n_elements
-            fk, uk = self._forces(jnp.where(valid, depth[take], 0.0), nrm[take], vel[take], state.u[take],
-                                  jnp.where(valid, area[take], 0.0), params, dt)
+            fk, uk, tkk = self._forces(jnp.where(valid, depth[take], 0.0), nrm[take], vel[take], state.u[take],
+                                       jnp.where(valid, area[take], 0.0), params, dt, implicit)
             f = jnp.zeros_like(pos).at[idx].set(fk, mode="drop")
             u = jnp.zeros_like(state.u).at[idx].set(uk, mode="drop")
+            tk = jnp.zeros_like(depth).at[idx].set(tkk, mode="drop") if implicit else None
         r = pos - d.xipos[self.elem_body]
         per_elem = jnp.concatenate([f, jnp.cross(r, f)], axis=-1)  # (n, 6)
         w = jnp.matmul(onehot, per_elem, precision=HIGHEST)
         elem_bad = ~(jnp.all(jnp.isfinite(pos), axis=-1) & jnp.all(jnp.isfinite(vel), axis=-1)
                      & jnp.all(jnp.isfinite(f), axis=-1))
         body_bad = jnp.matmul(onehot, elem_bad.astype(w.dtype), precision=HIGHEST) > 0.0
+        sink = jnp.max(jnp.where(onehot > 0.0, jnp.maximum(depth, 0.0)[None, :], 0.0), axis=1)
+        moments = None
+        if implicit:
+            rx, ry, rz = r[:, 0], r[:, 1], r[:, 2]
+            per = tk[:, None] * jnp.stack([jnp.ones_like(rx), rx, ry, rz, rx * rx, rx * ry, rx * rz, ry * ry,
+                                           ry * rz, rz * rz], axis=-1)
+            moments = jnp.matmul(onehot, per, precision=HIGHEST)
+        return w, u, sink, body_bad, over, moments
+
+    @staticmethod
+    def _finish(d, state: SandState, w, u, sink, body_bad, over) -> tuple[jax.Array, SandState]:
+        """The wrench and the new state from an evaluation: a world with a non-finite body (or more than ``cull``
+        buried elements) gets a zero wrench and keeps its memory, and the first such body (or ``OVERFLOW``) and
+        the time are recorded unless an earlier one is."""
         bad = jnp.any(body_bad) | over
         first = jnp.where(jnp.any(body_bad), jnp.argmax(body_bad).astype(jnp.int32), jnp.int32(OVERFLOW))
         w = jnp.where(bad, 0.0, w)
         u = jnp.where(bad, state.u, u)
-        sink = jnp.max(jnp.where(onehot > 0.0, jnp.maximum(depth, 0.0)[None, :], 0.0), axis=1)
         new_bad = jnp.where(state.bad_body != -1, state.bad_body, jnp.where(bad, first, -1)).astype(jnp.int32)
         new_time = jnp.where((state.bad_body == -1) & bad, d.time, state.bad_time)
         return w, state._replace(u=u, wrench=w, sinkage=jnp.where(bad, 0.0, sink), bad_body=new_bad,
@@ -254,7 +317,16 @@ class Sand:
         caller's ``xfrc_applied`` is kept); returns ``(d, state)``. With MJX's JAX implementation the wrench is
         computed between the velocity and the actuation stages (MuJoCo's ``mj_step1`` / ``mj_step2`` split);
         with another implementation (``impl="warp"``) ``mjx.forward`` computes the kinematics first and
-        ``mjx.step`` then runs the whole step."""
+        ``mjx.step`` then runs the whole step.
+
+        With ``implicit`` (a terrain built with ``implicit=True``; JAX implementation only) the applied wrench is
+        the linearly implicit one of :meth:`implicit_wrench` (the CPU terrain's implicit step), computed after
+        ``fwd_actuation`` and ``fwd_acceleration`` have given the smooth acceleration without the grains;
+        ``state.wrench`` holds it, the memory is that of the explicit evaluation."""
+        if self.implicit and m.impl != mjx.Impl.JAX:
+            raise NotImplementedError("the implicit granular step runs with MJX's JAX implementation only "
+                                      "(it needs MJX's mass-matrix factor); build the terrain with "
+                                      "implicit=False for impl='warp'")
         xfrc = d.xfrc_applied
         dt = m.opt.timestep
         if m.impl != mjx.Impl.JAX:
@@ -265,10 +337,13 @@ class Sand:
         d = mjx.sensor_pos(m, d)
         d = mjx.fwd_velocity(m, d)
         d = mjx.sensor_vel(m, d)
-        w, state = self.wrench(d, state, dt)
-        d = d.replace(xfrc_applied=xfrc + w)
-        d = mjx.fwd_actuation(m, d)
-        d = mjx.fwd_acceleration(m, d)
+        if not self.implicit:
+            w, state = self.wrench(d, state, dt)
+            d = d.replace(xfrc_applied=xfrc + w)
+            d = mjx.fwd_actuation(m, d)
+            d = mjx.fwd_acceleration(m, d)
+        else:
+            d, state = self._implicit_stage(m, d, state, dt)
         if d._impl.efc_J.size == 0:
             d = d.replace(qacc=d.qacc_smooth)
         else:
@@ -283,6 +358,66 @@ class Sand:
             raise NotImplementedError(f"integrator {mjx.IntegratorType(integrator).name}: mjrft.mjx steps Euler and "
                                       "implicitfast models (RK4 would evaluate the memory four times per step)")
         return d.replace(xfrc_applied=xfrc), state
+
+    def _implicit_stage(self, m, d, state: SandState, dt):
+        """The actuation and smooth-acceleration stages of :meth:`step` with the implicit wrench: ``d`` after
+        ``fwd_velocity`` -> ``d`` with ``xfrc_applied``, ``qfrc_smooth`` and ``qacc_smooth`` including the
+        applied wrench, and the new state. The granular part of the smooth force is added as ``J^T F'`` and
+        ``M^-1 J^T F'`` (what ``fwd_acceleration`` would add for it through ``xfrc_applied``, without a second
+        pass over every body)."""
+        w, u, sink, body_bad, over, moments = self._evaluate(d, state, dt, implicit=True)
+        d = mjx.fwd_actuation(m, d)
+        d = mjx.fwd_acceleration(m, d)  # qacc_smooth: every force but the grains' (and the constraints')
+        f_new, jac, minv_jt = self.implicit_wrench(m, d, w, moments, dt)
+        place = jnp.asarray(self.imp_place, w.dtype)
+        rows_bad = ~jnp.all(jnp.isfinite(f_new), axis=-1)  # (nb,)
+        imp_bad = jnp.matmul(place, rows_bad.astype(w.dtype), precision=HIGHEST) > 0.0
+        body_bad = jnp.where(jnp.any(body_bad), body_bad, imp_bad)  # the explicit failure first, as on the CPU
+        w = jnp.matmul(place, jnp.where(rows_bad[:, None], 0.0, f_new), precision=HIGHEST)
+        w, state = self._finish(d, state, w, u, sink, body_bad, over)
+        f_flat = w[self.imp_rows].reshape(-1)  # zero where the world went bad
+        return d.replace(xfrc_applied=d.xfrc_applied + w,
+                         qfrc_smooth=d.qfrc_smooth + jnp.matmul(f_flat, jac, precision=HIGHEST),
+                         qacc_smooth=d.qacc_smooth + jnp.matmul(minv_jt, f_flat, precision=HIGHEST)), state
+
+    def com_jacobians(self, d) -> jax.Array:
+        """The stacked CoM jacobians (6 nb, nv) of the bodies with elements (``imp_rows``; per body 3 rows of the
+        translation of its centre of mass ``xipos``, then 3 of its rotation, world frame), from ``d``'s ``cdof``,
+        ``xipos`` and ``subtree_com``: MuJoCo's ``mj_jacBodyCom`` (MJX's ``support.jac`` at ``xipos``)."""
+        dtype = d.cdof.dtype
+        mask = jnp.asarray(self.imp_dof_mask, dtype)  # (nb, nv)
+        offset = d.xipos[self.imp_rows] - d.subtree_com[self.imp_root]  # (nb, 3)
+        ang, lin = d.cdof[:, :3], d.cdof[:, 3:]  # (nv, 3)
+        jacp = lin[None, :, :] + jnp.cross(ang[None, :, :], offset[:, None, :])  # (nb, nv, 3)
+        jacr = jnp.broadcast_to(ang[None, :, :], jacp.shape)
+        jac = jnp.concatenate([jacp, jacr], axis=-1) * mask[:, :, None]  # (nb, nv, 6)
+        return jnp.swapaxes(jac, 1, 2).reshape(-1, d.cdof.shape[0])
+
+    def implicit_wrench(self, m, d, w, moments, dt):
+        """The linearly implicit wrench (the CPU terrain's implicit step; mjrft.kernel's docstring, "Implicit
+        step") of the bodies with elements, from the explicit wrench ``w`` (nbody, 6) and the moments (nbody, 10)
+        of their elements' ``T k`` below yield, on ``d`` after ``fwd_acceleration`` without the grains (its
+        ``qacc_smooth``, ``cdof`` and mass-matrix factor). Per body ``G_b`` is the 6x6 of the moments
+        (:func:`k6`); the bodies with springs (``sum T k > 0``) have their wrench ``F'`` solve
+        ``(I + dt G W) F' = F - G dV_o``, ``W = J M^-1 J^T`` (their CoM jacobians :meth:`com_jacobians`) and
+        ``dV_o = dt J qacc_smooth``; a body without springs keeps ``F`` (its row of the system is the identity and
+        its column of ``W`` is left out, as the CPU step leaves the body out). Returns ``(F' (nb, 6), J (6 nb,
+        nv), M^-1 J^T (nv, 6 nb))`` with the rows in ``imp_rows`` order; nothing is checked for finiteness."""
+        rows = self.imp_rows
+        nb = rows.size
+        dtype = w.dtype
+        dt = jnp.asarray(dt, dtype)
+        mom = moments[rows]
+        g = k6(mom)  # (nb, 6, 6)
+        springs = jnp.repeat(mom[:, 0] > 0.0, 6).astype(dtype)  # (6 nb,)
+        jac = self.com_jacobians(d)
+        minv_jt = jax.vmap(lambda col: solve_m(m, d, col), in_axes=1, out_axes=1)(jac.T)  # (nv, 6 nb)
+        mob = jnp.matmul(jac, minv_jt, precision=HIGHEST) * springs[None, :]  # W, only the bodies with springs
+        dv = dt * jnp.matmul(jac, d.qacc_smooth, precision=HIGHEST).reshape(nb, 6)
+        rhs = w[rows] - jnp.einsum("bij,bj->bi", g, dv, precision=HIGHEST)
+        gw = jnp.einsum("bij,bjq->biq", g, mob.reshape(nb, 6, 6 * nb), precision=HIGHEST).reshape(6 * nb, 6 * nb)
+        a = jnp.eye(6 * nb, dtype=dtype) + dt * gw
+        return jnp.linalg.solve(a, rhs.reshape(-1)).reshape(nb, 6), jac, minv_jt
 
     def put_model(self, **kwargs):
         """``mjx.put_model`` of the terrain's model (its floor contacts already removed); ``kwargs`` go to it
@@ -305,6 +440,28 @@ class Sand:
         name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, int(bad[k])) or f"#{int(bad[k])}"
         raise NonFiniteError(f"non-finite state or granular force on body '{name}' at t = {times[k]:.6g} s{where}; "
                              "no granular wrench was applied from then on")
+
+
+def k6(moments: jax.Array) -> jax.Array:
+    """The 6x6 (..., 6, 6) of springs acting in every direction with the moments (..., 10) ``sum k``,
+    ``sum k r``, ``sum k r r^T`` (``xx xy xz yy yz zz``) about a body's CoM: rows and columns 0-2 translation,
+    3-5 rotation (mjrft.kernel's ``add_k6``)::
+
+        K6 = [[ s0 I,    -[S1]x           ],
+              [ [S1]x,   tr(S2) I - S2    ]]
+    """
+    s0 = moments[..., 0]
+    x, y, z = moments[..., 1], moments[..., 2], moments[..., 3]
+    xx, xy, xz, yy, yz, zz = (moments[..., i] for i in range(4, 10))
+    o = jnp.zeros_like(s0)
+    tr = xx + yy + zz
+    rows = [[s0, o, o, o, z, -y],
+            [o, s0, o, -z, o, x],
+            [o, o, s0, y, -x, o],
+            [o, -z, y, tr - xx, -xy, -xz],
+            [z, o, -x, -xy, tr - yy, -yz],
+            [-y, x, o, -xz, -yz, tr - zz]]
+    return jnp.stack([jnp.stack(r, axis=-1) for r in rows], axis=-2)
 
 
 def resting_load(sand: Sand, state: SandState) -> float:
