@@ -87,7 +87,8 @@ def test_report_writes_markdown_png_and_csv(toy_case, tmp_path):
     assert not r.passed and r.verdict == "FAIL (1 of 2 checks)" and r.seconds >= 0
     paths = write_report([r], str(tmp_path))
     md = open(paths["report"]).read()
-    assert "| [toy_case](#toy_case) | nobody 2000 | fig. 1 | FAIL (1 of 2 checks)" in md
+    assert "| [toy_case](#toy_case) | nobody 2000 | fig. 1 | 1 of 2 | FAIL (1 of 2 checks)" in md
+    assert "0 of 1 cases agree in every check; 1 of 2 validation checks pass; 0 consistency checks (0 pass)" in md
     assert "relative error 5.0 %" in md and "b is measured larger" in md and "![toy_case](toy_case.png)" in md
     assert os.path.getsize(paths["pngs"][0]) > 1000
     with open(paths["csv"]) as f:
@@ -97,6 +98,27 @@ def test_report_writes_markdown_png_and_csv(toy_case, tmp_path):
     slope = next(r for r in rows if r["name"] == "slope")
     assert math.isclose(float(slope["value"]), 2.1) and math.isclose(float(slope["published"]), 2.0)
     assert sum(r["kind"] == "paper" for r in rows) == 3
+
+
+def test_report_counts_validation_and_consistency_checks_apart(tmp_path):
+    from mjrft.tools.validation.report import counts, summary_line
+
+    r = CaseResult(name="c", title="t", paper="p", source="-", setup="-", checks=[
+        check_close("measured", 2.0, 2.1, 0.1, source="fig. 1"),
+        check_close("calibrated", 3.0, 3.0, 0.01, source="table 1", consistency="the coefficient is fitted to it"),
+        check_outcome("by construction", False, published="-", simulated="-", source="-",
+                      consistency="linear by definition")])
+    assert counts([r]) == {"cases": 1, "cases_pass": 0, "validation": 1, "validation_pass": 1, "consistency": 2,
+                           "consistency_pass": 1}
+    assert summary_line([r]) == ("0 of 1 cases agree in every check; 1 of 1 validation checks pass; 2 consistency "
+                                 "checks (1 pass)")
+    paths = write_report([r], str(tmp_path))
+    md = open(paths["report"]).read()
+    assert "| [c](#c) | p | - | 1 of 1 (+2) | FAIL (1 of 3 checks)" in md
+    assert "calibrated (consistency: the coefficient is fitted to it)" in md
+    with open(paths["csv"]) as f:
+        kinds = [row["kind"] for row in csv.DictReader(f)]
+    assert kinds == ["check", "consistency", "consistency"]
 
 
 def test_cli_rejects_bad_case_and_unwritable_out_before_running(tmp_path, capsys):

@@ -30,8 +30,17 @@ def test_presentation_angle_outcomes(result):
     assert peak.reference == published("thesis_biped", "peak_angle").value
     assert 0.0 < peak.value < 55.0
     # the experiment's sign of the volume-fraction effect at 55 deg holds, so the case has a measured cause
-    assert by["cone (experiment), 55 deg: looser bed, shorter step (experiment)"].passed
+    assert by["cone (experiment), 55 deg: looser bed, step drops significantly (experiment)"].passed
     assert "swing foot" in result.cause
+    # the check rejects the beds swapped (the looser bed stiffer) and a floor on which the bed does not matter
+    from mjrft.tools.validation.cases.thesis_biped import looser_bed_drop_check
+
+    lines = {line.label: line for line in result.panels[0].lines}
+    cp, lp = lines["cone (experiment), poppy CP (phi 0.62)"], lines["cone (experiment), poppy LP (phi 0.58)"]
+    rigid = lines["cone (experiment), rigid ground (mjrft control)"]
+    assert looser_bed_drop_check("cone", cp.x, cp.y, lp.y).passed
+    assert not looser_bed_drop_check("cone", cp.x, lp.y, cp.y).passed
+    assert not looser_bed_drop_check("cone", cp.x, rigid.y, rigid.y).passed
     names = [p.title for p in result.panels]
     assert names[0] == "Step distance per 3 s step" and len(result.panels[0].lines) >= 4
 

@@ -7,7 +7,12 @@ seconds, for the tests) and returns:
 * ``checks``: one :class:`Check` per published number or outcome: what is compared, the published
   value with its source, the simulated value, the agreement metric and the tolerance, and whether it
   passed. ``qualitative=True`` marks the published *outcome* (an ordering, a sign, a ratio band)
-  that the case's fast test asserts;
+  that the case's fast test asserts. Each check is of one of two kinds (``kind``): a *validation* check
+  compares mjrft with something it was not built from and could come out either way; a
+  *consistency* check (``consistency="why"``) holds by construction (a law linear in speed by
+  definition, R^2 = 1 of a line through it) or compares with the very number a coefficient was
+  calibrated from. Reports count the two separately, and only validation checks count as agreement
+  with the papers;
 * ``panels``: the figure, simulation and paper on the same axes (a :class:`Line` with a ``source`` is
   paper data and is drawn as markers, labelled with its source);
 * ``cause``: for a case that does not agree, the cause found by measurement.
@@ -27,8 +32,24 @@ from typing import Callable, Sequence
 
 from mjrft.errors import unknown
 
-__all__ = ["CASES", "Case", "CaseResult", "Check", "Datum", "Line", "Panel", "case", "check_band", "check_close",
-           "check_outcome", "papers", "published"]
+__all__ = ["CASES", "CONSISTENCY", "Case", "CaseResult", "Check", "Datum", "Line", "MUCH_LESS", "Panel", "SIMILAR",
+           "UPRIGHT_TILT", "VALIDATION", "case", "check_band", "check_close", "check_outcome", "papers", "published", "similar"]
+
+VALIDATION = "validation"
+CONSISTENCY = "consistency"
+
+# ------------------------------------------------------------------------------------------------
+# readings of the papers' words, applied to every case (documented in docs/validation.md)
+# ------------------------------------------------------------------------------------------------
+#: "similar" (two forces or speeds): a ratio within [1/1.2, 1.2]. Li 2013's own usage: a force change of
+#: "less than 20 %" over 1 cm/s to 1 m/s is called negligible ("insensitive to speed", suppl. Materials
+#: and Methods, plate intrusion); a larger difference is not "similar".
+SIMILAR = 0.20
+#: "<<" (much less than): at least 10 times below the bound (an order of magnitude).
+MUCH_LESS = 10.0
+#: "upright": the torso's tilt from vertical below 60 deg (its up axis nearer vertical than horizontal by a
+#: margin; a choice, no paper gives a number). "Upside down" is a tilt past 90 deg.
+UPRIGHT_TILT = math.radians(60.0)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -92,6 +113,18 @@ class Check:
     qualitative: bool = False  # the published outcome that the case's fast test asserts
     value: float = math.nan  # the simulated number behind ``simulated`` (CSV)
     reference: float = math.nan  # the published number behind ``published`` (CSV)
+    kind: str = VALIDATION  # or CONSISTENCY: holds by construction / compares with its own calibration number
+    why: str = ""  # for a consistency check: the construction or calibration that makes it hold
+
+    def __post_init__(self):
+        if self.kind not in (VALIDATION, CONSISTENCY):
+            raise ValueError(f"check kind {self.kind!r}; valid: {VALIDATION}, {CONSISTENCY}")
+        if self.kind == CONSISTENCY and not self.why:
+            raise ValueError(f"consistency check {self.name!r} needs the reason it holds by construction (why)")
+
+    @property
+    def is_validation(self) -> bool:
+        return self.kind == VALIDATION
 
     @property
     def verdict(self) -> str:
@@ -149,6 +182,14 @@ class CaseResult:
         return [(c.name, c.published, c.simulated) for c in self.outcomes if not c.passed]
 
     @property
+    def validation_checks(self) -> list[Check]:
+        return [c for c in self.checks if c.is_validation]
+
+    @property
+    def consistency_checks(self) -> list[Check]:
+        return [c for c in self.checks if not c.is_validation]
+
+    @property
     def by_name(self) -> dict[str, Check]:
         return {c.name: c for c in self.checks}
 
@@ -191,31 +232,48 @@ def _fmt(x: float, unit: str = "") -> str:
     return f"{x:.4g}" + (f" {unit}" if unit else "")
 
 
+def _kind(consistency: str) -> dict:
+    return {"kind": CONSISTENCY, "why": consistency} if consistency else {}
+
+
+def _tol(text: str, basis: str) -> str:
+    return f"{text} ({basis})" if basis else text
+
+
 def check_close(name: str, reference: Datum | float, simulated: float, rel_tol: float, *, source: str | None = None,
-                unit: str | None = None, qualitative: bool = False) -> Check:
-    """``|simulated - published| <= rel_tol |published|`` (relative error)."""
+                unit: str | None = None, qualitative: bool = False, basis: str = "", consistency: str = "") -> Check:
+    """``|simulated - published| <= rel_tol |published|`` (relative error). ``basis``: where the tolerance comes
+    from, printed with it (e.g. "the paper's own prediction error, fig. 6"); ``consistency``: why the check holds
+    by construction (makes it a consistency check)."""
     ref, src, unit = _ref(reference, source, unit)
     err = abs(simulated - ref) / abs(ref) if ref != 0 else math.inf
     return Check(name=name, published=_fmt(ref, unit), simulated=_fmt(simulated, unit),
-                 metric=f"relative error {100 * err:.1f} %", tolerance=f"<= {100 * rel_tol:g} %",
+                 metric=f"relative error {100 * err:.1f} %", tolerance=_tol(f"<= {100 * rel_tol:g} %", basis),
                  passed=bool(err <= rel_tol), source=src, qualitative=qualitative, value=float(simulated),
-                 reference=ref)
+                 reference=ref, **_kind(consistency))
 
 
 def check_band(name: str, simulated: float, low: float, high: float, *, published: str, source: str,
-               unit: str = "", qualitative: bool = True, reference: float = math.nan) -> Check:
+               unit: str = "", qualitative: bool = True, reference: float = math.nan, basis: str = "",
+               consistency: str = "") -> Check:
     """``low <= simulated <= high``: a published ratio, sign or range, stated in ``published``."""
     ok = bool(low <= simulated <= high)
     return Check(name=name, published=published, simulated=_fmt(simulated, unit), metric="in band",
-                 tolerance=f"[{_fmt(low)}, {_fmt(high)}]", passed=ok, source=source, qualitative=qualitative,
-                 value=float(simulated), reference=reference)
+                 tolerance=_tol(f"[{_fmt(low)}, {_fmt(high)}]", basis), passed=ok, source=source,
+                 qualitative=qualitative, value=float(simulated), reference=reference, **_kind(consistency))
 
 
 def check_outcome(name: str, passed: bool, *, published: str, simulated: str, source: str,
-                  qualitative: bool = True, metric: str = "outcome", tolerance: str = "as published") -> Check:
+                  qualitative: bool = True, metric: str = "outcome", tolerance: str = "as published",
+                  consistency: str = "") -> Check:
     """A published qualitative outcome (an ordering, a sign) and what mjrft gives."""
     return Check(name=name, published=published, simulated=simulated, metric=metric, tolerance=tolerance,
-                 passed=bool(passed), source=source, qualitative=qualitative)
+                 passed=bool(passed), source=source, qualitative=qualitative, **_kind(consistency))
+
+
+def similar(ratio: float) -> bool:
+    """Two positive numbers with this ratio are "similar" (:data:`SIMILAR`)."""
+    return bool(ratio > 0 and abs(math.log(ratio)) <= math.log(1 + SIMILAR))
 
 
 def _ref(reference, source, unit):

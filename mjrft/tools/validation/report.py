@@ -127,33 +127,64 @@ def _cell(text) -> str:
 
 
 def summary_table(results) -> list[str]:
-    """Markdown rows: case, paper and source, published, mjrft, verdict (one row per check)."""
-    rows = ["| case | paper, source | compared | published | mjrft | metric (tolerance) | verdict |",
-            "|---|---|---|---|---|---|---|"]
+    """Markdown rows: case, paper and source, published, mjrft, kind, verdict (one row per check)."""
+    rows = ["| case | paper, source | compared | published | mjrft | metric (tolerance) | kind | verdict |",
+            "|---|---|---|---|---|---|---|---|"]
     for r in results:
         for i, c in enumerate(r.checks):
             rows.append(f"| {_cell(r.name) if i == 0 else ''} | {_cell(c.source)} | {_cell(c.name)} | "
                         f"{_cell(c.published)} | {_cell(c.simulated)} | {_cell(c.metric)} ({_cell(c.tolerance)}) | "
-                        f"{c.verdict} |")
+                        f"{_kind_cell(c)} | {c.verdict} |")
     return rows
 
 
+def _kind_cell(c) -> str:
+    return "validation" if c.is_validation else f"consistency: {_cell(c.why)}"
+
+
+def counts(results) -> dict:
+    """Cases and checks: ``cases``, ``cases_pass`` (every check passes), ``validation`` and ``validation_pass``
+    (checks that compare mjrft with what it was not built from), ``consistency`` and ``consistency_pass``
+    (checks that hold by construction or use the number they were calibrated from)."""
+    val = [c for r in results for c in r.validation_checks]
+    con = [c for r in results for c in r.consistency_checks]
+    return {"cases": len(results), "cases_pass": sum(r.passed for r in results),
+            "validation": len(val), "validation_pass": sum(c.passed for c in val),
+            "consistency": len(con), "consistency_pass": sum(c.passed for c in con)}
+
+
+def summary_line(results) -> str:
+    """"A of B cases agree in every check; N of M validation checks pass; K consistency checks (J pass)"."""
+    n = counts(results)
+    return (f"{n['cases_pass']} of {n['cases']} cases agree in every check; {n['validation_pass']} of "
+            f"{n['validation']} validation checks pass; {n['consistency']} consistency checks "
+            f"({n['consistency_pass']} pass)")
+
+
+def _case_counts(r) -> str:
+    v = r.validation_checks
+    return f"{sum(c.passed for c in v)} of {len(v)}" + (f" (+{len(r.consistency_checks)})" if r.consistency_checks
+                                                        else "")
+
+
 def _markdown(results, quick: bool, total: int | None = None, command: str = "mjrft validate") -> str:
-    n_pass = sum(r.passed for r in results)
-    n_checks = sum(len(r.checks) for r in results)
-    n_cpass = sum(c.passed for r in results for c in r.checks)
     out = ["# mjrft validation report", ""]
     if total is not None:
         out += [f"**Interrupted after {len(results)} of {total} cases**: only the cases that finished are "
                 "reported below; run the command again for the rest.", ""]
     out += [
            f"Produced by `{command}`{' (--quick: coarse settings)' if quick else ''}. "
-           f"{n_pass} of {len(results)} cases agree in every check; {n_cpass} of {n_checks} checks pass. "
+           f"{summary_line(results)}. "
            "Each case reruns a published experiment under the paper's setup; published numbers come from "
-           f"`{DATA_PATH}` with their source.", "",
-           "| case | paper | reproduces | verdict | time (s) |", "|---|---|---|---|---|"]
+           f"`{DATA_PATH}` with their source. A *validation* check compares mjrft with something it was not built "
+           "from; a *consistency* check holds by construction or compares with the number a coefficient was "
+           "calibrated from (its reason is given), so it shows the implementation is consistent, not that it "
+           "agrees with the paper.", "",
+           "| case | paper | reproduces | validation checks passed (+ consistency checks) | verdict | time (s) |",
+           "|---|---|---|---|---|---|"]
     for r in results:
-        out.append(f"| [{r.name}](#{r.name}) | {_cell(r.paper)} | {_cell(r.source)} | {r.verdict} | {r.seconds:.1f} |")
+        out.append(f"| [{r.name}](#{r.name}) | {_cell(r.paper)} | {_cell(r.source)} | {_case_counts(r)} | {r.verdict} | "
+                   f"{r.seconds:.1f} |")
     out += ["", "## Every check", "", *summary_table(results), ""]
     for r in results:
         out += [f"## {r.name}", "", f"**{r.title}**. {r.paper}, {r.source}.", "", f"*Setup.* {r.setup}", ""]
@@ -162,7 +193,7 @@ def _markdown(results, quick: bool, total: int | None = None, command: str = "mj
         out += ["| compared | published | mjrft | metric | tolerance | verdict | source |",
                 "|---|---|---|---|---|---|---|"]
         for c in r.checks:
-            q = " (outcome)" if c.qualitative else ""
+            q = (" (outcome)" if c.qualitative else "") + ("" if c.is_validation else f" (consistency: {c.why})")
             out.append(f"| {_cell(c.name)}{q} | {_cell(c.published)} | {_cell(c.simulated)} | {_cell(c.metric)} | "
                        f"{_cell(c.tolerance)} | {c.verdict} | {_cell(c.source)} |")
         out.append("")
@@ -210,7 +241,7 @@ def _csv_rows(results):
     yield ("case", "kind", "panel", "name", "x", "value", "published", "source", "verdict")
     for r in results:
         for c in r.checks:
-            yield (r.name, "check", "", c.name, "", c.value if not math.isnan(c.value) else c.simulated,
+            yield (r.name, "check" if c.is_validation else "consistency", "", c.name, "", c.value if not math.isnan(c.value) else c.simulated,
                    c.reference if not math.isnan(c.reference) else c.published, c.source, c.verdict)
         for p in r.panels:
             for line in p.lines:

@@ -39,8 +39,8 @@ Three cases, each rerunning a published experiment under the paper's setup (publ
     the text, so the medium's fit (a) stands in for the measurement (the paper: RFT "predicted" the
     measured forces, fig. S5). Checked: depth-only over-predicts peak lift everywhere and by how much
     at most (text: "up to 1400 %", tolerance 50 %: only the size can be compared when the reference
-    is the fit, not the measured curve); depth-only gives C and reversed C peaks closer to each
-    other than RFT does; the C-leg has more lift than the reversed C-leg; the generic profile x zeta
+    is the fit, not the measured curve); depth-only gives C and reversed C "similar" peaks (read as
+    a ratio within 20 %, :data:`mjrft.tools.validation.case.SIMILAR`); the C-leg has more lift than the reversed C-leg; the generic profile x zeta
     reproduces the C and flat legs and is worst on the reversed C-leg (fig. S8, eq. S12).
 """
 
@@ -53,7 +53,7 @@ import numpy as np
 from mjrft import laws
 from ... import rigs
 from mjrft.media import CHI, MEDIA, N_CM3, calibrate, generic
-from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
+from ..case import SIMILAR, Check, CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published, similar
 
 PAPER = "li2013"
 CITE = "Li, Zhang & Goldman, Science 2013 (suppl.)"
@@ -128,9 +128,12 @@ def run_plate(quick: bool) -> CaseResult:
                                   _precision(fit_pub[name]), source=src3, unit="N/cm^3"))
         checks.append(check_band(f"{name}: measured / fit alpha_z(0, pi/2) = chi", meas_pub[name] * N_CM3 / k_fit,
                                  chi - 2 * chi_sd, chi + 2 * chi_sd, published=f"chi = {chi} +- {chi_sd} (s.d.)",
-                                 source=published(PAPER, "chi").source + " and table S3", reference=chi))
+                                 source=published(PAPER, "chi").source + " and table S3", reference=chi,
+                                 basis="mean +- 2 s.d. of the paper's chi over its media"))
         checks.append(check_close(f"{name}: alpha_z(0, pi/2), rig under the depth-only law", meas_pub[name],
-                                  k_do / N_CM3, 0.01, source=srcm, unit="N/cm^3", qualitative=True))
+                                  k_do / N_CM3, 0.01, source=srcm, unit="N/cm^3", qualitative=True,
+                                  basis="the rig's numerical error",
+                                  consistency="the depth-only law is built from this measured value (eqs. S3-S7)"))
         curves.append((name, d_fit, s_fit, d_do, s_do))
         thin[name] = plate_test(name, "rft", quick, thickness_scale=0.1)[2]
 
@@ -249,7 +252,10 @@ def run_scaling(quick: bool) -> CaseResult:
         zcal[name] = cal.zeta
         checks.append(check_close(f"{name}: zeta from one simulated plate test (calibrate)", zeta_pub[name],
                                   cal.zeta / N_CM3, tol, source=published(PAPER, "zeta").source, unit="N/cm^3",
-                                  qualitative=True))
+                                  qualitative=True, basis="2 s.d. of chi: the paper's stated accuracy of the routine",
+                                  consistency="the simulated plate test is the depth-only law built from table S3's "
+                                              "measured value, so the recovered zeta is table S3 / 1.26: two "
+                                              "published tables compared through calibrate's arithmetic"))
         med = MEDIA[name]
         _, _, az_fit, ax_fit = _plane(med, nb, ng)
         _, _, az_gen, ax_gen = _plane(generic.scaled(zeta_pub[name] * N_CM3), nb, ng)
@@ -260,7 +266,8 @@ def run_scaling(quick: bool) -> CaseResult:
             checks.append(check_band(f"{name}: RMS(zeta alpha_{comp[-1]}^generic - {comp}^fit) / alpha_z^fit(0, pi/2)",
                                      val, 0.0, tol, published=f"alpha ~ zeta alpha^generic (eq. S11); accuracy of the "
                                      f"routine chi s.d. {chi_sd}/{chi}", source="Li 2013 suppl., eqs. S11, S13",
-                                     qualitative=False))
+                                     qualitative=False, basis="2 s.d. of chi: the paper's stated accuracy of its "
+                                                              "scaling routine, i.e. its own model error"))
 
     x = np.arange(len(media), dtype=float)
     B, G, az_fit, ax_fit = _plane(MEDIA["poppy_lp"], nb, ng)
@@ -315,6 +322,24 @@ def leg_runs(quick: bool, media=None) -> dict:
     return out
 
 
+def similar_peaks_check(comp: str, ratios, fit_ratios=()) -> Check:
+    """Fig. S2: the depth-only models "erroneously predicted similar peak F_z,x for the c-leg and reversed c-leg".
+    "Similar" is read as mjrft's documented band (:data:`~mjrft.tools.validation.case.SIMILAR`: a ratio within
+    [1/1.2, 1.2], Li's own "less than 20 %" for a negligible change): every medium's depth-only C / reversed-C
+    peak ratio must lie in it. ``fit_ratios`` (the fit's ratios) are printed for comparison."""
+    lo, hi = min(ratios), max(ratios)
+    worst = max(ratios, key=lambda r: abs(math.log(r)))
+    fit = f"; fit {min(fit_ratios):.2f}-{max(fit_ratios):.2f}" if len(fit_ratios) else ""
+    return Check(
+        name=f"peak {comp} C / reversed C under the depth-only law: similar (every medium)",
+        published=published(PAPER, "depth_only_c_vs_reversed").value,
+        simulated=f"depth-only {lo:.2f}-{hi:.2f}{fit}", metric=f"ratio furthest from 1: {worst:.3g}",
+        tolerance=(f"[{1 / (1 + SIMILAR):.3g}, {1 + SIMILAR:g}]: 'similar' read as within {100 * SIMILAR:g} % (Li's "
+                   "own 'less than 20 %' for a negligible force change, suppl. Materials and Methods)"),
+        passed=similar(worst), source=published(PAPER, "depth_only_c_vs_reversed").source, qualitative=True,
+        value=float(worst), reference=1.0)
+
+
 def _rms_rel(a, b) -> float:
     """RMS difference of the (F_z, F_x) curves of profile a from b, relative to b's peak |F|."""
     da = np.concatenate([a.support - b.support, a.forward - b.forward])
@@ -343,17 +368,11 @@ def run_leg(quick: bool) -> CaseResult:
     checks.append(check_close(f"largest depth-only over-prediction of peak F_z ({hi_key[0]}, {SHAPE_LABEL[hi_key[1]]})",
                               published(PAPER, "depth_only_overprediction_max"), over[hi_key], 0.5))
 
-    # fig. S2: depth-only gives C and reversed C similar peaks; RFT different ones
-    src_cr = published(PAPER, "depth_only_c_vs_reversed").source
+    # fig. S2: depth-only gives C and reversed C similar peaks (RFT different ones: the C-leg check below)
     for comp, i in (("F_z", 0), ("F_x", 1)):
         r_do = [peak[n, "c", "depth_only"][i] / peak[n, "reversed_c", "depth_only"][i] for n in media]
         r_fit = [peak[n, "c", "fit"][i] / peak[n, "reversed_c", "fit"][i] for n in media]
-        closer = all(abs(math.log(a)) < abs(math.log(b)) for a, b in zip(r_do, r_fit))
-        checks.append(check_outcome(
-            f"peak {comp} C / reversed C: depth-only closer to 1 than RFT (every medium)", closer,
-            published=published(PAPER, "depth_only_c_vs_reversed").value + "; RFT gives them different peaks",
-            simulated=f"depth-only {min(r_do):.2f}-{max(r_do):.2f}, fit {min(r_fit):.2f}-{max(r_fit):.2f}",
-            source=src_cr))
+        checks.append(similar_peaks_check(comp, r_do, r_fit))
     lift_c = [peak[n, "c", "fit"][0] / peak[n, "reversed_c", "fit"][0] for n in media]
     checks.append(check_outcome(
         "C-leg peak F_z > reversed C-leg peak F_z (medium's fit, every medium)", min(lift_c) > 1.0,
@@ -390,6 +409,16 @@ def run_leg(quick: bool) -> CaseResult:
             f"the fit's, but by how much is only in the lost figure. Over-prediction against the fit, per leg "
             f"(mean over media): " + ", ".join(
                 f"{SHAPE_LABEL[s]} {np.mean([over[m, s] for m in media]):.0f} %" for s in SHAPES) + ".")
+    sim_fz = checks[2]
+    if not sim_fz.passed:
+        r_do = {n: peak[n, "c", "depth_only"][0] / peak[n, "reversed_c", "depth_only"][0] for n in media}
+        causes.append(
+            "Depth-only C vs reversed C: mjrft's depth-only peak lift of the C-leg is "
+            + ", ".join(f"{n} {r:.2f}" for n, r in r_do.items()) + " x the reversed C-leg's (peak thrust the same "
+            "within 1 %), outside the 20 % read as 'similar'. Eq. S7's vertical stress alpha_z(0, sgn(z') pi/2) "
+            "|cos beta| depends on whether an element moves down or up, which differs between the two mirrored arcs; "
+            "which of that, mjrft's leading-surface rule or the leg mesh's faces makes the 1.5x was not isolated, and "
+            "fig. S2's depth-only curves, which Li calls similar, are lost with the figure.")
     if not checks[-1].passed:
         ratio = {n: generic.scaled(MEDIA[n].zeta).alpha(math.pi / 2, 0.0)[1] / MEDIA[n].alpha(math.pi / 2, 0.0)[1]
                  for n in media}
@@ -428,5 +457,6 @@ def run_leg(quick: bool) -> CaseResult:
                f"measurement. Leg: {rev.settings['elements']} elements on the curved legs. The depth-only peak lift "
                f"of the C-leg is {min(peak[n, 'c', 'depth_only'][0] / peak[n, 'reversed_c', 'depth_only'][0] for n in media):.2f}"
                f"-{max(peak[n, 'c', 'depth_only'][0] / peak[n, 'reversed_c', 'depth_only'][0] for n in media):.2f} x the "
-               f"reversed C-leg's (its peak thrust the same within 1 %); 'similar' has no published number."),
+               f"reversed C-leg's (its peak thrust the same within 1 %); 'similar' is read as within 20 % "
+               f"(mjrft.tools.validation.case.SIMILAR, from Li's own 'less than 20 %' for a negligible change)."),
     )

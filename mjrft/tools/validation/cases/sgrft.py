@@ -24,7 +24,7 @@ import numpy as np
 from ... import rigs
 from mjrft.laws.wet import dry_reference
 from mjrft.media import get_medium
-from ..case import CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
+from ..case import Check, CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published
 
 PAPER = "sgrft"
 CITE = "SGRFT, Machines 2022"
@@ -54,6 +54,16 @@ def _r2(x, y):
 # ------------------------------------------------------------------------------------------------
 # plate
 # ------------------------------------------------------------------------------------------------
+PAPER_ERROR = "SGRFT's own prediction error, fig. 6: the tolerance equals the paper's model error"
+
+
+def ratio_check(ratio: float) -> Check:
+    """Sec. 2.4: the measured wet drag at 50 mm/s is 178.6 % of that at 10 mm/s (30 mm depth), compared within
+    16 %, the paper's own prediction error (fig. 6: of 14 SGRFT predictions only 2 err by more)."""
+    return check_close("wet F(50 mm/s) / F(10 mm/s) at 30 mm depth", _d("wet_force_ratio_50_10"), ratio,
+                       _v("prediction_error_bound"), basis=PAPER_ERROR)
+
+
 def _plate_settings(quick):
     return {"resolution": 0.005 if quick else 0.00125, "step": 0.002 if quick else 0.0005}
 
@@ -89,20 +99,24 @@ def plate_speed(quick: bool) -> CaseResult:
     above = [float(v) for v in _v("wet_above_dry_speeds")]
     wd = {float(v): float(w / d) for v, w, d in zip(speeds, w30, dr30)}
     ok_cross = all(wd[v] < 1 for v in below) and all(wd[v] > 1 for v in above)
-    tol = _v("prediction_error_bound")
     checks = [
-        check_close("wet F(50 mm/s) / F(10 mm/s) at 30 mm depth", _d("wet_force_ratio_50_10"), ratio, tol),
+        ratio_check(ratio),
         check_outcome("wet force grows with speed", bool(np.all(np.diff(w30) > 0)),
                       published="force in SWGM increases significantly with speed",
-                      simulated=" < ".join(f"{f:.3g}" for f in w30) + " N", source="sec. 2.4, fig. 3a"),
+                      simulated=" < ".join(f"{f:.3g}" for f in w30) + " N", source="sec. 2.4, fig. 3a",
+                      consistency="the wet law's speed factor 1 + eps_v (v - 30 mm/s) / 10 mm/s rises with speed by "
+                                  "definition (mjrft.laws.wet)"),
         check_band("wet force roughly linear in speed (R^2 of a line)", r2, _v("eps_v_r2"), 1.0,
-                   published=f"linear fit, R^2 {_v('eps_v_r2')}", source=_d("eps_v_r2").cite()),
+                   published=f"linear fit, R^2 {_v('eps_v_r2')}", source=_d("eps_v_r2").cite(),
+                   consistency="the wet law is linear in speed by construction (R^2 = 1 up to the rig's sampling)"),
         check_outcome("wet < dry at 10-20 mm/s, wet > dry at >= 30 mm/s", ok_cross,
                       published="wet lower than dry at 10-20 mm/s, higher above 30 mm/s",
                       simulated="wet/dry " + ", ".join(f"{wd[float(v)]:.3f} at {v * 1000:g}" for v in speeds) + " mm/s",
-                      source=_d("wet_below_dry_speeds").source),
+                      source=_d("wet_below_dry_speeds").source,
+                      consistency="the dry reference is the wet law's stress at 25 mm/s (mjrft.laws.wet.dry_reference)"),
         check_band("dry force change over 10-50 mm/s", dry_change, 0.0, _v("dry_force_change_max"),
-                   published=f"<= {_v('dry_force_change_max') * 100:g} %", source=_d("dry_force_change_max").cite()),
+                   published=f"<= {_v('dry_force_change_max') * 100:g} %", source=_d("dry_force_change_max").cite(),
+                   consistency="Li RFT (law rft) has no speed dependence"),
     ]
     mm = speeds * 1000
     panels = [
@@ -158,13 +172,19 @@ def plate_depth(quick: bool) -> CaseResult:
     r2min = min(r[3] for r in runs)
     tol = _v("prediction_error_bound")
     src = _d("alpha_v").source
+    base = _v("base_speed")
     checks = [check_close(f"alpha^{v * 1000:g} (stress per depth, press at {v * 1000:g} mm/s)", a_pub, a, tol,
-                          source=src, unit="N/cm^3") for v, a_pub, a in zip(speeds, alpha_pub, alpha)]
+                          source=src, unit="N/cm^3", basis=PAPER_ERROR,
+                          consistency=("alpha^30 = 0.47 N/cm^3 is the medium's zeta: the law is calibrated from it"
+                                       if abs(v - base) < 1e-9 else ""))
+              for v, a_pub, a in zip(speeds, alpha_pub, alpha)]
     checks.append(check_outcome("alpha^v grows with speed", bool(np.all(np.diff(alpha) > 0)),
                                 published=" < ".join(f"{a:g}" for a in alpha_pub),
-                                simulated=" < ".join(f"{a:.3g}" for a in alpha), source=src))
+                                simulated=" < ".join(f"{a:.3g}" for a in alpha), source=src,
+                                consistency="the wet law's speed factor rises with speed by definition"))
     checks.append(check_band("press force linear in depth beyond 10 mm (lowest R^2)", r2min, _v("alpha_r2_min"), 1.0,
-                             published=f"R^2 {_v('alpha_r2_min')}-0.977", source=_d("alpha_r2_min").cite()))
+                             published=f"R^2 {_v('alpha_r2_min')}-0.977", source=_d("alpha_r2_min").cite(),
+                             consistency="RFT stress is linear in depth by construction"))
     # horizontal force vs depth at 30 mm/s, wet vs dry (fig. 3b)
     vb = _v("base_speed")
     depths = np.asarray([d for d in _v("depth_series") if d >= _v("linear_depth_min")], float)
@@ -175,9 +195,12 @@ def plate_depth(quick: bool) -> CaseResult:
     lim = _v("insensitive_change_max")
     checks.append(check_band("wet / dry horizontal force at 30 mm/s (mean over depth)", ratio, 1 / (1 + lim), 1 + lim,
                              published="no significant difference (fig. 3b); the paper's 'not significant' is "
-                                       f"<= {lim * 100:g} % (conclusion (1))", source="sec. 2.4, fig. 3b"))
+                                       f"<= {lim * 100:g} % (conclusion (1))", source="sec. 2.4, fig. 3b",
+                             consistency="the dry reference is the wet law's stress at 25 mm/s, so at 30 mm/s the "
+                                         "ratio is 1 + eps_v / 2 = 1.08 by construction"))
     checks.append(check_band("horizontal force linear in depth (R^2)", _r2(depths, hw)[0], _v("alpha_r2_min"), 1.0,
-                             published="approximately linear", source="sec. 2.4, fig. 3b"))
+                             published="approximately linear", source="sec. 2.4, fig. 3b",
+                             consistency="RFT stress is linear in depth by construction"))
     lines = [Line(r[0] * 1000, r[1] * 1e-4, f"mjrft press {v * 1000:g} mm/s") for v, r in zip(speeds, runs)]
     dz = np.linspace(0, _v("vertical_max_depth"), 7)
     lines += [Line(dz * 1000, a * dz * 100, f"table 3 alpha^{v * 1000:g} x depth", source="table 3")
@@ -347,7 +370,9 @@ def rpm(quick: bool) -> CaseResult:
     for n, key in (("R", "thrust_change_measured_r"), ("V", "thrust_change_measured_v")):
         meas = _d(key)
         tol = abs(pred.value - meas.value) / meas.value
-        checks.append(check_close(f"{n}-leg thrust change vs measured", meas, change[n], tol + 1e-9, unit=""))
+        checks.append(check_close(f"{n}-leg thrust change vs measured", meas, change[n], tol + 1e-9, unit="",
+                                  basis="SGRFT's own error on this measurement, |30.33 - measured| / measured: the "
+                                        "tolerance equals the paper's model error"))
     # the same rig without the water layer: how much of the thrust is the water drag
     if not quick:
         dry_top = {r: _peak(_leg("flat", r, sink, quick, water=False))[0] for r in (r30, r40)}
