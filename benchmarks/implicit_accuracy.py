@@ -6,7 +6,7 @@ run for ``--seconds`` of simulated time from the same reset, through:
 * ``reference``: the explicit coupling at a fixed internal step of at most ``--ref-dt`` (default 0.1 ms), far below
   every robot's stability limit: the converged motion;
 * ``explicit auto``: the explicit coupling with the wrapper's stability rule (half the stable timestep);
-* ``implicit omega dt <= s``: the implicit coupling (:mod:`mjrft.kernel`) with the wrapper's accuracy rule at
+* ``implicit omega dt <= s``: the implicit coupling (:mod:`mjrft.implicit_step`) with the wrapper's accuracy rule at
   ``s`` = each of ``--spring-steps``;
 * ``implicit k=1``: the implicit coupling at the env's own timestep.
 

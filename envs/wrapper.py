@@ -51,10 +51,10 @@ therefore switched to MuJoCo's semi-implicit Euler in the loaded model and sub-s
 ``implicit`` and ``implicitfast`` models keep their integrator. :attr:`GranularWrapper.integrator` names
 what runs.
 
-Granular step. The terrain is built with ``implicit=True`` (:mod:`mjrft.kernel`, "Implicit step"): the
-grains' springs (the rest regularisation below yield, whose explicit limit is a few milliseconds for a
-light foot carrying a heavy robot) are integrated implicitly, so the internal step is chosen for accuracy
-rather than stability; ``implicit=False`` gives the explicit step and its stability rule below.
+Granular step. The terrain is built with ``implicit=True`` (:mod:`mjrft.implicit_step`; docs/numerics.md,
+"Implicit step"): the grains' springs (the rest regularisation below yield, whose explicit limit is a few
+milliseconds for a light foot carrying a heavy robot) are integrated implicitly, so the internal step is
+chosen for accuracy rather than stability; ``implicit=False`` gives the explicit step and its stability rule below.
 
 Sub-stepping rule (``substeps="auto"``). Each env step the model's timestep ``h`` is split into
 ``k = ceil(h / dt_s)`` equal internal steps (``1 <= k <= max_substeps``). Two limits enter: the

@@ -34,9 +34,10 @@ from dataclasses import dataclass, replace
 
 import mujoco
 import numpy as np
-from numba import njit
 
 from . import kernel
+from .implicit_step import IMPLICIT_FUNCTIONS
+from .mujoco_c import mujoco_functions, mujoco_step_functions
 from .errors import (NonFiniteError, SandContactWarning, TerrainStabilityWarning, UnknownNameError,
                      ValidityRangeWarning, check_finite, check_positive, unknown)
 from .geometry import Elements, discretize_geom, estimate_elements, exposed_elements, to_geom_frame
@@ -47,6 +48,8 @@ from .laws import validity
 from .laws.inertial import DRY_LAWS, INERTIAL_DRAG, set_inertial
 from .media import (MEDIA, P_AX_DRAG, P_AZ_DOWN, P_AZ_UP, P_COEFF, P_INERTIA, P_XI, P_ZETA, Medium,
                     get_medium)
+from .stability import (HELD_STEPS, _stable_dts, _stable_timesteps, largest_rate, stability_warning,
+                        track_depth_springs, track_stiffness, unstable_mode)
 
 DEFAULTS = {
     "medium": "poppy_cp",
@@ -98,31 +101,9 @@ CULL_PAD = 1e-9  # m, added to each cull box's half sizes: rounding never culls 
 #: layer's drag and the buoyancy are the water's, not the grains', and keep their values.
 STRESS_SLOTS = np.array([*range(P_COEFF, P_COEFF + 9), P_XI, P_ZETA, P_AZ_DOWN, P_AZ_UP, P_AX_DRAG, P_HYB_E0,
                          P_HYB_E1, P_HYB_E2, P_HYB_PERP_H, P_HYB_PAR_H, P_INERTIA], dtype=np.int64)
-_STEP_FUNCTIONS = kernel.mujoco_step_functions()  # None -> the plain Python stepping loop is used
-_max_stable_dt = njit(cache=True, error_model="numpy")(kernel.max_stable_dt)  # the same formula, callable compiled
-_JACOBIAN_FUNCTIONS = kernel.mujoco_functions("mj_jacBodyCom", "mj_solveM")  # None -> through the bindings
-_IMPLICIT_FUNCTIONS = kernel.mujoco_functions(*kernel.IMPLICIT_FUNCTIONS)  # None -> implicit=True is refused
-_call_mj_arrays = kernel._call_mj_arrays
-
-
-@njit(cache=True, error_model="numpy")
-def _stable_timesteps(f_jac, f_solve, m_addr, d_addr, bodies, stiff, inert, use_inert, delta, tau, vertical, jac,
-                      minv_jac, rows, out):
-    """:meth:`GranularTerrain.stable_timestep` in one compiled call: each buried body's CoM jacobian
-    (``mj_jacBodyCom``) stacked in ``jac``, one ``mj_solveM`` of all rows, then :func:`_stable_dts`."""
-    nv = jac.shape[1]
-    n = 0
-    for i in range(bodies.shape[0]):
-        b = bodies[i]
-        if stiff[b, 0] > 0 or (use_inert and inert[b, 0] > 0):
-            at = jac.ctypes.data + 6 * n * nv * 8
-            _call_mj_arrays(f_jac, m_addr, d_addr, at, at + 3 * nv * 8, b)
-            rows[n] = b
-            n += 1
-    if n == 0:
-        return
-    _call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, 6 * n)
-    _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, vertical, out)
+_STEP_FUNCTIONS = mujoco_step_functions()  # None -> the plain Python stepping loop is used
+_JACOBIAN_FUNCTIONS = mujoco_functions("mj_jacBodyCom", "mj_solveM")  # None -> through the bindings
+_IMPLICIT_FUNCTIONS = mujoco_functions(*IMPLICIT_FUNCTIONS)  # None -> implicit=True is refused
 
 
 _RESET_WARNINGS = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQACC)
@@ -141,30 +122,6 @@ def _reset_count(numbers: np.ndarray) -> int:
     ``data`` lives: the terrain keeps it for the data it is bound to, ~0.5 us a read)."""
     a, b, c = _RESET_INDEX
     return int(numbers[a]) + int(numbers[b]) + int(numbers[c])
-
-
-@njit(cache=True, error_model="numpy")
-def _stable_dts(jac, minv_jac, rows, stiff, inert, use_inert, delta, tau, vertical, out):
-    """``out[b]`` for each body ``b = rows[i]``: the largest stable timestep of its granular stiffness
-    (``stiff[b]``) and, with ``use_inert``, its inertial dampers (``inert[b]``), from its 6 x nv jacobian rows
-    ``jac[6 i:6 i + 6]`` and ``minv_jac`` (= ``(M^-1 jac^T)^T``): what :meth:`GranularTerrain.stable_timestep`
-    computes body by body (kernel.largest_rate, :func:`spring`, kernel.max_stable_dt), in one call; ``out[b]``
-    keeps a smaller value it already holds. With ``vertical``, ``stiff`` holds the moments of the depth stiffness's
-    vertical springs (kernel.depth_stable_dt)."""
-    for i in range(rows.shape[0]):
-        b = rows[i]
-        jac_b, minv_b = jac[6 * i:6 * i + 6], minv_jac[6 * i:6 * i + 6]
-        if vertical:
-            if stiff[b, 0] > 0:
-                out[b] = min(out[b], kernel.depth_stable_dt(kernel.largest_rate(jac_b, minv_b, stiff[b], True)))
-            continue
-        lam_c = kernel.largest_rate(jac_b, minv_b, inert[b]) if use_inert and inert[b, 0] > 0 else 0.0
-        if stiff[b, 0] > 0 or lam_c > 0:
-            lam = kernel.largest_rate(jac_b, minv_b, stiff[b]) if stiff[b, 0] > 0 else 0.0
-            if delta == 0:
-                out[b] = min(out[b], _max_stable_dt(0.0, lam + lam_c, 1.0))
-            else:
-                out[b] = min(out[b], _max_stable_dt(lam, tau * lam + lam_c, 1.0))
 
 
 def mujoco_reset_error(model: mujoco.MjModel, data: mujoco.MjData, since: str) -> NonFiniteError:
@@ -916,51 +873,6 @@ def build_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> Elemen
                          g_geom, g_body, g_start, g_aabb)
 
 
-def spring(lam: float, lam_c: float, yield_displacement: float, damping_time: float) -> tuple[float, float]:
-    """(K, c) per unit mass of the stiffest mode, for kernel.stable_step / max_stable_dt with w = 1: ``lam`` the
-    largest rate of the granular stiffness (the damping's in the viscous mode, ``yield_displacement`` = 0),
-    ``lam_c`` the inertial regime's largest damping rate (1/s), added to the damping (kernel module docstring)."""
-    return (0.0, lam + lam_c) if yield_displacement == 0 else (lam, damping_time * lam + lam_c)
-
-
-def unstable_mode(jac, minv_jac, held, spike, inert, yield_displacement: float, damping_time: float,
-                  dt: float) -> tuple[float, float, float] | None:
-    """(stiffness moment 0, lam, lam_c) of the first unstable state of one body at timestep ``dt``, or None.
-
-    The states are the stiffness moments ``held`` for ``kernel.HELD_STEPS`` steps (unstable when a step amplifies
-    at all) and, when it has any, the single step's ``spike`` (unstable past ``kernel.SPIKE_GROWTH``); ``inert``
-    the inertial dampers' moments (None: none), whose rate is added to both. ``jac``, ``minv_jac``: the body's
-    CoM jacobian and ``(M^-1 J^T)^T``.
-    """
-    lam_c = kernel.largest_rate(jac, minv_jac, inert) if inert is not None else 0.0
-    states = [(held, 1.0), (spike, kernel.SPIKE_GROWTH)] if spike[0] > 0 else [(held, 1.0)]
-    for moments, growth in states:
-        if moments[0] <= 0 and lam_c <= 0:
-            continue
-        lam = kernel.largest_rate(jac, minv_jac, moments) if moments[0] > 0 else 0.0
-        K, c = spring(lam, lam_c, yield_displacement, damping_time)
-        if kernel.step_growth(K, c, 1.0, dt) > growth * (1.0 + 1e-12):
-            return moments[0], lam, lam_c
-    return None
-
-
-def stability_warning(body: str, time: float, dt: float, s0: float, damp: float, lam: float, lam_c: float,
-                      yield_displacement: float, damping_time: float) -> TerrainStabilityWarning:
-    """The :class:`TerrainStabilityWarning` for ``body`` (its name) whose :func:`unstable_mode` is
-    (``s0``, ``lam``, ``lam_c``) at timestep ``dt``; ``damp`` its damping (N s/m)."""
-    K, c = spring(lam, lam_c, yield_displacement, damping_time)
-    what = (f"damping {s0:.3g} N s/m" if yield_displacement == 0 else
-            f"stiffness {s0:.3g} N/m, damping {damp:.3g} N s/m")
-    mode = f"effective mass {s0 / lam:.3g} kg in its stiffest mode" if lam > 0 else "no stiffness"
-    if lam_c > 0:
-        mode += f"; inertial-regime damping rate {lam_c:.3g} 1/s"
-    return TerrainStabilityWarning(
-        f"mjrft: timestep {dt:g} s exceeds the stability limit {kernel.max_stable_dt(K, c, 1.0):.3g} s of the "
-        f"granular stiffness on body '{body}' at t = {time:.4g} s ({what}, {mode}); reduce the timestep "
-        "or increase yield_displacement" + (" (the inertial regime's limit is dt < 2 / its rate)" if lam_c > 0
-                                             else ""))
-
-
 def nonfinite_error(model: mujoco.MjModel, status: int, body: int, time: float) -> NonFiniteError:
     """The :class:`NonFiniteError` for a kernel ``status`` (``kernel.BAD_FORCE`` or ``kernel.BAD_STATE``) on ``body``."""
     name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
@@ -1158,7 +1070,7 @@ class GranularTerrain:
             raise TypeError(f"implicit must be True or False, got {implicit!r}")
         if implicit and (_IMPLICIT_FUNCTIONS is None or _STEP_FUNCTIONS is None):
             raise RuntimeError("implicit=True calls MuJoCo's C functions (mj_step1, mj_step2, "
-                               f"{', '.join(kernel.IMPLICIT_FUNCTIONS)}) and they were not found in the library the "
+                               f"{', '.join(IMPLICIT_FUNCTIONS)}) and they were not found in the library the "
                                "mujoco bindings loaded; use implicit=False")
         self.implicit = bool(implicit)
         self.model = model
@@ -1225,7 +1137,7 @@ class GranularTerrain:
         self._saved = np.zeros((model.nbody, 6))
         self._stiff = np.zeros((model.nbody, 10))  # moments of the element stiffness (kernel.terrain_kernel)
         self._damp = np.zeros(model.nbody)
-        self._stiff_max = np.zeros((model.nbody, kernel.HELD_STEPS + 1, 10))  # see kernel.track_stiffness
+        self._stiff_max = np.zeros((model.nbody, HELD_STEPS + 1, 10))  # see stability.track_stiffness
         self._jac6 = (np.zeros((6, model.nv)), np.zeros((6, model.nv)))  # stability check scratch
         self._jac_rows = (np.zeros((6 * len(self.body_ids), model.nv)), np.zeros((6 * len(self.body_ids), model.nv)))
         self._dt_scratch = np.full(model.nbody, np.inf)  # min_stable_timestep's
@@ -1233,8 +1145,8 @@ class GranularTerrain:
         self._damp_max = np.zeros(model.nbody)
         self._imp = np.zeros((model.nbody if self.implicit else 0, 10))  # the implicit step's spring moments
         self._dstiff = np.zeros((model.nbody, 10))  # moments of the depth stiffness (kernel, "Depth stiffness")
-        self._dstiff_max = np.zeros((model.nbody, 10))  # kernel.track_depth_springs
-        nb = len(self.body_ids) if self.implicit else 0  # the implicit step's scratch (kernel.implicit_wrench)
+        self._dstiff_max = np.zeros((model.nbody, 10))  # stability.track_depth_springs
+        nb = len(self.body_ids) if self.implicit else 0  # the implicit step's scratch (implicit_step.implicit_wrench)
         self._implicit_scratch = (np.zeros((6 * nb, model.nv)), np.zeros((6 * nb, model.nv)), np.zeros((nb, 6, 6)),
                                   np.zeros((6 * nb, 6 * nb)), np.zeros(6 * nb), np.zeros(nb, dtype=np.int64))
         self._implicit_functions = np.array(_IMPLICIT_FUNCTIONS if self.implicit else (0, 0, 0, 0), dtype=np.int64)
@@ -1398,8 +1310,8 @@ class GranularTerrain:
         if dt is None:
             dt = self.model.opt.timestep
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
-        kernel.track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max, self._inert, self._inert_max)
-        kernel.track_depth_springs(self._dstiff, self._dstiff_max)
+        track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max, self._inert, self._inert_max)
+        track_depth_springs(self._dstiff, self._dstiff_max)
         self._finish(data, status, body, dt, 1)
         return self.wrench
 
@@ -1455,7 +1367,7 @@ class GranularTerrain:
         before = self._steps
         self._steps += nstep
         if before == 0 or before // STABILITY_CHECK_EVERY != self._steps // STABILITY_CHECK_EVERY:
-            if not self.implicit:  # the springs' explicit limit does not bound the implicit step (kernel docstring)
+            if not self.implicit:  # the springs' explicit limit does not bound the implicit step (docs/numerics.md)
                 self._check_stability(data, dt)
             self._check_depth_springs(data, dt)
             if self._validity.dynamic:
@@ -1554,7 +1466,7 @@ class GranularTerrain:
 
     # ------------------------------------------------------------------ diagnostics
     def _check_stability(self, data, dt) -> None:
-        """Warn once per body when dt exceeds the explicit stability limit (see :mod:`mjrft.kernel`):
+        """Warn once per body when dt exceeds the explicit stability limit (:mod:`mjrft.stability`, docs/numerics.md):
         for a stiffness held ``HELD_STEPS`` steps, or a single step that amplifies by ``SPIKE_GROWTH``;
         with the inertial regime on, its largest damping rate since the last check is added to both
         (:func:`unstable_mode`)."""
@@ -1578,7 +1490,7 @@ class GranularTerrain:
 
     def _check_depth_springs(self, data, dt) -> None:
         """Warn once per body when dt exceeds the explicit limit of the depth stiffness ``|F| / depth`` of its
-        elements (vertical springs, kernel docstring "Depth stiffness"), ``dt <= sqrt(2) / omega`` with
+        elements (vertical springs, docs/numerics.md, "Depth stiffness"), ``dt <= sqrt(2) / omega`` with
         ``omega^2 = lambda_max(W6 Kd6)``, for the stiffest step since the last check."""
         peak = self._dstiff_max.copy()
         self._dstiff_max[:] = 0.0
@@ -1612,7 +1524,7 @@ class GranularTerrain:
         dampers included), whether the step integrates them explicitly or not; ``"depth"``, that of the depth
         stiffness (explicit in every mode); ``"step"`` (default), what bounds this terrain's step: the smaller
         of the two with ``implicit=False``, the depth stiffness's with ``implicit=True`` (see
-        :mod:`mjrft.kernel`). Evaluated now; ``inf`` for bodies with nothing below the surface.
+        docs/numerics.md, "Implicit step"). Evaluated now; ``inf`` for bodies with nothing below the surface.
         """
         out = np.full(self.model.nbody, np.inf)
         self._stable_into(data, out, "stable_timestep", part)
@@ -1668,10 +1580,10 @@ class GranularTerrain:
     def critical_rate(self, data, body: int, moments) -> float:
         """Largest eigenvalue of ``W6 K6`` for ``body``: omega^2 (1/s^2), or 1/s in the viscous mode.
 
-        ``moments`` are the kernel's stiffness moments of the body (see :mod:`mjrft.kernel`), ``K6``
+        ``moments`` are the kernel's stiffness moments of the body (:func:`mjrft.kernel.terrain_kernel`), ``K6``
         the 6x6 stiffness they describe and ``W6`` the body's :meth:`mobility`.
         """
-        return kernel.largest_rate(*self._jacobians(data, body), np.ascontiguousarray(moments, dtype=np.float64))
+        return largest_rate(*self._jacobians(data, body), np.ascontiguousarray(moments, dtype=np.float64))
 
     def _jacobians(self, data, body: int) -> tuple[np.ndarray, np.ndarray]:
         """(J, (M^-1 J^T)^T) of ``body``'s CoM translation (rows 0-2) and rotation (3-5), in scratch arrays."""

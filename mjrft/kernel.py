@@ -1,126 +1,42 @@
-"""The compiled per-step kernel of the coupler: kinematics -> rest regularisation -> law -> wrench.
+"""The compiled per-step kernel of the coupler: kinematics -> rest regularisation -> law -> wrench, and the fused
+stepping loop.
 
-Pure array code (numba); :mod:`mjrft.coupler` hands it views of ``mjData`` and owns all MuJoCo calls.
+Pure array code (numba); :mod:`mjrft.coupler` hands it views of ``mjData`` and owns all MuJoCo calls made from
+Python. :func:`terrain_kernel` evaluates every surface element that can reach the grains and sums each body's
+wrench and the moments the stability check (:mod:`mjrft.stability`) and the implicit step
+(:mod:`mjrft.implicit_step`) need; :func:`run_steps` runs ``mj_step1 -> terrain_kernel -> mj_step2`` in one
+compiled loop through MuJoCo's C functions (:mod:`mjrft.mujoco_c`). :func:`surface_height` and
+:func:`region_weights` are the surface and the regions as the kernel sees them.
 
-Rest regularisation (elasto-plastic element memory, a Dahl model per element)
------------------------------------------------------------------------------
-RFT stresses are rate-independent yield stresses: their direction follows the velocity and is
-undefined at rest. Each element below the surface keeps an elastic displacement ``u`` (world frame,
-metres) of the grains it touches, relaxed toward ``delta * v_hat`` over a travel of ``delta``
-(the yield displacement)::
-
-    u <- delta v_hat + (u - delta v_hat) exp(-|v| dt / delta)        (exact for constant v)
-    m  = u + tau v                                                   (Kelvin-Voigt damping)
-    F  = law(depth, n, m / |m|) * area * min(1, |m| / delta)
-
-In steady motion ``u -> delta v_hat`` and F is exactly the law's force; when the element stops,
-``u`` freezes and the grains hold the load like a solid below yield (no creep, no chatter); when the
-motion reverses, the force unloads over ``delta`` of travel instead of flipping sign in one step.
-An element that leaves the grains forgets its memory. ``delta = 0`` switches the memory off and uses
-a viscous ramp ``min(1, |v| / v_eps)`` instead (a resting body then sinks slowly).
-
-Stability limit (explicit integration). Linearised, each element is a spring of stiffness
-``k_i = |F_yield,i| / max(|m_i|, delta)`` with a damper ``c_i = tau k_i``: ``|F_yield| / delta`` below
-yield; once the grains yield (``|m| > delta``) the force's size no longer changes and only its
-direction turns, by ``dm / |m|``. The kernel returns per body the moments of the ``k_i`` about the
-body's centre of mass (``sum k``, ``sum k r``, ``sum k r r^T``), i.e. the body's 6x6 stiffness ``K6``
-for springs acting in every direction. With the body's 6x6 mobility ``W6 = J M^-1 J^T`` (``J``
-the jacobian of its CoM translation and rotation: a hinged leg's buried tip is lighter than its
-CoM), ``omega^2`` the largest eigenvalue of ``W6 K6``, ``h = omega dt`` and ``zeta = tau omega / 2``,
-MuJoCo's semi-implicit Euler step is stable iff ``h < 2 (sqrt(1 + zeta^2) - zeta)``. A free body
-resting at its yield load has ``omega^2 = g / delta`` (99 rad/s at 1 mm: stable up to 16 ms); a
-body that comes to rest holds its load below yield (``|m| = phi delta``, ``phi < 1``), a little
-deeper and stiffer: ``omega^2 = g / (phi delta)`` (a 1 kg plate: 9 to 12 ms).
-The viscous mode (``c_i = |F_yield,i| / max(|v_i|, v_eps)``, moments of ``c_i``) is stable iff
-``dt lambda_max(W6 C6) < 2``. The estimate is conservative (springs in every direction, and the
-memory's hysteresis dissipates): measured chatter starts at 1.2 to 1.7 times the limit it gives
-(tests/test_extremes.py).
-
-Depth stiffness. RFT's stresses grow with depth, so each buried element is also a vertical spring
-``kd_i = |F_i| / depth_i`` that only pushes (nothing above the surface) and has no damper. It is soft
-next to the springs above for a foot sunk centimetres deep (a body resting at sinkage ``z`` has
-``omega^2 = g / z``: 45 ms at 1 cm with the limit below) and stiff for a light body on a large area
-sunk less than ``delta`` (``kd = alpha_z A``). The kernel sums its moments per body (``dstiff``: those
-of vertical springs, ``phi = (e_z, r x e_z)``), and the check uses ``omega^2 = lambda_max(W6 Kd6)``
-with the limit ``dt <= sqrt(2) / omega``, below the linear spring's ``2 / omega``: the spring only
-pushes, and a body that meets it within one step at speed ``v`` is pushed back out at
-``(omega^2 dt^2 - 1) v``, faster than it came beyond ``sqrt(2)`` (a 1 kg plate 27 cm wide placed on
-poppy seeds at 10 ms has ``omega dt = 1.8`` and bounces higher each time; tests/test_extremes.py
-``-k wide_plate``).
-
-Inertial regime (:mod:`mjrft.laws.inertial`, when a scene turns it on): its pressure
-``C rho_bulk (u^2 - v_c^2)`` depends on the normal speed u, so each element with ``u > v_c`` is a
-damper along its normal, ``c_i = 2 w C rho_bulk A_i u_i``, which alone is stable iff
-``dt < 2 m / c`` (``m`` the effective mass), i.e. ``dt < m / (w C rho_bulk A u)``. The kernel sums the
-moments of the ``c_i`` about each body's CoM (``inert``); the check takes ``lambda_c``, the largest
-eigenvalue of ``W6 C6``, and adds it to the damping of the stiffest spring mode (``c = tau omega^2 +
-lambda_c``; viscous mode: ``lambda + lambda_c``), as if the stiffest and the most damped mode were one:
-a conservative bound, and exactly the damper's limit ``lambda_c dt < 2`` without stiffness.
-
-Implicit step (``GranularTerrain(implicit=True)``, the default of :class:`mjrft.envs.GranularWrapper`).
-The stiff part of the linearisation is integrated implicitly instead of limiting the step. Below
-yield an element's force is ``-k (u + tau v)`` with ``k = |F_yield| / delta``, and a change ``dv`` of
-its velocity over the step moves ``m = u + tau v`` by ``T dv``, ``T = tau + delta (1 - exp(-|v| dt /
-delta)) / |v|`` (``tau + dt`` at rest: the memory's own response, :func:`_rest_memory`). Per body the
-kernel sums the moments of ``T k`` of its elements below yield (``imp``; in the viscous mode the
-dampers ``c`` below ``v_eps``), i.e. the 6x6 ``G`` by which the body's wrench changes with its velocity
-change ``dV`` (6-vector: CoM velocity, angular velocity); the inertial regime adds its ``C6``. With
-``J`` the stacked CoM jacobians of those bodies, ``W = J M^-1 J^T`` their mobility (their coupling
-through the joints included) and ``dV_o = dt J qacc_smooth`` the velocity change every other force
-would make (MuJoCo's smooth acceleration: gravity, actuators, passive and bias forces)::
-
-    F' = F - G (dV_o + dt W F')      =>      (I + dt G W) F' = F - G dV_o
-
-is solved for the applied wrench ``F'`` (6 n unknowns for n bodies with springs; ``I + dt G W`` has
-eigenvalues with real part >= 1, so it is never singular). This is linearly implicit Euler for the
-grains' springs: they are stable at every timestep, and a body resting on the grains keeps
-``F' = F`` (its weight) exactly. Elements that yield stay explicit: their force keeps its size and
-only turns with the motion, and a spring turning it as if it were parallel to the motion would be
-the wrong linearisation (RFT's force is not parallel to the motion: it has lift) and would damp the
-motion where the grains do not. Not made implicit either: constraint forces (joint limits, rigid
-contacts) in ``dV_o``, the water layer's drag, an element entering the grains within the step, and
-the depth stiffness (above), which the coupler keeps checking and warning about. The elements'
-memory and forces (``force``) are those of the explicit evaluation; ``wrench`` holds the applied
-``F'``. The springs' explicit limit no longer bounds the step; their timestep becomes a matter of
-accuracy (:mod:`mjrft.envs.wrapper` picks it, ``benchmarks/implicit_accuracy.py``
-measures it).
-
-What the coupler warns about: beyond the limit the step multiplies a perturbation by
-:func:`step_growth` ``> 1`` each step. A state held for ``HELD_STEPS`` consecutive steps beyond the
-limit warns; a shorter spike (a leg's impact) warns only if one step more than doubles a
-perturbation (``SPIKE_GROWTH``), since the steps after it damp what it amplified.
-
-Not covered: forces across the motion (RFT's lift on a dragged plate) are not a stiffness. They
-turn the velocity, and a step in which the grains change a body's velocity by about its own size
-(``F dt / (m |v|) ~ 1``: a very light body with a large buried area moving fast, e.g. a 1 kg plate
-63 cm wide dragged at 1 m/s 3 cm deep at 1 ms) can gain energy in that step. The bundled robots
-are far from it (about 0.1 for the hexapod torso dragging its belly at 0.5 m/s).
+The numerics (the rest regularisation of each element, its linearised spring and damper, the depth stiffness,
+the inertial regime's dampers, the implicit step) are derived in docs/numerics.md.
 """
 
 from __future__ import annotations
 
-import ctypes
-import glob
 import math
-import os
 
-import numpy as np
-from llvmlite import ir
-from numba import njit, types
-from numba.extending import intrinsic
+from numba import njit
 
+from .implicit_step import implicit_wrench
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
 from .laws.rft import rft_stress_batch
 from .laws.registry import LAW_IDS
 from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
 from .media import P_INERTIA
+from .mujoco_c import call_mj
+from .stability import track_depth_springs, track_stiffness
+
+# names of the stability check, the implicit step and the C calls, importable from here as well
+from .implicit_step import IMPLICIT_FUNCTIONS  # noqa: F401
+from .mujoco_c import mujoco_functions, mujoco_step_functions  # noqa: F401
+from .stability import (HELD_STEPS, SPIKE_GROWTH, add_k6, add_vertical_k6, depth_stable_dt, largest_rate,  # noqa: F401
+                        max_stable_dt, stable_step, step_growth)
 
 OK = 0
 BAD_FORCE = 1
 BAD_STATE = 2
-HELD_STEPS = 3  # consecutive steps beyond the stability limit that warn (module docstring)
-SPIKE_GROWTH = 2.0  # growth of a perturbation in a single step that warns even for a shorter spike
 LAW_WATER = LAW_IDS["water"]  # a region of open water: no sand law below it
 LAW_RFT = LAW_IDS["rft"]  # Li RFT: the law whose elements are gathered for one vectorised call
 
@@ -306,10 +222,10 @@ def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob
 @njit(cache=True, error_model="numpy", inline="always")
 def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps):
     """Advance element ``i``'s rest memory ``u[i]`` by ``dt`` (``dt_d`` = dt / delta, ``inv_d`` = 1 / delta,
-    hoisted out of the element loop) at velocity ``v`` and return the regularised
-    motion (mx, my, mz, |m|, mobilisation) that the law sees (module docstring): with ``delta > 0``
-    ``m = u + tau v``, mobilisation ``min(1, |m| / delta)``; in the viscous mode ``m = v``,
-    ``min(1, |v| / v_eps)``."""
+    hoisted out of the element loop) at velocity ``v`` and return the regularised motion (mx, my, mz, |m|,
+    mobilisation) that the law sees (docs/numerics.md, "Rest regularisation"): with ``delta > 0``
+    ``u <- delta v_hat + (u - delta v_hat) exp(-|v| dt / delta)``, ``m = u + tau v``, mobilisation
+    ``min(1, |m| / delta)``; in the viscous mode ``m = v``, ``min(1, |v| / v_eps)``."""
     if delta > 0.0:
         if speed > 0.0:
             a = math.exp(-speed * dt_d)
@@ -328,7 +244,7 @@ def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps):
 @njit(cache=True, error_model="numpy", inline="always")
 def _linear_stiffness(fx, fy, fz, ml, delta, v_eps):
     """Linearised stiffness of an element force ``|F| / max(|m|, delta)`` (the damping
-    ``|F| / max(|v|, v_eps)`` in the viscous mode), see the module docstring."""
+    ``|F| / max(|v|, v_eps)`` in the viscous mode), see docs/numerics.md, "Stability limit"."""
     return _stiffness_of(math.sqrt(fx * fx + fy * fy + fz * fz), ml, delta, v_eps)
 
 
@@ -373,9 +289,9 @@ def _memory_time(speed, dt, delta, tau):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _add_implicit(imp, b, rx, ry, rz, ml, kk, limit, t):
-    """The implicit step's spring of one element (module docstring): below yield (``|m| <= limit``) the moments
-    of ``t kk`` about body ``b``'s CoM are added to ``imp[b]`` (as :func:`_add_moments`); a yielding element
-    adds nothing (its force only turns, and stays explicit)."""
+    """The implicit step's spring of one element (docs/numerics.md, "Implicit step"): below yield
+    (``|m| <= limit``) the moments of ``t kk`` about body ``b``'s CoM are added to ``imp[b]`` (as
+    :func:`_add_moments`); a yielding element adds nothing (its force only turns, and stays explicit)."""
     if ml <= limit and kk > 0.0:
         _add_moments(imp, b, rx, ry, rz, t * kk)
 
@@ -383,8 +299,8 @@ def _add_implicit(imp, b, rx, ry, rz, ml, kk, limit, t):
 @njit(cache=True, error_model="numpy", inline="always")
 def _add_depth_spring(dstiff, b, rx, ry, rz, fx, fy, fz, depth):
     """An element's force grows with its depth (RFT's stresses are proportional to it): a vertical spring
-    ``|F| / depth``, whose moments about body ``b``'s CoM go to ``dstiff[b]`` (as :func:`_add_moments`; module
-    docstring, "Depth stiffness")."""
+    ``|F| / depth``, whose moments about body ``b``'s CoM go to ``dstiff[b]`` (as :func:`_add_moments`;
+    docs/numerics.md, "Depth stiffness")."""
     if depth > 0.0:
         kd = math.sqrt(fx * fx + fy * fy + fz * fz) / depth
         if kd > 0.0:
@@ -953,50 +869,6 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
 
 
 @njit(cache=True, error_model="numpy")
-def track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max):
-    """After a step, per body, from this step's stiffness moments ``stiff`` (nbody, 10): ``stiff_max``
-    (nbody, HELD_STEPS + 1, 10) keeps in ``[:, 0]`` the stiffest state held for HELD_STEPS consecutive
-    steps (the least stiff of the last HELD_STEPS steps), in ``[:, 1]`` the stiffest single step (both
-    since the coupler last cleared them) and in ``[:, 2:]`` the previous steps; ``damp_max`` the largest
-    summed damping; ``inert_max`` (nbody, 10) the inertial damping moments ``inert`` of the step with the
-    largest summed inertial damping (only when some body has any)."""
-    n = stiff_max.shape[1]
-    for b in range(stiff.shape[0]):
-        if inert[b, 0] > inert_max[b, 0]:
-            for j in range(10):
-                inert_max[b, j] = inert[b, j]
-        if stiff[b, 0] > stiff_max[b, 1, 0]:
-            for j in range(10):
-                stiff_max[b, 1, j] = stiff[b, j]
-        low = stiff[b, 0]
-        src = -1
-        for h in range(2, n):
-            if stiff_max[b, h, 0] < low:
-                low = stiff_max[b, h, 0]
-                src = h
-        if low > stiff_max[b, 0, 0]:
-            for j in range(10):
-                stiff_max[b, 0, j] = stiff[b, j] if src < 0 else stiff_max[b, src, j]
-        for h in range(n - 1, 2, -1):
-            for j in range(10):
-                stiff_max[b, h, j] = stiff_max[b, h - 1, j]
-        if n > 2:
-            for j in range(10):
-                stiff_max[b, 2, j] = stiff[b, j]
-        damp_max[b] = max(damp_max[b], damp[b])
-
-
-@njit(cache=True, error_model="numpy")
-def track_depth_springs(dstiff, dstiff_max):
-    """Per body, keep in ``dstiff_max`` (nbody, 10) the depth-stiffness moments ``dstiff`` of the step with the
-    largest summed depth stiffness (since the coupler last cleared it)."""
-    for b in range(dstiff.shape[0]):
-        if dstiff[b, 0] > dstiff_max[b, 0]:
-            for j in range(10):
-                dstiff_max[b, j] = dstiff[b, j]
-
-
-@njit(cache=True, error_model="numpy")
 def add_rows(target, rows, values, saved):
     """saved[rows] = target[rows]; target[rows] += values[rows]."""
     for k in range(rows.shape[0]):
@@ -1015,353 +887,10 @@ def restore_rows(target, rows, saved):
             target[b, j] = saved[b, j]
 
 
-def stable_step(K: float, c: float, w: float, dt: float) -> bool:
-    """True if a spring K (N/m) with damper c (N s/m) on inverse mass w (1/kg) is stable at dt."""
-    if K <= 0.0:
-        return c * w * dt < 2.0
-    omega = math.sqrt(K * w)
-    zeta = 0.5 * c * w / omega
-    return omega * dt < 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta)
-
-
-@njit(cache=True, error_model="numpy")
-def _largest_symmetric_eigenvalue(a):
-    """Largest eigenvalue of the symmetric matrix ``a`` (cyclic Jacobi; ``a`` is overwritten)."""
-    n = a.shape[0]
-    for _ in range(60):
-        off = 0.0
-        scale = 0.0
-        for p in range(n):
-            scale += a[p, p] * a[p, p]
-            for q in range(p + 1, n):
-                off += a[p, q] * a[p, q]
-        if off <= 1e-28 * scale or off == 0.0:
-            break
-        for p in range(n - 1):
-            for q in range(p + 1, n):
-                apq = a[p, q]
-                if apq == 0.0:
-                    continue
-                theta = (a[q, q] - a[p, p]) / (2.0 * apq)
-                if abs(theta) > 1e150:
-                    t = 0.5 / theta
-                else:
-                    t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + math.sqrt(theta * theta + 1.0))
-                c = 1.0 / math.sqrt(t * t + 1.0)
-                s = t * c
-                for k in range(n):
-                    akp, akq = a[k, p], a[k, q]
-                    a[k, p] = c * akp - s * akq
-                    a[k, q] = s * akp + c * akq
-                for k in range(n):
-                    apk, aqk = a[p, k], a[q, k]
-                    a[p, k] = c * apk - s * aqk
-                    a[q, k] = s * apk + c * aqk
-    top = a[0, 0]
-    for p in range(1, n):
-        top = max(top, a[p, p])
-    return top
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def add_k6(out, moments, scale):
-    """``out += scale K6``: the 6x6 stiffness (translation rows/columns 0-2, rotation 3-5, about the CoM) of
-    springs acting in every direction with the kernel's ``moments`` (``sum k``, ``sum k r``, ``sum k r r^T``)::
-
-        K6 = [[ s0 I,    -[S1]x           ],
-              [ [S1]x,   tr(S2) I - S2    ]]
-    """
-    s0 = scale * moments[0]
-    x, y, z = scale * moments[1], scale * moments[2], scale * moments[3]
-    sxx, sxy, sxz = scale * moments[4], scale * moments[5], scale * moments[6]
-    syy, syz, szz = scale * moments[7], scale * moments[8], scale * moments[9]
-    tr = sxx + syy + szz
-    for i in range(3):
-        out[i, i] += s0
-    # off-diagonal blocks: -[S1]x (upper right) and [S1]x (lower left)
-    out[0, 4] += z
-    out[0, 5] -= y
-    out[1, 3] -= z
-    out[1, 5] += x
-    out[2, 3] += y
-    out[2, 4] -= x
-    out[4, 0] += z
-    out[5, 0] -= y
-    out[3, 1] -= z
-    out[5, 1] += x
-    out[3, 2] += y
-    out[4, 2] -= x
-    out[3, 3] += tr - sxx
-    out[4, 4] += tr - syy
-    out[5, 5] += tr - szz
-    out[3, 4] -= sxy
-    out[4, 3] -= sxy
-    out[3, 5] -= sxz
-    out[5, 3] -= sxz
-    out[4, 5] -= syz
-    out[5, 4] -= syz
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def add_vertical_k6(out, moments):
-    """``out += K6`` of vertical springs with the kernel's ``moments`` (the same ten sums as :func:`add_k6`; those
-    with z do not enter): ``phi = (e_z, r x e_z)``, ``r x e_z = (r_y, -r_x, 0)``, ``K6 = sum k phi phi^T``."""
-    s0, x, y = moments[0], moments[1], moments[2]
-    sxx, sxy, syy = moments[4], moments[5], moments[7]
-    out[2, 2] += s0
-    out[2, 3] += y
-    out[3, 2] += y
-    out[2, 4] -= x
-    out[4, 2] -= x
-    out[3, 3] += syy
-    out[3, 4] -= sxy
-    out[4, 3] -= sxy
-    out[4, 4] += sxx
-
-
-@njit(cache=True, error_model="numpy")
-def largest_rate(jac, minv_jac, moments, vertical=False):
-    """Largest eigenvalue of ``W6 K6`` (module docstring): ``W6 = jac minv_jac^T`` (``jac`` the 6 x nv
-    jacobian of a body's CoM translation and rotation, ``minv_jac = M^-1 jac^T`` transposed) and ``K6``
-    the stiffness of springs in every direction with the kernel's ``moments`` about the CoM (``vertical``:
-    of vertical springs, :func:`add_vertical_k6`)."""
-    nv = jac.shape[1]
-    w = np.empty((6, 6))
-    for i in range(6):
-        for j in range(i, 6):
-            acc = 0.0
-            for k in range(nv):
-                acc += jac[i, k] * minv_jac[j, k] + jac[j, k] * minv_jac[i, k]
-            w[i, j] = 0.5 * acc
-            w[j, i] = 0.5 * acc
-    k6 = np.zeros((6, 6))
-    if vertical:
-        add_vertical_k6(k6, moments)
-    else:
-        add_k6(k6, moments, 1.0)
-    # W6 = L L^T (a tiny ridge: a hinged body's W6 is singular), then the symmetric L^T K6 L
-    ridge = 1e-12 * (w[0, 0] + w[1, 1] + w[2, 2] + w[3, 3] + w[4, 4] + w[5, 5]) + 1e-300
-    low = np.zeros((6, 6))
-    for j in range(6):
-        d = w[j, j] + ridge
-        for k in range(j):
-            d -= low[j, k] * low[j, k]
-        d = math.sqrt(d) if d > 0.0 else 0.0
-        low[j, j] = d
-        for i in range(j + 1, 6):
-            acc = w[i, j]
-            for k in range(j):
-                acc -= low[i, k] * low[j, k]
-            low[i, j] = acc / d if d > 0.0 else 0.0
-    sym = np.zeros((6, 6))  # L^T K6 L in loops: numba's @ needs scipy's BLAS
-    for i in range(6):
-        for j in range(i, 6):
-            acc = 0.0
-            for k in range(i, 6):
-                row = 0.0
-                for q in range(j, 6):
-                    row += k6[k, q] * low[q, j]
-                acc += low[k, i] * row
-            sym[i, j] = acc
-            sym[j, i] = acc
-    return max(0.0, _largest_symmetric_eigenvalue(sym))
-
-
-def step_growth(K: float, c: float, w: float, dt: float) -> float:
-    """Factor by which one semi-implicit Euler step multiplies a perturbation of a spring K (N/m) with
-    damper c (N s/m) on inverse mass w (1/kg): the spectral radius of the step (> 1: unstable)."""
-    a2, b = K * w * dt * dt, c * w * dt
-    # x' = x + dt v', v' = v - dt w (K x + c v): lambda^2 - p lambda + q = 0
-    p, q = 2.0 - a2 - b, 1.0 - b
-    disc = p * p - 4.0 * q
-    if disc >= 0.0:
-        r = math.sqrt(disc)
-        return 0.5 * max(abs(p + r), abs(p - r))
-    return math.sqrt(q)  # a complex pair: |lambda|^2 = q
-
-
-@njit(cache=True, error_model="numpy")
-def depth_stable_dt(lam: float) -> float:
-    """Largest timestep (s) of the depth stiffness with ``omega^2 = lam`` (module docstring, "Depth stiffness"):
-    ``sqrt(2) / omega`` (inf without stiffness)."""
-    return math.sqrt(2.0 / lam) if lam > 0.0 else np.inf
-
-
-def max_stable_dt(K: float, c: float, w: float) -> float:
-    """Largest stable timestep for :func:`stable_step` (inf when there is no stiffness or damping)."""
-    if K <= 0.0:
-        return 2.0 / (c * w) if c > 0 else np.inf
-    omega = math.sqrt(K * w)
-    zeta = 0.5 * c * w / omega
-    return 2.0 * (math.sqrt(1.0 + zeta * zeta) - zeta) / omega
-
-
 # ---------------------------------------------------------------------------------------------
 # Fused stepping: mj_step1 -> terrain_kernel -> mj_step2 in one compiled loop, calling MuJoCo's C
 # functions through their addresses (passed at run time, so the compiled code stays cacheable).
 # This removes the per-step Python overhead that would otherwise dominate small models.
-
-@intrinsic
-def _call_mj(typingctx, fptr, m_addr, d_addr):
-    """Call ``void f(const mjModel*, mjData*)`` at address ``fptr``."""
-    sig = types.void(types.intp, types.intp, types.intp)
-
-    def codegen(context, builder, signature, args):
-        f, a, b = args
-        vp = ir.IntType(8).as_pointer()
-        fnty = ir.FunctionType(ir.VoidType(), [vp, vp])
-        fn = builder.inttoptr(f, fnty.as_pointer())
-        builder.call(fn, [builder.inttoptr(a, vp), builder.inttoptr(b, vp)])
-        return context.get_dummy_value()
-
-    return sig, codegen
-
-
-@intrinsic
-def _call_mj_arrays(typingctx, fptr, m_addr, d_addr, a_addr, b_addr, n):
-    """Call ``void f(const mjModel*, mjData*, mjtNum* a, mjtNum* b, int n)`` at address ``fptr`` (the shape of
-    both ``mj_jacBodyCom(m, d, jacp, jacr, body)`` and ``mj_solveM(m, d, x, y, n)``)."""
-    sig = types.void(types.intp, types.intp, types.intp, types.intp, types.intp, types.intp)
-
-    def codegen(context, builder, signature, args):
-        f, m, d, a, b, k = args
-        vp, dp, i32 = ir.IntType(8).as_pointer(), ir.DoubleType().as_pointer(), ir.IntType(32)
-        fn = builder.inttoptr(f, ir.FunctionType(ir.VoidType(), [vp, vp, dp, dp, i32]).as_pointer())
-        builder.call(fn, [builder.inttoptr(m, vp), builder.inttoptr(d, vp), builder.inttoptr(a, dp),
-                          builder.inttoptr(b, dp), builder.trunc(k, i32)])
-        return context.get_dummy_value()
-
-    return sig, codegen
-
-
-def _mujoco_library():
-    import mujoco
-
-    path = sorted(glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*")))[0]
-    return ctypes.CDLL(path)
-
-
-def mujoco_functions(*names: str):
-    """Addresses of MuJoCo's C functions ``names`` in the library the bindings loaded, or None."""
-    try:
-        lib = _mujoco_library()
-        return tuple(ctypes.cast(getattr(lib, n), ctypes.c_void_p).value for n in names)
-    except (IndexError, OSError, AttributeError):
-        return None
-
-
-def mujoco_step_functions():
-    """Addresses of MuJoCo's ``mj_step1`` and ``mj_step2`` in the library the bindings loaded, or None."""
-    return mujoco_functions("mj_step1", "mj_step2")
-
-
-#: MuJoCo functions the implicit step calls (:func:`implicit_wrench`), in the order of its first arguments
-IMPLICIT_FUNCTIONS = ("mj_fwdActuation", "mj_fwdAcceleration", "mj_jacBodyCom", "mj_solveM")
-
-
-@njit(cache=True, error_model="numpy")
-def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, bodies, wrench, imp, inert,
-                    use_inert, dt, jac, minv_jac, blocks, a, rhs, rows):
-    """Replace the explicit wrench of the buried bodies by the linearly implicit one (module docstring).
-
-    Called after ``mj_step1`` and :func:`terrain_kernel`, before the wrench is added to ``xfrc_applied``:
-    MuJoCo's ``mj_fwdActuation`` and ``mj_fwdAcceleration`` give ``qacc_smooth`` (every force but the
-    grains' and the constraints'), ``mj_jacBodyCom`` the buried bodies' 6 x nv CoM jacobians ``J`` (stacked),
-    ``mj_solveM`` ``M^-1 J^T``. Scratch: ``jac``, ``minv_jac`` (6 nb x nv), ``blocks`` (nb, 6, 6), ``a``
-    (6 nb x 6 nb), ``rhs`` (6 nb), ``rows`` (nb), with nb the number of selected bodies. Returns -1, or the
-    first body whose implicit wrench is not finite (its ``wrench`` row is then left as it is)."""
-    nv = jac.shape[1]
-    n = 0
-    for i in range(bodies.shape[0]):
-        b = bodies[i]
-        if imp[b, 0] > 0 or (use_inert and inert[b, 0] > 0):
-            rows[n] = b
-            n += 1
-    if n == 0:
-        return -1
-    _call_mj(f_act, m_addr, d_addr)
-    _call_mj(f_acc, m_addr, d_addr)
-    for i in range(n):
-        at = jac.ctypes.data + 6 * i * nv * 8
-        _call_mj_arrays(f_jac, m_addr, d_addr, at, at + 3 * nv * 8, rows[i])
-    m6 = 6 * n
-    _call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, m6)
-    # G_b: the 6x6 of the kernel's implicit spring moments + the inertial dampers' C6
-    for i in range(n):
-        g = blocks[i]
-        g[:, :] = 0.0
-        add_k6(g, imp[rows[i]], 1.0)
-        if use_inert and inert[rows[i], 0] > 0:
-            add_k6(g, inert[rows[i]], 1.0)
-    # rhs = F - G dV_other, dV_other = dt J qacc_smooth
-    for i in range(n):
-        dv = np.zeros(6)
-        for r in range(6):
-            acc = 0.0
-            for k in range(nv):
-                acc += jac[6 * i + r, k] * qacc_smooth[k]
-            dv[r] = dt * acc
-        g = blocks[i]
-        for r in range(6):
-            acc = wrench[rows[i], r]
-            for c in range(6):
-                acc -= g[r, c] * dv[c]
-            rhs[6 * i + r] = acc
-    # a = I + dt G W, W = J M^-1 J^T (symmetric; W[p, q] = jac[p] . minv_jac[q])
-    w = np.empty(m6)
-    for q in range(m6):
-        for p in range(m6):
-            acc = 0.0
-            for k in range(nv):
-                acc += jac[p, k] * minv_jac[q, k]
-            w[p] = acc
-        for i in range(n):
-            g = blocks[i]
-            for r in range(6):
-                acc = 0.0
-                for c in range(6):
-                    acc += g[r, c] * w[6 * i + c]
-                a[6 * i + r, q] = dt * acc
-        a[q, q] += 1.0
-    _solve_in_place(a, rhs, m6)
-    for i in range(n):
-        for r in range(6):
-            if not math.isfinite(rhs[6 * i + r]):
-                return rows[i]
-    for i in range(n):
-        for r in range(6):
-            wrench[rows[i], r] = rhs[6 * i + r]
-    return -1
-
-
-@njit(cache=True, error_model="numpy")
-def _solve_in_place(a, x, n):
-    """Solve ``a[:n, :n] y = x[:n]`` into ``x`` (Gaussian elimination with partial pivoting; ``a`` is
-    overwritten). ``a = I + dt G W`` is a P-matrix here (G, W positive semi-definite), so no pivot is 0."""
-    for k in range(n):
-        p = k
-        big = abs(a[k, k])
-        for i in range(k + 1, n):
-            if abs(a[i, k]) > big:
-                big = abs(a[i, k])
-                p = i
-        if p != k:
-            for j in range(n):
-                a[k, j], a[p, j] = a[p, j], a[k, j]
-            x[k], x[p] = x[p], x[k]
-        piv = a[k, k]
-        for i in range(k + 1, n):
-            f = a[i, k] / piv
-            if f != 0.0:
-                for j in range(k + 1, n):
-                    a[i, j] -= f * a[k, j]
-                x[i] -= f * x[k]
-    for k in range(n - 1, -1, -1):
-        acc = x[k]
-        for j in range(k + 1, n):
-            acc -= a[k, j] * x[j]
-        x[k] = acc / a[k, k]
-
 
 @njit(cache=True, error_model="numpy")
 def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
@@ -1375,13 +904,14 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
     """``nstep`` x (mj_step1, terrain_kernel, [implicit_wrench], xfrc += wrench, mj_step2, restore xfrc).
 
     With ``implicit`` the wrench of each step is made linearly implicit by :func:`implicit_wrench`
-    (``f_implicit`` the addresses of :data:`IMPLICIT_FUNCTIONS`; the ``imp_*`` arrays its scratch).
+    (``f_implicit`` the addresses of :data:`mjrft.implicit_step.IMPLICIT_FUNCTIONS`; the ``imp_*`` arrays its
+    scratch).
 
     Returns (status, body, steps completed); on a non-finite value it stops after mj_step1 of the
     failing step, before anything is written to xfrc_applied.
     """
     for s in range(nstep):
-        _call_mj(f_step1, m_addr, d_addr)
+        call_mj(f_step1, m_addr, d_addr)
         status, body = terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
                                       geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
                                       surface, top, reg_bounds, reg_law, reg_params,
@@ -1400,6 +930,6 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
             if bad >= 0:
                 return BAD_FORCE, bad, s
         add_rows(xfrc, rows, wrench, saved)
-        _call_mj(f_step2, m_addr, d_addr)
+        call_mj(f_step2, m_addr, d_addr)
         restore_rows(xfrc, rows, saved)
     return OK, -1, nstep

@@ -89,7 +89,8 @@ def test_passive_body_never_gains_energy(law, medium, log_mass, log_dt, log_hx, 
     mechanical energy never rises above its start unless the terrain warned that the timestep is
     beyond the stability limit (beyond it explicit integration may pump energy: it must say so).
 
-    Outside the check's scope (kernel docstring, test_lift_on_a_light_dragged_plate_needs_a_small_step):
+    Outside the check's scope (docs/numerics.md, "Known limits";
+    test_lift_on_a_light_dragged_plate_needs_a_small_step):
     a first step in which the grains would change the velocity by more than a quarter of its size (a
     0.3 kg, 36 cm plate 2.3 cm deep in the depth-only law at 3 m/s, 0.46, gains 7e-7 of its energy), and
     bodies lighter than 1 kg per m^2 of sole (paper; the lightest robot parts here are ~5 kg/m^2: a 2 g RHex leg
@@ -124,7 +125,7 @@ def test_passive_body_never_gains_energy(law, medium, log_mass, log_dt, log_hx, 
 
 def test_wide_plate_placed_on_the_surface_at_10ms_warns():
     """A 1 kg plate 27 cm wide placed on poppy seeds at 10 ms bounces higher each time (its force grows with its
-    depth: omega dt = 1.8 for that spring, kernel docstring "Depth stiffness"; its rest springs are beyond their
+    depth: omega dt = 1.8 for that spring, docs/numerics.md "Depth stiffness"; its rest springs are beyond their
     limit too), and the terrain warns; at 1 ms it settles quietly. The implicit step, whose springs are stable,
     warns about the depth stiffness alone (test_implicit.py)."""
     hx = 10 ** -0.875
@@ -257,7 +258,7 @@ def test_documented_limit_brackets_the_observed_chatter(make):
 def test_resting_free_body_limit_matches_the_formula():
     """A free plate loaded slowly: it rests below yield (|m| = phi delta, phi < 1) carrying its weight,
     so its grains are springs K = m g / (phi delta), omega^2 = g / (phi delta), zeta = tau omega / 2,
-    and the limit is 2 (sqrt(1 + zeta^2) - zeta) / omega (kernel docstring); the rotations of the
+    and the limit is 2 (sqrt(1 + zeta^2) - zeta) / omega (docs/numerics.md); the rotations of the
     plate are a little stiffer (springs in every direction), never softer."""
     mass, hx = 1.0, 0.05
     m, d = plate(mass=mass, hx=hx, hz=0.002, dt=1e-3, bottom=settled_depth(mass, hx, POPPY))

@@ -1,4 +1,4 @@
-"""The implicit granular step (GranularTerrain(implicit=True), kernel docstring "Implicit step"): the linear
+"""The implicit granular step (GranularTerrain(implicit=True), docs/numerics.md "Implicit step"): the linear
 system it solves, rest at steps far beyond the explicit limit, convergence to the explicit step, energy,
 and its refusals."""
 
@@ -149,7 +149,7 @@ def test_converges_to_the_explicit_step():
 def test_passive_body_never_gains_energy(law, medium, log_mass, log_dt, log_hx, bottom, v, spin):
     """test_extremes' property with the implicit step, in the same scope: a passive body never ends a step with more
     energy than it started with unless the terrain warned (the implicit step warns only about what stays explicit:
-    the depth stiffness, kernel docstring)."""
+    the depth stiffness, docs/numerics.md)."""
     mass, dt, hx = 10.0 ** log_mass, 10.0 ** log_dt, 10.0 ** log_hx
     v = np.array(v)
     if np.linalg.norm(v) > 10.0:

@@ -165,7 +165,7 @@ def test_stability_limit_of_the_damper():
     mass = model.body_mass[1]
     assert t._inert[1, 0] == pytest.approx(c, rel=1e-9)
     assert limits[10.0] < limits[1.0] < 2 * mass / (0.5 * c / 10.0)
-    # the check treats the dampers as acting in every direction (conservative, kernel docstring): the plate's
+    # the check treats the dampers as acting in every direction (conservative, docs/numerics.md): the plate's
     # bottom 1 mm below its CoM couples sliding with tilting, 14 % below the pure heave limit 2 m / c
     assert 0.8 * 2 * mass / c < limits[10.0] <= 2 * mass / c
 

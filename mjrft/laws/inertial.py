@@ -48,7 +48,7 @@ stable under MuJoCo's semi-implicit Euler step iff ``c dt / m < 2``, i.e.
 
     dt < m / (w C rho_bulk A u).
 
-The coupler's stability check includes it (:mod:`mjrft.kernel`): the kernel sums the dampers' moments
+The coupler's stability check includes it (:mod:`mjrft.stability`): the kernel sums the dampers' moments
 about each body's CoM like the stiffness moments, and the check combines the stiffest spring mode with
 the largest damping rate, a conservative bound. For a DynaRoACH leg (tip effective mass ~3 g through its
 hip armature, 0.5 cm^2 buried, 1.5 m/s) the limit is ~10 ms, far above the 1 ms step.

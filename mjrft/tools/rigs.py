@@ -17,7 +17,7 @@ exact ``qpos``/``qvel`` of its path, recomputes the kinematics (``mj_fwdPosition
 ``mj_fwdVelocity``) and calls :meth:`GranularTerrain.compute` with the time since the previous sample,
 so the force is the terrain's own force on the moving body, nothing is integrated, and the path is
 exact at any sample spacing (the elements' rest-regularisation memory advances by the exact travel
-of each sample, see :mod:`mjrft.kernel`). The first ``yield_displacement`` (1 mm) or so of travel
+of each sample, see docs/numerics.md, "Rest regularisation"). The first ``yield_displacement`` (1 mm) or so of travel
 after an element enters the grains is the grains loading up; after that the force is the law's.
 The stability check of the terrain is irrelevant here (no dynamics) and its warning is silenced.
 

@@ -1,0 +1,126 @@
+"""The implicit granular step (``GranularTerrain(implicit=True)``): the wrench of the buried bodies made linearly
+implicit in the grains' springs, so that they are stable at every timestep.
+
+After ``mj_step1`` and :func:`mjrft.kernel.terrain_kernel`, :func:`implicit_wrench` replaces the explicit wrench
+``F`` of each body with springs by the ``F'`` that solves ``(I + dt G W) F' = F - G dV_o`` (``G`` the body's
+springs below yield, ``W`` the bodies' mobility, ``dV_o`` the velocity change every other force makes in the
+step). The derivation, what stays explicit and why, is in docs/numerics.md, "Implicit step".
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .mujoco_c import call_mj, call_mj_arrays
+from .stability import add_k6
+
+#: MuJoCo functions the implicit step calls (:func:`implicit_wrench`), in the order of its first arguments
+IMPLICIT_FUNCTIONS = ("mj_fwdActuation", "mj_fwdAcceleration", "mj_jacBodyCom", "mj_solveM")
+
+
+@njit(cache=True, error_model="numpy")
+def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, bodies, wrench, imp, inert,
+                    use_inert, dt, jac, minv_jac, blocks, a, rhs, rows):
+    """Replace the explicit wrench of the buried bodies by the linearly implicit one (docs/numerics.md,
+    "Implicit step").
+
+    Called after ``mj_step1`` and :func:`mjrft.kernel.terrain_kernel`, before the wrench is added to
+    ``xfrc_applied``: MuJoCo's ``mj_fwdActuation`` and ``mj_fwdAcceleration`` give ``qacc_smooth`` (every force but the
+    grains' and the constraints'), ``mj_jacBodyCom`` the buried bodies' 6 x nv CoM jacobians ``J`` (stacked),
+    ``mj_solveM`` ``M^-1 J^T``. Scratch: ``jac``, ``minv_jac`` (6 nb x nv), ``blocks`` (nb, 6, 6), ``a``
+    (6 nb x 6 nb), ``rhs`` (6 nb), ``rows`` (nb), with nb the number of selected bodies. Returns -1, or the
+    first body whose implicit wrench is not finite (its ``wrench`` row is then left as it is)."""
+    nv = jac.shape[1]
+    n = 0
+    for i in range(bodies.shape[0]):
+        b = bodies[i]
+        if imp[b, 0] > 0 or (use_inert and inert[b, 0] > 0):
+            rows[n] = b
+            n += 1
+    if n == 0:
+        return -1
+    call_mj(f_act, m_addr, d_addr)
+    call_mj(f_acc, m_addr, d_addr)
+    for i in range(n):
+        at = jac.ctypes.data + 6 * i * nv * 8
+        call_mj_arrays(f_jac, m_addr, d_addr, at, at + 3 * nv * 8, rows[i])
+    m6 = 6 * n
+    call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, m6)
+    # G_b: the 6x6 of the kernel's implicit spring moments + the inertial dampers' C6
+    for i in range(n):
+        g = blocks[i]
+        g[:, :] = 0.0
+        add_k6(g, imp[rows[i]], 1.0)
+        if use_inert and inert[rows[i], 0] > 0:
+            add_k6(g, inert[rows[i]], 1.0)
+    # rhs = F - G dV_other, dV_other = dt J qacc_smooth
+    for i in range(n):
+        dv = np.zeros(6)
+        for r in range(6):
+            acc = 0.0
+            for k in range(nv):
+                acc += jac[6 * i + r, k] * qacc_smooth[k]
+            dv[r] = dt * acc
+        g = blocks[i]
+        for r in range(6):
+            acc = wrench[rows[i], r]
+            for c in range(6):
+                acc -= g[r, c] * dv[c]
+            rhs[6 * i + r] = acc
+    # a = I + dt G W, W = J M^-1 J^T (symmetric; W[p, q] = jac[p] . minv_jac[q])
+    w = np.empty(m6)
+    for q in range(m6):
+        for p in range(m6):
+            acc = 0.0
+            for k in range(nv):
+                acc += jac[p, k] * minv_jac[q, k]
+            w[p] = acc
+        for i in range(n):
+            g = blocks[i]
+            for r in range(6):
+                acc = 0.0
+                for c in range(6):
+                    acc += g[r, c] * w[6 * i + c]
+                a[6 * i + r, q] = dt * acc
+        a[q, q] += 1.0
+    _solve_in_place(a, rhs, m6)
+    for i in range(n):
+        for r in range(6):
+            if not math.isfinite(rhs[6 * i + r]):
+                return rows[i]
+    for i in range(n):
+        for r in range(6):
+            wrench[rows[i], r] = rhs[6 * i + r]
+    return -1
+
+
+@njit(cache=True, error_model="numpy")
+def _solve_in_place(a, x, n):
+    """Solve ``a[:n, :n] y = x[:n]`` into ``x`` (Gaussian elimination with partial pivoting; ``a`` is
+    overwritten). ``a = I + dt G W`` is a P-matrix here (G, W positive semi-definite), so no pivot is 0."""
+    for k in range(n):
+        p = k
+        big = abs(a[k, k])
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > big:
+                big = abs(a[i, k])
+                p = i
+        if p != k:
+            for j in range(n):
+                a[k, j], a[p, j] = a[p, j], a[k, j]
+            x[k], x[p] = x[p], x[k]
+        piv = a[k, k]
+        for i in range(k + 1, n):
+            f = a[i, k] / piv
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    a[i, j] -= f * a[k, j]
+                x[i] -= f * x[k]
+    for k in range(n - 1, -1, -1):
+        acc = x[k]
+        for j in range(k + 1, n):
+            acc -= a[k, j] * x[j]
+        x[k] = acc / a[k, k]
