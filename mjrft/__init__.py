@@ -5,8 +5,11 @@
 >>> terrain.step(data)
 
 Two layers. The physics core: :mod:`mjrft.coupler` (:class:`GranularTerrain`, the only code that reads
-``mjData``), :mod:`mjrft.kernel` (the compiled per-step kernel), :mod:`mjrft.batch` (many terrains stepped in
-one call), :mod:`mjrft.media`, :mod:`mjrft.laws`, :mod:`mjrft.geometry` and :mod:`mjrft.errors`. On top of it
+``mjData``) with what it is built from (:mod:`mjrft.settings`, :mod:`mjrft.selection`, :mod:`mjrft.floor`,
+:mod:`mjrft.regions`, :mod:`mjrft.elements`, :mod:`mjrft.stability`), :mod:`mjrft.kernel` (the compiled
+per-step kernel) with :mod:`mjrft.implicit_step` and :mod:`mjrft.mujoco_c` (MuJoCo's C functions),
+:mod:`mjrft.batch` (many terrains stepped in one call), :mod:`mjrft.media`, :mod:`mjrft.laws`,
+:mod:`mjrft.geometry` and :mod:`mjrft.errors`. On top of it
 :mod:`mjrft.tools` (the command line, rigs, gaits, presets, the trade study, calibration, rerun logging,
 output paths and the validation against the papers), :mod:`mjrft.models` (the robots' MJCF),
 :mod:`mjrft.envs` (gymnasium environments) and :mod:`mjrft.train`. The core imports nothing from

@@ -532,7 +532,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff):
     """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
 
-    Elements come in cull groups (``g_*``: runs of up to ``coupler.CULL_GROUP`` elements of one geom).
+    Elements come in cull groups (``g_*``: runs of up to ``elements.CULL_GROUP`` elements of one geom).
     A group is skipped (no element work at all; on the step it is first skipped its elements' force,
     memory and depth are zeroed) while the lowest corner of its box (``g_aabb``: centre and half sizes
     in the geom frame of ``g_geom``, around the group's element points) is at or above ``top`` (the

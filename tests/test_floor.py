@@ -1,5 +1,5 @@
 """floor="auto" and named floors: which world geom becomes the sand surface, and the warnings for the rigid
-collision floors the robot can still stand on (mjrft.coupler._find_floor)."""
+collision floors the robot can still stand on (mjrft.floor._find_floor)."""
 
 from __future__ import annotations
 

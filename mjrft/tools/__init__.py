@@ -1,5 +1,6 @@
-"""mjrft's tools: what is built on the physics core (:mod:`mjrft.coupler`, :mod:`mjrft.kernel`,
-:mod:`mjrft.batch`, :mod:`mjrft.media`, :mod:`mjrft.laws`, :mod:`mjrft.geometry`, :mod:`mjrft.errors`).
+"""mjrft's tools: what is built on the physics core (:mod:`mjrft.coupler` and the modules it is built from,
+:mod:`mjrft.kernel`, :mod:`mjrft.batch`, :mod:`mjrft.media`, :mod:`mjrft.laws`, :mod:`mjrft.geometry`,
+:mod:`mjrft.errors`).
 The core imports none of them.
 
 ===============  ============================================================================

@@ -1,0 +1,160 @@
+"""Which geoms of a model feel the grains, and the element size ``resolution="auto"`` picks for them.
+
+:func:`select_geoms` turns a terrain's ``bodies`` / ``geoms`` settings into geom ids (by default every supported
+collision geom of every body but the world), :func:`auto_resolution` gives the element size that cuts them into
+about :data:`AUTO_ELEMENTS` elements; the errors name what the model has when nothing is selected.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from .errors import unknown
+from .geometry import discretize_geom, estimate_elements
+
+
+_SUPPORTED_GEOMS = {
+    int(mujoco.mjtGeom.mjGEOM_BOX), int(mujoco.mjtGeom.mjGEOM_CAPSULE), int(mujoco.mjtGeom.mjGEOM_CYLINDER),
+    int(mujoco.mjtGeom.mjGEOM_SPHERE), int(mujoco.mjtGeom.mjGEOM_ELLIPSOID), int(mujoco.mjtGeom.mjGEOM_MESH),
+}
+#: ``resolution="auto"``: the element count the automatic element size aims at (the selected geoms' surface
+#: area / resolution^2), and the finest size it picks (a small robot keeps this size and fewer elements).
+#: 3,000 is measured (``benchmarks/element_budget.py``, output in ``benchmarks/results/element_budget.txt``):
+#: on gymnasium's five robots, a 2 s random-action rollout replayed through terrains of 250 to 8,000 elements
+#: against a 32,000-element one. 3,000 is the coarsest budget of that ladder at which the net granular force is
+#: within 2 % (RMS; far inside the laws' own errors) of the reference for HalfCheetah, Hopper, Walker2d and
+#: Humanoid (0.45-1.96 %; at 2,000 Humanoid's is 2.7 %, at 4,000 all four are 0.3-1.3 %); at rest the vertical
+#: force balances the weight within 0.05 % and the centre of mass lies within 0.6 mm of the reference's at every
+#: budget from 2,000 up; the kernel's cost grows with the buried element count.
+#: Ant is the exception: 0.9 kg on 4 m^2 of 8 cm capsules sinks ~10 mm at rest, a contact patch a few elements
+#: wide, and its force error is 4.9 % at 3,000 (4.3 % at 4,000, 1.8 % at 8,000 = 24 mm elements): a light robot
+#: on large geoms needs an explicit finer ``resolution``.
+AUTO_ELEMENTS = 3000
+AUTO_MIN_RESOLUTION = 0.005
+
+
+def _collides(model: mujoco.MjModel, g: int) -> bool:
+    """Whether geom ``g`` takes part in collisions (contype or conaffinity non-zero): not visual-only."""
+    return bool(model.geom_contype[g] or model.geom_conaffinity[g])
+
+
+def _geom_label(model: mujoco.MjModel, g: int) -> str:
+    return mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or f"#{g}"
+
+
+def _ids(model, kind: mujoco.mjtObj, names, label: str, count: int) -> list[int]:
+    if isinstance(names, (str, int, np.integer)):
+        names = [names]
+    ids = []
+    for n in names:
+        if isinstance(n, (int, np.integer)):
+            if not 0 <= int(n) < count:
+                raise ValueError(f"{label} id {int(n)} out of range [0, {count})")
+            ids.append(int(n))
+            continue
+        i = mujoco.mj_name2id(model, kind, str(n))
+        if i < 0:
+            valid = [mujoco.mj_id2name(model, kind, k) for k in range(count)]
+            raise unknown(label, n, [v for v in valid if v])
+        ids.append(i)
+    return ids
+
+
+def select_geoms(model: mujoco.MjModel, bodies, geoms) -> list[int]:
+    """Geom ids a terrain with these ``bodies`` / ``geoms`` selects (see :class:`GranularTerrain`)."""
+    m = model
+    if isinstance(bodies, str):
+        bodies = bodies.split()
+    if isinstance(geoms, str):
+        geoms = geoms.split()
+    selected: list[int] = []
+    if bodies:
+        for b in dict.fromkeys(_ids(m, mujoco.mjtObj.mjOBJ_BODY, bodies, "body", m.nbody)):
+            own = [g for g in range(m.ngeom) if m.geom_bodyid[g] == b and m.geom_type[g] in _SUPPORTED_GEOMS]
+            colliding = [g for g in own if _collides(m, g)]
+            selected += colliding or own  # a body with visual geoms only: they are all it has
+    if geoms:
+        for g in _ids(m, mujoco.mjtObj.mjOBJ_GEOM, geoms, "geom", m.ngeom):
+            if m.geom_type[g] not in _SUPPORTED_GEOMS:
+                name = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g)
+                raise ValueError(f"geom {name or g!r} has type {mujoco.mjtGeom(m.geom_type[g]).name}; "
+                                 "supported: box, capsule, cylinder, sphere, ellipsoid, mesh")
+            if g not in selected:
+                selected.append(g)
+    if not bodies and not geoms:
+        selected = [g for g in range(m.ngeom)
+                    if m.geom_bodyid[g] != 0 and m.geom_type[g] in _SUPPORTED_GEOMS and _collides(m, g)]
+    return sorted(set(selected))
+
+
+def _nothing_selected(model: mujoco.MjModel, bodies, geoms) -> ValueError:
+    """The error for a selection (:func:`select_geoms`) that holds no geom: what the model's bodies have, and how
+    to select it."""
+    m = model
+    supported = [g for g in range(m.ngeom) if m.geom_bodyid[g] != 0 and m.geom_type[g] in _SUPPORTED_GEOMS]
+    types = "box, capsule, cylinder, sphere, ellipsoid or mesh"
+    if bodies or geoms:
+        return ValueError(f"no geoms selected for the granular terrain: bodies={bodies!r} have no {types} geom "
+                          f"and geoms={geoms!r} names none")
+    if not supported:
+        return ValueError(f"no geoms selected for the granular terrain: no body of the model but the world has a "
+                          f"{types} geom")
+    shown = supported[:12]
+    more = f" and {len(supported) - len(shown)} more" if len(supported) > len(shown) else ""
+
+    def body(g):
+        b = int(m.geom_bodyid[g])
+        return mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
+
+    listing = ", ".join(f"'{_geom_label(m, g)}' (body '{body(g)}')" for g in shown) + more
+    geom_names = ", ".join(repr(mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g) or g) for g in shown)
+    body_names = ", ".join(repr(b) for b in dict.fromkeys(body(g) for g in supported))
+    return ValueError(f"no geoms selected for the granular terrain: by default only collision geoms (contype or "
+                      f"conaffinity non-zero) of the model's bodies feel the grains, and all {len(supported)} of its "
+                      f"{types} geoms are visual-only (contype = conaffinity = 0): {listing}; select them: "
+                      f"bodies=[{body_names}] (a named body whose geoms are all visual-only gives them all) or "
+                      f"geoms=[{geom_names}] (names or ids; a named geom is taken even when visual-only)")
+
+
+def _check_selection(bodies, geoms) -> None:
+    """Refuse an empty ``bodies``/``geoms`` list (None means: read the model's, or select the default)."""
+    for name, value in (("bodies", bodies), ("geoms", geoms)):
+        if value is not None and not isinstance(value, (str, int, np.integer)) and len(value) == 0:
+            raise ValueError(f"{name}=[] selects nothing; name the {name} to cut into elements, or pass None "
+                             "to use the model's mjrft:bodies / mjrft:geoms (default: every geom not on the "
+                             "world body)")
+
+
+def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS,
+                    finest: float = AUTO_MIN_RESOLUTION) -> float:
+    """The element size of ``resolution="auto"`` for these geoms: ``sqrt(area / target)`` for their total
+    surface area, not finer than ``finest``, then coarsened until the elements :func:`~mjrft.geometry.discretize_geom`
+    makes of them are at most 10 % more than ``target``: first by :func:`~mjrft.geometry.estimate_elements`
+    (area / size^2 per primitive, a mesh's count exactly), then by the count the discretiser builds (it rounds
+    each face, ring and cap up to whole elements: ~10 % more than the area estimate at a few thousand elements). The
+    count before :func:`~mjrft.geometry.exposed_elements` drops the faces hidden inside neighbouring geoms, so
+    a terrain's ``n_elements`` is at most ``1.1 target`` (or fewer, at ``finest``)."""
+    from .geometry.discretize import _mesh_arrays, surface_area
+    area = 0.0
+    for g in geom_ids:
+        g = int(g)
+        if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH:
+            area += surface_area(int(model.geom_type[g]), None, *_mesh_arrays(model, int(model.geom_dataid[g])))
+        else:
+            area += surface_area(int(model.geom_type[g]), model.geom_size[g])
+    res = max(float(finest), math.sqrt(area / target))
+    for _ in range(8):
+        n = estimate_elements(model, geom_ids, res)
+        if n <= 1.1 * target:
+            break
+        res *= math.sqrt(n / target)
+    for _ in range(8):
+        n = sum(estimate_elements(model, [g], res) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH
+                else len(discretize_geom(model, int(g), res)) for g in geom_ids)
+        if n <= 1.1 * target:
+            break
+        res *= math.sqrt(n / target)
+    return res
