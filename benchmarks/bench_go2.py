@@ -17,8 +17,8 @@ every step and only the step calls timed), the gait of ``tests/test_third_party_
 
 Then the physics of the sand runs: the net vertical granular force over the weight at the end of the stand
 (mean, min and max over the last 0.2 s), the feet's sinkage and the trunk's height, the distance the trot
-covers, and with ``--mjx`` (needs ``mjrft[mjx]``) the same stand in MJX in float32 at 2 ms (the GPU path has no
-implicit granular step) and at 0.5 ms.
+covers, and with ``--mjx`` (needs ``mjrft[mjx]``) the same stand in MJX in float32 with the explicit granular
+step at 2 ms and at 0.5 ms (``benchmarks/mjx_implicit.py`` runs MJX's implicit step at 2 ms).
 
     python benchmarks/bench_go2.py [--repeats R] [--mjx] [--out benchmarks/results/bench_go2.txt]
 """

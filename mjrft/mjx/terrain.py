@@ -14,6 +14,16 @@ arrays and evaluates the granular wrench of one world as a pure function of an `
   ``fwd_velocity``, the wrench, then ``fwd_actuation``, ``fwd_acceleration``, the constraint solver and
   the model's integrator: the order of ``mj_step1`` / wrench / ``mj_step2`` of the CPU path).
 
+Implicit step (a terrain built with ``implicit=True``, as :class:`~mjrft.GranularTerrain`'s; mjrft.kernel's
+docstring, "Implicit step"): :meth:`Sand.step` applies the linearly implicit wrench instead, which keeps the
+grains' springs stable at any timestep. The element pass also sums per body the moments of ``T k`` of its
+elements below yield (the 6x6 ``G``), ``fwd_actuation`` and ``fwd_acceleration`` give the smooth acceleration
+without the grains, and the bodies with elements have their wrench solve ``(I + dt G W) F' = F - G dV_o``
+(:meth:`Sand.implicit_wrench`: one ``6 nb`` linear system per world, ``nb`` the bodies with elements); the
+memory is the explicit evaluation's, and ``state.wrench`` holds ``F'``. :meth:`Sand.wrench` stays explicit.
+With ``implicit=False`` the step is the explicit one, unchanged. ``tests/test_mjx_implicit.py`` compares the
+applied wrench with the CPU implicit step's on recorded walking states.
+
 Both are ``jit``-, ``vmap``- and ``scan``-friendly; the elements' memory lives in :class:`SandState`, which
 the caller carries (one per world; :meth:`Sand.init` makes it, batched with ``jax.vmap`` or a leading
 shape). Nothing non-finite is written into ``xfrc_applied``: a world whose element state or force is not
@@ -23,8 +33,9 @@ in ``state.bad_time``), which stays set until :meth:`Sand.reset`; :meth:`Sand.ch
 
 Supported: one region (the terrain's own medium and law), laws ``rft``, ``rft3d`` and ``depth_only``
 (:mod:`mjrft.mjx.laws`), the rest memory or the viscous ramp, a flat surface (also from ``floor=...``),
-``stress_scale``, and a per-world medium and surface height through ``state.params`` / ``state.surface``. Refused with an error naming the option:
-regions, water, buoyancy, the inertial regime, a height-field surface, laws without a JAX twin.
+``stress_scale``, a per-world medium and surface height through ``state.params`` / ``state.surface``, and the
+implicit granular step (MJX's JAX implementation). Refused with an error naming the option: regions, water,
+buoyancy, the inertial regime, a height-field surface, laws without a JAX twin.
 
 Culling: the CPU kernel skips elements above the surface in groups; here every element's position is
 computed each step (a few multiply-adds), and the rest (velocity, memory, law) runs on all elements
@@ -61,7 +72,8 @@ class SandState(NamedTuple):
     ``u`` (n, 3): each element's elastic displacement (the rest memory, m); ``params`` (P_SIZE,): the
     medium's parameter vector (stresses times ``stress_scale``); ``surface``: the sand surface's height (m);
     ``wrench`` (nbody, 6) and ``sinkage``
-    (nbody,): the granular wrench applied by the last step and each body's deepest element (m, >= 0);
+    (nbody,): the granular wrench applied by the last step (the implicit one with ``implicit``) and each body's
+    deepest element (m, >= 0);
     ``bad_body``: -1 while every state and force was finite, else the first body with a non-finite one
     (-2: more than ``cull`` buried elements); ``bad_time``: the simulation time when it happened."""
 
@@ -92,7 +104,8 @@ def _unsupported(terrain: GranularTerrain) -> list[str]:
 
 class Sand:
     """The granular terrain of ``model`` for MJX; arguments as :class:`mjrft.GranularTerrain` (see there), plus
-    ``cull`` (None, or the most buried elements per world evaluated each step; module docstring).
+    ``cull`` (None, or the most buried elements per world evaluated each step; module docstring). With
+    ``implicit=True`` (or :meth:`from_terrain` of such a terrain) :meth:`step` is the implicit granular step.
 
     Build it BEFORE ``mjx.put_model(model)``: like the CPU terrain it removes the floor's contacts from the
     loaded ``model`` when ``floor`` is given (:meth:`put_model` does both in order).
