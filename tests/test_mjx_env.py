@@ -132,7 +132,7 @@ def test_recipe_trains_and_writes_pickle_free_files(trained):
     assert sorted(p.name for p in trained.iterdir()) == ["policy.json", "policy.npz", "progress.csv"]
     meta = json.loads((trained / "policy.json").read_text())
     assert meta["format"] == mjx_ppo.FORMAT and meta["env_id"] == "mjrft/HexapodSand-v0"
-    assert meta["recipe"]["num_timesteps"] == 400 and meta["observation_size"] == 35
+    assert meta["recipe"]["num_timesteps"] == 400 and meta["observation_size"] == 35 and meta["complete"] is True
     rows = (trained / "progress.csv").read_text().splitlines()
     assert rows[0].startswith("steps,") and len(rows) == 3 and rows[-1].startswith("400,")
     with np.load(trained / "policy.npz", allow_pickle=False) as z:

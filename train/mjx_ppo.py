@@ -9,6 +9,9 @@
   keyword arguments, the training summary): no pickled code, so a shared run folder is safe to load;
 * ``progress.csv``: steps, wall time, mean episode return, speed and length of each evaluation.
 
+The policy files are rewritten (whole, then renamed into place) at each evaluation with ``"complete": false``
+and at the end with ``"complete": true``, so an interrupted run keeps the policy of its last evaluation.
+
 :func:`load_policy` rebuilds the deterministic policy (the mean action of Brax's tanh-normal) as a plain
 function of one observation; ``mjrft eval --policy runs/hex-mjx`` runs it on the CPU env
 (:mod:`mjrft.train.evaluate`) and ``--backend mjx`` on the MJX env (:func:`evaluate_mjx`): the same policy on
@@ -301,22 +304,24 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
             report(f"  {int(step):>10d} steps  {row[1]:8.1f} s  return {ret:9.3f}  speed {speed:.3f} m/s  "
                    f"length {length:.0f}")
 
+        def meta(steps: int, complete: bool) -> dict:
+            return {"env_id": "mjrft/HexapodSand-v0", "env_kwargs": cfg["env_kwargs"], "recipe": cfg,
+                    "observation_size": env.observation_size, "action_size": env.action_size,
+                    "network": {k: list(v) for k, v in net_kw.items()}, "normalize_observations": True,
+                    "num_timesteps": int(steps), "complete": complete, "wall_s": round(time.perf_counter() - t0, 1),
+                    "device": str(jax.devices()[0]), "jax": jax.__version__}
+
+        def checkpoint(step, make_policy, params):  # at each evaluation: an interrupted run keeps its last policy
+            save_policy(out, params, meta(step, complete=False))
+
         ppo_kw = {"num_evals": 2, **cfg["ppo"]}
         make_policy, params, metrics = ppo.train(
             environment=env, num_timesteps=cfg["num_timesteps"], num_envs=cfg["num_envs"],
             episode_length=cfg["episode_length"], seed=cfg["seed"], network_factory=factory,
-            progress_fn=progress, **ppo_kw)
-    wall = time.perf_counter() - t0
+            progress_fn=progress, policy_params_fn=checkpoint, **ppo_kw)
     del make_policy
-    summary = {
-        "env_id": "mjrft/HexapodSand-v0", "env_kwargs": cfg["env_kwargs"], "recipe": cfg,
-        "observation_size": env.observation_size, "action_size": env.action_size,
-        "network": {k: list(v) for k, v in net_kw.items()},
-        "normalize_observations": bool(cfg["ppo"].get("normalize_observations", False)),
-        "num_timesteps": cfg["num_timesteps"], "wall_s": round(wall, 1),
-        "device": str(jax.devices()[0]), "jax": jax.__version__,
-        "final": {k: float(v) for k, v in metrics.items() if np.ndim(v) == 0},
-    }
+    summary = {**meta(cfg["num_timesteps"], complete=True),
+               "final": {k: float(v) for k, v in metrics.items() if np.ndim(v) == 0}}
     save_policy(out, params, summary)
     return summary
 
