@@ -24,7 +24,7 @@ from mujoco import mjx  # noqa: E402
 import mjrft  # noqa: E402
 import mjrft.models  # noqa: E402
 import mjrft.mjx as rmjx  # noqa: E402
-from mjrft import kernel  # noqa: E402
+from mjrft import stability  # noqa: E402
 from mjrft.errors import NonFiniteError  # noqa: E402
 from mjrft.mjx.terrain import k6  # noqa: E402
 
@@ -101,7 +101,7 @@ def test_k6_equals_the_kernels():
     moments = rng.normal(size=(4, 10))
     expected = np.zeros((4, 6, 6))
     for i in range(4):
-        kernel.add_k6(expected[i], moments[i], 1.0)
+        stability.add_k6(expected[i], moments[i], 1.0)
     with jax.enable_x64(True):
         got = np.asarray(k6(jnp.asarray(moments)))
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-15)

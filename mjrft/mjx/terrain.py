@@ -14,8 +14,8 @@ arrays and evaluates the granular wrench of one world as a pure function of an `
   ``fwd_velocity``, the wrench, then ``fwd_actuation``, ``fwd_acceleration``, the constraint solver and
   the model's integrator: the order of ``mj_step1`` / wrench / ``mj_step2`` of the CPU path).
 
-Implicit step (a terrain built with ``implicit=True``, as :class:`~mjrft.GranularTerrain`'s; mjrft.kernel's
-docstring, "Implicit step"): :meth:`Sand.step` applies the linearly implicit wrench instead, which keeps the
+Implicit step (a terrain built with ``implicit=True``, as :class:`~mjrft.GranularTerrain`'s; docs/numerics.md,
+"Implicit step"): :meth:`Sand.step` applies the linearly implicit wrench instead, which keeps the
 grains' springs stable at any timestep. The element pass also sums per body the moments of ``T k`` of its
 elements below yield (the 6x6 ``G``), ``fwd_actuation`` and ``fwd_acceleration`` give the smooth acceleration
 without the grains, and the bodies with elements have their wrench solve ``(I + dt G W) F' = F - G dV_o``
@@ -242,7 +242,7 @@ class Sand:
         return f, u, tk
 
     def _spring_tk(self, f_yield, ml, vel, dt):
-        """Each element's ``T k`` for the implicit step (mjrft.kernel's ``_add_implicit``; its module docstring,
+        """Each element's ``T k`` for the implicit step (mjrft.kernel's ``_add_implicit``; docs/numerics.md,
         "Implicit step"): the linearised stiffness ``k = |F_yield| / max(|m|, delta)`` (the damper
         ``|F| / max(|v|, v_eps)`` in the viscous mode) times ``T = tau + delta (1 - exp(-|v| dt / delta)) / |v|``
         (``tau + dt`` at rest; 1 in the viscous mode) for elements below yield (``|m| <= delta``; viscous:
@@ -407,9 +407,9 @@ class Sand:
         return jnp.swapaxes(jac, 1, 2).reshape(-1, d.cdof.shape[0])
 
     def implicit_wrench(self, m, d, w, moments, dt):
-        """The linearly implicit wrench (the CPU terrain's implicit step; mjrft.kernel's docstring, "Implicit
-        step") of the bodies with elements, from the explicit wrench ``w`` (nbody, 6) and the moments (nbody, 10)
-        of their elements' ``T k`` below yield, on ``d`` after ``fwd_acceleration`` without the grains (its
+        """The linearly implicit wrench (the CPU terrain's implicit step, mjrft.implicit_step; docs/numerics.md,
+        "Implicit step") of the bodies with elements, from the explicit wrench ``w`` (nbody, 6) and the moments
+        (nbody, 10) of their elements' ``T k`` below yield, on ``d`` after ``fwd_acceleration`` without the grains (its
         ``qacc_smooth``, ``cdof`` and mass-matrix factor). Per body ``G_b`` is the 6x6 of the moments
         (:func:`k6`); the bodies with springs (``sum T k > 0``) have their wrench ``F'`` solve
         ``(I + dt G W) F' = F - G dV_o``, ``W = J M^-1 J^T`` (their CoM jacobians :meth:`com_jacobians`) and
@@ -458,7 +458,7 @@ class Sand:
 def k6(moments: jax.Array) -> jax.Array:
     """The 6x6 (..., 6, 6) of springs acting in every direction with the moments (..., 10) ``sum k``,
     ``sum k r``, ``sum k r r^T`` (``xx xy xz yy yz zz``) about a body's CoM: rows and columns 0-2 translation,
-    3-5 rotation (mjrft.kernel's ``add_k6``)::
+    3-5 rotation (mjrft.stability's ``add_k6``)::
 
         K6 = [[ s0 I,    -[S1]x           ],
               [ [S1]x,   tr(S2) I - S2    ]]
