@@ -73,6 +73,11 @@ def select_geoms(model: mujoco.MjModel, bodies, geoms) -> list[int]:
     selected: list[int] = []
     if bodies:
         for b in dict.fromkeys(_ids(m, mujoco.mjtObj.mjOBJ_BODY, bodies, "body", m.nbody)):
+            if b == 0:
+                static = sum(1 for g in range(m.ngeom) if m.geom_bodyid[g] == 0)
+                raise ValueError(f"bodies names the world body, whose {static} geom(s) are the static scene (floor, "
+                                 "bed, walls), not a part of the robot: the grains act on moving bodies; name the "
+                                 "robot's bodies (or pass geoms=[...] for a particular geom)")
             own = [g for g in range(m.ngeom) if m.geom_bodyid[g] == b and m.geom_type[g] in _SUPPORTED_GEOMS]
             colliding = [g for g in own if _collides(m, g)]
             selected += colliding or own  # a body with visual geoms only: they are all it has

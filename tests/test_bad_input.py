@@ -74,6 +74,8 @@ CONSTRUCTORS = [
      "resolution must be finite and > 0, got -1"),
     ("GranularTerrain body", lambda: mjrft.GranularTerrain(_hexapod(), bodies=["nobody"]), "unknown body 'nobody'"),
     ("GranularTerrain empty bodies", lambda: mjrft.GranularTerrain(_hexapod(), bodies=[]), "bodies=[] selects nothing"),
+    ("GranularTerrain world body", lambda: mjrft.GranularTerrain(_hexapod(), bodies=["world"]),
+     "bodies names the world body, whose 2 geom"),
     ("GranularTerrain fine resolution", lambda: mjrft.GranularTerrain(_hexapod(), resolution=1e-5),
      "more than max_elements"),
     ("GranularTerrain model type", lambda: mjrft.GranularTerrain("hexapod.xml"), "model must be a mujoco.MjModel"),
