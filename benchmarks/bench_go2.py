@@ -114,33 +114,17 @@ def trot(variant: str, stride: float = 0.3) -> tuple[float, int, dict]:
 
 def mjx_stand(timestep: float) -> dict:
     """The standing run in MJX (float32) at ``timestep``: the load over the last 0.2 s, height and sinkage."""
-    import jax
-    import jax.numpy as jnp
-    from mujoco import mjx
-
     import mjrft.mjx as rmjx
+    from mjrft.mjx.compare import stand
 
     m = mujoco.MjModel.from_xml_path(GO2)
     m.opt.timestep = timestep
     sand = rmjx.Sand(m, MEDIUM, floor="auto")
-    mx = sand.put_model()
     home = m.key("home")
-    d0 = mjx.make_data(mx).replace(qpos=jnp.asarray(home.qpos), ctrl=jnp.asarray(home.ctrl))
-    steps = int(round(STAND / timestep))
-
-    def run(d, state):
-        def body(carry, _):
-            d, state = sand.step(mx, *carry)
-            return (d, state), state.wrench[:, 2].sum()
-
-        return jax.lax.scan(body, (d, state), None, length=steps)
-
     t0 = time.time()
-    (d, state), fz = jax.jit(run)(d0, sand.init())
-    jax.block_until_ready(fz)
+    d, state, load = stand(sand, m, home.qpos, home.ctrl, STAND)
     wall = time.time() - t0
     sand.check(state)
-    load = np.asarray(fz) / weight(m)
     rest = load[-int(round(REST / timestep)):]
     calves = [m.body(f"{f}_calf").id for f in FEET]
     return {"dt": timestep, "mean": rest.mean(), "min": rest.min(), "max": rest.max(), "z": float(d.qpos[2]),

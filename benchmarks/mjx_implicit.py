@@ -22,7 +22,6 @@ step, the Go2 at its own 2 ms step, and the cost against the explicit step.
 from __future__ import annotations
 
 import argparse
-import copy
 import os
 import statistics
 import time
@@ -34,6 +33,7 @@ import numpy as np
 
 import mjrft
 import mjrft.models
+from mjrft.mjx.compare import replay_steps, stand
 
 RESULTS = Path(__file__).resolve().parent / "results"
 GO2 = os.path.join(os.path.dirname(mjrft.models.__file__), "third_party", "unitree_go2", "scene_mjx.xml")
@@ -52,27 +52,13 @@ def agreement(kw: dict, every: int = 50, count: int = 12) -> dict:
     model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod"))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        walker, implicit, explicit = (mjrft.GranularTerrain(model, implicit=i, **kw) for i in (True, True, False))
-        data = mujoco.MjData(model)
-        states = []
-        for k in range(every * count):
-            data.ctrl[:] = 2 * np.pi * 2 * data.time + OFFSETS
-            if k % every == every - 1:
-                before, u = copy.copy(data), walker._u.copy()
-                out = []
-                for terrain in (implicit, explicit):
-                    replay = copy.copy(before)
-                    terrain._bind(replay)  # binding forgets the memory: set it after
-                    terrain._u[:] = u
-                    terrain.step(replay, 1)
-                    out.append((terrain.wrench.copy(), replay.qvel.copy()))
-                states.append((before, u, out[0][0], out[1][0], out[0][1]))
-            walker.step(data, 1)
+        states = replay_steps(model, kw, every * count, every, ctrl=lambda t: 2 * np.pi * 2 * t + OFFSETS)
+        terrain = mjrft.GranularTerrain(model, implicit=True, **kw)
     ew = eq = corr = 0.0
     corrected = 0
     with jax.enable_x64(True):
         mx = mjx.put_model(model)
-        sand = rmjx.Sand.from_terrain(implicit)
+        sand = rmjx.Sand.from_terrain(terrain)
         step = jax.jit(sand.step)
         for before, u, fi, fe, qvel in states:
             d, s = step(mx, mjx.put_data(model, before), sand.init()._replace(u=jnp.asarray(u)))
@@ -87,31 +73,15 @@ def agreement(kw: dict, every: int = 50, count: int = 12) -> dict:
 
 def go2_stand(implicit: bool) -> dict:
     """The Go2 standing 1.5 s at 2 ms in MJX, float32."""
-    import jax
-    import jax.numpy as jnp
-    from mujoco import mjx
-
     import mjrft.mjx as rmjx
 
     m = mujoco.MjModel.from_xml_path(GO2)
     sand = rmjx.Sand(m, "poppy_cp", floor="auto", implicit=implicit)
-    mx, home = sand.put_model(), m.key("home")
-    d0 = mjx.make_data(mx).replace(qpos=jnp.asarray(home.qpos), ctrl=jnp.asarray(home.ctrl))
-    steps = int(round(1.5 / m.opt.timestep))
-
-    def run(d, state):
-        def body(carry, _):
-            d, state = sand.step(mx, *carry)
-            return (d, state), state.wrench[:, 2].sum()
-
-        return jax.lax.scan(body, (d, state), None, length=steps)
-
+    home = m.key("home")
     t0 = time.time()
-    (d, state), fz = jax.jit(run)(d0, sand.init())
-    jax.block_until_ready(fz)
+    d, state, load = stand(sand, m, home.qpos, home.ctrl, 1.5)
     wall = time.time() - t0
     sand.check(state)
-    load = np.asarray(fz) / (float(m.body_subtreemass[0]) * -float(m.opt.gravity[2]))
     rest = load[-int(round(0.2 / m.opt.timestep)):]
     calves = [m.body(f"{f}_calf").id for f in ("FL", "FR", "RL", "RR")]
     return {"dt": m.opt.timestep, "mean": rest.mean(), "min": rest.min(), "max": rest.max(),

@@ -26,6 +26,7 @@ import mjrft.models  # noqa: E402
 import mjrft.mjx as rmjx  # noqa: E402
 from mjrft import stability  # noqa: E402
 from mjrft.errors import NonFiniteError  # noqa: E402
+from mjrft.mjx.compare import replay_steps, stand  # noqa: E402
 from mjrft.mjx.terrain import k6  # noqa: E402
 
 HEXAPOD = mjrft.models.model_path("hexapod")
@@ -47,24 +48,8 @@ def replay_walk(kw: dict, every: int = 50, count: int = 12):
     model = mujoco.MjModel.from_xml_path(HEXAPOD)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        walker = mjrft.GranularTerrain(model, implicit=True, **kw)
+        out = replay_steps(model, kw, every * count, every, ctrl=tripod_ctrl)
         implicit = mjrft.GranularTerrain(model, implicit=True, **kw)
-        explicit = mjrft.GranularTerrain(model, implicit=False, **kw)
-        data = mujoco.MjData(model)
-        out = []
-        for k in range(every * count):
-            data.ctrl[:] = tripod_ctrl(data.time)
-            if k % every == every - 1:
-                before, u = copy.copy(data), walker._u.copy()
-                rows = []
-                for terrain in (implicit, explicit):
-                    replay = copy.copy(before)
-                    terrain._bind(replay)  # binding forgets the memory: set it after
-                    terrain._u[:] = u
-                    terrain.step(replay, 1)
-                    rows.append((terrain.wrench.copy(), replay.qvel.copy()))
-                out.append((before, u, rows[0][0], rows[1][0], rows[0][1]))
-            walker.step(data, 1)
     return model, implicit, out
 
 
@@ -237,22 +222,10 @@ def test_go2_rests_at_its_own_timestep():
     for implicit in (True, False):
         m = mujoco.MjModel.from_xml_path(GO2)
         sand = rmjx.Sand(m, "poppy_cp", floor="auto", implicit=implicit)
-        mx, home = sand.put_model(), m.key("home")
-        d0 = mjx.make_data(mx).replace(qpos=jnp.asarray(home.qpos), ctrl=jnp.asarray(home.ctrl))
-        steps = int(round(1.5 / m.opt.timestep))
-
-        @jax.jit
-        def run(d, state):
-            def body(carry, _):
-                d, state = sand.step(mx, *carry)
-                return (d, state), state.wrench[:, 2].sum()
-
-            return jax.lax.scan(body, (d, state), None, length=steps)
-
-        (d, state), fz = run(d0, sand.init())
+        home = m.key("home")
+        d, state, load = stand(sand, m, home.qpos, home.ctrl, 1.5)
         assert d.qpos.dtype == jnp.float32 and m.opt.timestep == 0.002
         sand.check(state)
-        load = np.asarray(fz) / (float(m.body_subtreemass[0]) * -float(m.opt.gravity[2]))
         results[implicit] = load[-int(round(0.2 / m.opt.timestep)):], float(d.qpos[2])
     rest, height = results[True]
     assert np.abs(rest - 1.0).max() < 0.02

@@ -152,10 +152,9 @@ def test_go2_stands_on_sand_in_mjx():
     past the explicit limit there as on the CPU (the load oscillates by +-37 %), so the model runs at 0.5 ms
     (``model.opt.timestep`` set before ``put_model``), a third of the limit. At 2 ms the implicit step holds it
     (tests/test_mjx_implicit.py)."""
-    jax = pytest.importorskip("jax", reason="mjrft.mjx needs the optional extra mjrft[mjx] (JAX)")
+    pytest.importorskip("jax", reason="mjrft.mjx needs the optional extra mjrft[mjx] (JAX)")
     pytest.importorskip("mujoco.mjx", reason="mjrft.mjx needs mujoco-mjx (mjrft[mjx])")
     import jax.numpy as jnp
-    from mujoco import mjx
 
     import mjrft.mjx as rmjx
 
@@ -163,23 +162,12 @@ def test_go2_stands_on_sand_in_mjx():
     m.opt.timestep = 0.0005
     sand = rmjx.Sand(m, "poppy_cp", floor="auto")
     assert (m.geom_contype[m.geom("floor").id], m.geom_conaffinity[m.geom("floor").id]) == (0, 0)
-    mx = sand.put_model()
+    from mjrft.mjx.compare import stand as mjx_stand
+
     home = m.key("home")
-    d0 = mjx.make_data(mx).replace(qpos=jnp.asarray(home.qpos), ctrl=jnp.asarray(home.ctrl))
-    steps = int(round(1.5 / m.opt.timestep))
-
-    @jax.jit
-    def run(d, state):
-        def body(carry, _):
-            d, state = sand.step(mx, *carry)
-            return (d, state), state.wrench[:, 2].sum()
-
-        return jax.lax.scan(body, (d, state), None, length=steps)
-
-    (d, state), fz = run(d0, sand.init())
+    d, state, load = mjx_stand(sand, m, home.qpos, home.ctrl, 1.5)
     assert d.qpos.dtype == jnp.float32
     sand.check(state)  # NonFiniteError if any state or force went non-finite
-    load = np.asarray(fz) / weight(m)
     rest = load[-int(round(REST / m.opt.timestep)):]
     assert abs(rest.mean() - 1.0) < 0.02  # measured 1.000005
     assert np.abs(rest - 1.0).max() < 1e-3 and abs(rmjx.resting_load(sand, state) - 1.0) < 1e-3  # measured 1.2e-5
@@ -193,5 +181,6 @@ def test_go2_stands_on_sand_in_mjx():
     np.testing.assert_allclose(np.asarray(state.sinkage)[calves], terrain.sinkage()[calves], atol=1e-3)
     # control: the same compiled step with the grains' stresses scaled by 1e-6 (a per-world medium,
     # state.params) lets it fall through the surface: nothing else holds it
-    (d, state), _ = run(d0, sand.init(params=sand.params_of("poppy_cp", stress_scale=1e-6)))
+    soft = sand.init(params=sand.params_of("poppy_cp", stress_scale=1e-6))
+    d, state, _ = mjx_stand(sand, m, home.qpos, home.ctrl, 1.5, state=soft)
     assert float(d.qpos[2]) < -5.0  # free fall

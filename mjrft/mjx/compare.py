@@ -70,3 +70,51 @@ def wrench_errors(sand, model: mujoco.MjModel, states: list[RecordedState], x64:
             ew = max(ew, float(np.abs(np.asarray(w) - s.wrench).max() / np.abs(s.wrench).max()))
             eu = max(eu, float(np.abs(np.asarray(new.u) - s.u_after).max() / max(np.abs(s.u_after).max(), 1e-300)))
     return ew, eu
+
+
+def replay_steps(model: mujoco.MjModel, terrain_kwargs: dict, steps: int, every: int,
+                 ctrl: Callable[[float], np.ndarray] | None = None) -> list[tuple]:
+    """Walk ``model`` on the CPU path with the implicit granular step (``terrain.step(data, 1)``) for ``steps``
+    steps; every ``every`` steps, replay that step from a copy of the MjData before it with the same memory on a
+    second implicit terrain and on an explicit one. Returns ``[(data before, memory, implicit wrench, explicit
+    wrench, qvel after the implicit step), ...]`` (the wrenches as applied: ``GranularTerrain.wrench``)."""
+    walker, implicit, explicit = (GranularTerrain(model, implicit=i, **terrain_kwargs) for i in (True, True, False))
+    data = mujoco.MjData(model)
+    out = []
+    for k in range(steps):
+        if ctrl is not None:
+            data.ctrl[:] = ctrl(data.time)
+        if k % every == every - 1:
+            before, u = copy.copy(data), walker._u.copy()
+            rows = []
+            for terrain in (implicit, explicit):
+                replay = copy.copy(before)
+                terrain._bind(replay)  # binding to another MjData forgets the memory: set it after
+                terrain._u[:] = u
+                terrain.step(replay, 1)
+                rows.append((terrain.wrench.copy(), replay.qvel.copy()))
+            out.append((before, u, rows[0][0], rows[1][0], rows[0][1]))
+        walker.step(data, 1)
+    return out
+
+
+def stand(sand, model: mujoco.MjModel, qpos, ctrl, seconds: float, state=None):
+    """Hold ``ctrl`` from ``qpos`` for ``seconds`` with ``sand.step`` (one jitted ``lax.scan``) from ``state`` (default
+    ``sand.init()``); returns (the last mjx.Data, the last SandState, the net vertical granular force over the
+    weight at every step)."""
+    import jax
+    import jax.numpy as jnp
+    from mujoco import mjx
+
+    mx = sand.put_model()
+    d0 = mjx.make_data(mx).replace(qpos=jnp.asarray(qpos), ctrl=jnp.asarray(ctrl))
+    steps = int(round(seconds / model.opt.timestep))
+
+    def body(carry, _):
+        d, state = sand.step(mx, *carry)
+        return (d, state), state.wrench[:, 2].sum()
+
+    run = jax.jit(lambda d, s: jax.lax.scan(body, (d, s), None, length=steps))
+    (d, state), fz = run(d0, sand.init() if state is None else state)
+    weight = float(model.body_subtreemass[0]) * -float(model.opt.gravity[2])
+    return d, state, np.asarray(fz) / weight
