@@ -82,7 +82,7 @@ from mjrft.models import model_path
 from mjrft.tools.presets import model_resolution
 from mjrft.tools.presets import resolve as resolve_preset
 
-from .randomization import TerrainRandomization, TerrainRandomizer
+from .randomization import TerrainRandomization, TerrainRandomizer, upload_surface
 
 G = 9.81
 
@@ -375,7 +375,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         self._normalise_free_quat(qpos)
         if self.randomizer is not None:  # after the start pose's noise: an unrandomised env draws the same noise
             self.terrain_info = self.randomizer.apply(self.np_random)
-            self._upload_hfield()
+            upload_surface(self, self.terrain)  # the render contexts already made see the drawn surface
         self.set_state(qpos, qvel)
         if self.terrain is not None:
             self.terrain.reset()
@@ -385,16 +385,6 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
     def _reset_extra(self) -> None:
         pass
-
-    def _upload_hfield(self) -> None:
-        """Send a height-field sand surface the terrain rewrote to the render contexts already made."""
-        hfield = None if self.terrain is None else self.terrain.surface_hfield
-        viewers = getattr(getattr(self, "mujoco_renderer", None), "_viewers", None)
-        if hfield is None or not viewers:
-            return
-        for viewer in viewers.values():
-            viewer.make_context_current()
-            mujoco.mjr_uploadHField(self.model, viewer.con, int(self.model.geom_dataid[hfield]))
 
     def _normalise_free_quat(self, qpos) -> None:
         for j in range(self.model.njnt):
