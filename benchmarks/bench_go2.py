@@ -13,7 +13,7 @@ of this process so that other processes on a shared machine do not count, median
 Two runs each: ``stand``, 1.5 s from the home keyframe holding the home pose (one call of ``n`` steps, no Python
 per step); ``trot``, 0.5 s of standing then 2.5 s of a trot around the home pose (the diagonal pairs FL+RR and
 FR+RL in antiphase at 1.5 Hz, thighs +-0.3 rad, knees flexed by up to 0.8 rad in swing, the targets set before
-every step and only the step calls timed), the gait of ``tests/test_third_party_robots.py``.
+every step and only the step calls timed), the gait of ``tests/models/test_third_party_robots.py``.
 
 Then the physics of the sand runs: the net vertical granular force over the weight at the end of the stand
 (mean, min and max over the last 0.2 s), the feet's sinkage and the trunk's height, the distance the trot

@@ -95,7 +95,7 @@ class HexapodSand(GranularMujocoEnv):
     heading is set in the first 1 to 2 s, when the body goes from rest into this cycle: -76 deg
     (poppy_cp) and +34 deg (poppy_lp) with C-legs, +5 deg with reversed C-legs on poppy_lp. After that
     it turns less than 1.1 deg/s. The model, coupler and gait are mirror-symmetric: a start with
-    tripod B leading gives the mirror path (``tests/test_hexapod_symmetry.py``). So the direction of
+    tripod B leading gives the mirror path (``tests/models/test_hexapod_symmetry.py``). So the direction of
     the turn comes from which tripod carries the body first, and nothing in the open-loop gait steers
     it back. Settling the body on the bed before the gait starts, starting on the gait's pose, a
     finer element size, a shorter control step, the ``rft3d`` law, wider hips, the published 2 cm

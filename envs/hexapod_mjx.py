@@ -24,7 +24,7 @@ Differences from the CPU env, each by design:
 
 The physics is MJX's (the same model, integrator and timestep): trajectories agree with MuJoCo's C
 pipeline to rounding at first and then drift apart as any two chaotic simulations do; the granular wrench
-on a given state equals the CPU kernel's (``tests/test_mjx.py``).
+on a given state equals the CPU kernel's (``tests/mjrft/mjx/test_mjx.py``).
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
 """Helpers shared by the test modules (plain functions and constants; the fixtures are in conftest.py): bodies
-pressed into the grains and stepped one at a time, as tests/test_extremes.py and tests/test_implicit.py use them."""
+pressed into the grains and stepped one at a time, as tests/mjrft/test_extremes.py and tests/mjrft/test_implicit.py
+use them."""
 
 from __future__ import annotations
 

@@ -143,11 +143,20 @@ def test_console_script_and_packages_in_pyproject():
 
 
 def test_no_test_module_imports_another():
-    for path in sorted((REPO / "tests").glob("test_*.py")):
+    for path in sorted((REPO / "tests").rglob("test_*.py")):
         found = sorted(m for m in imported_modules(path.read_text(), path.stem)
                        if m.split(".")[0].startswith("test_") or m.split(".")[0] in ("conftest", "tests"))
         assert not found, (f"{path.relative_to(REPO)} imports {found}: shared fixtures go in tests/conftest.py, shared "
                            "helpers in tests/helpers.py")
+
+
+def test_test_modules_have_unique_names():
+    """pytest imports the test modules by their file name (the test folders are not packages), so two files of the
+    same name in different folders would clash."""
+    seen = {}
+    for path in sorted((REPO / "tests").rglob("test_*.py")):
+        assert path.name not in seen, f"{path.relative_to(REPO)} and {seen[path.name].relative_to(REPO)}"
+        seen[path.name] = path
 
 
 def test_train_modules_import_each_other_in_one_direction():

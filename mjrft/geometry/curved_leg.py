@@ -15,7 +15,7 @@ grains. ``curvature`` ``k = 1/r`` (1/m) is signed:
   looking up (a plate dragged at attack angle +45 deg against -45 deg), hence the supplement's
   "larger vertical ground reaction forces produced by the C-legs relative to those by the reversed
   c-legs" (Li 2013 suppl., fig. S14 text; at the leg rig, Li RFT, measured: C-leg peak lift 2.8x
-  the reversed C-leg's, ``tests/test_rigs.py``).
+  the reversed C-leg's, ``tests/mjrft/tools/test_rigs.py``).
 * ``k < 0``: the **reversed C-leg**, bowing toward +x when hanging: concave side leading.
 * ``k = 0``: a straight (flat) leg.
 

@@ -8,7 +8,7 @@ with the wrench applied for the step) and keeps, every ``every`` steps, a copy o
 ``mj_step1``, the elements' memory before the evaluation, and the kernel's wrench and memory after it.
 :func:`wrench_errors` evaluates :meth:`Sand.wrench` on each recorded state with the recorded memory and returns
 the largest difference of the wrench and of the memory, each relative to the largest value of the CPU result.
-``benchmarks/mjx_accuracy.py`` and ``tests/test_mjx.py`` use them on the hexapod.
+``benchmarks/mjx_accuracy.py`` and ``tests/mjrft/mjx/test_mjx.py`` use them on the hexapod.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ arrays and evaluates the granular wrench of one world as a pure function of an `
   from the current kinematics (``xpos``, ``xmat``, ``cvel``, ``subtree_com``), the rest memory advanced by
   ``dt``, the law, and the sum per body (force, torque about the body's centre of mass, world frame), the
   same quantities as :meth:`mjrft.GranularTerrain.compute` (the numba kernel stays the reference:
-  ``tests/test_mjx.py`` compares them on recorded walking states);
+  ``tests/mjrft/mjx/test_mjx.py`` compares them on recorded walking states);
 * :meth:`Sand.step` ``(m, d, state) -> (d, state)``: one physics step with the wrench computed from the
   state at the start of the step and applied through ``xfrc_applied`` (MJX's ``fwd_position`` and
   ``fwd_velocity``, the wrench, then ``fwd_actuation``, ``fwd_acceleration``, the constraint solver and
@@ -21,7 +21,7 @@ elements below yield (the 6x6 ``G``), ``fwd_actuation`` and ``fwd_acceleration``
 without the grains, and the bodies with elements have their wrench solve ``(I + dt G W) F' = F - G dV_o``
 (:meth:`Sand.implicit_wrench`: one ``6 nb`` linear system per world, ``nb`` the bodies with elements); the
 memory is the explicit evaluation's, and ``state.wrench`` holds ``F'``. :meth:`Sand.wrench` stays explicit.
-With ``implicit=False`` the step is the explicit one, unchanged. ``tests/test_mjx_implicit.py`` compares the
+With ``implicit=False`` the step is the explicit one, unchanged. ``tests/mjrft/mjx/test_mjx_implicit.py`` compares the
 applied wrench with the CPU implicit step's on recorded walking states.
 
 Both are ``jit``-, ``vmap``- and ``scan``-friendly; the elements' memory lives in :class:`SandState`, which

@@ -346,7 +346,8 @@ def run_leg_family(quick: bool) -> CaseResult:
     if failing:
         cause = ("Through the rig the per-element law cannot apply the undisturbed-grain rule (mjrft.laws.hybrid, "
                  "item 3: the rule is not a function of an element's depth, normal, motion and speed; a shadowed "
-                 "very-bent element and a counting semicircle element get identical inputs, tests/test_hybrid.py), "
+                 "very-bent element and a counting semicircle element get identical inputs, "
+                 "tests/mjrft/laws/test_hybrid.py), "
                  "so the very bent leg's tip part, which moves into the wake of its own bulge, keeps pushing. "
                  f"Measured: the whole-leg model with that rule switched off gives the very bent leg a tail gap of "
                  f"{free_gap:.1f} deg (with the rule {sm_m['very_bent']['tail_gap']:.1f} deg, rig "

@@ -151,7 +151,7 @@ def test_go2_stands_on_sand_in_mjx():
     """The same robot in MJX (float32) holding its home pose with the explicit granular step: the model's 2 ms is
     past the explicit limit there as on the CPU (the load oscillates by +-37 %), so the model runs at 0.5 ms
     (``model.opt.timestep`` set before ``put_model``), a third of the limit. At 2 ms the implicit step holds it
-    (tests/test_mjx_implicit.py)."""
+    (tests/mjrft/mjx/test_mjx_implicit.py)."""
     pytest.importorskip("jax", reason="mjrft.mjx needs the optional extra mjrft[mjx] (JAX)")
     pytest.importorskip("mujoco.mjx", reason="mjrft.mjx needs mujoco-mjx (mjrft[mjx])")
     import jax.numpy as jnp

@@ -45,9 +45,9 @@ def test_hybrid_leg_family():
 
 
 @pytest.mark.xfail(strict=True, reason="the per-element law has no undisturbed-grain (shadow) rule: an element's depth, "
-                   "normal, motion and speed do not decide it (tests/test_hybrid.py), so through the rig the bent and "
-                   "very bent legs' parts in their own wake push (very bent: F_f tail gap 34 vs 68 deg, min F_s -4.7 vs "
-                   "-0.8 N; bent / semicircle peak F_f 1.38 vs 1.17)")
+                   "normal, motion and speed do not decide it (tests/mjrft/laws/test_hybrid.py), so through the rig "
+                   "the bent and very bent legs' parts in their own wake push (very bent: F_f tail gap 34 vs 68 deg, "
+                   "min F_s -4.7 vs -0.8 N; bent / semicircle peak F_f 1.38 vs 1.17)")
 def test_hybrid_leg_family_rig_shadow_outcomes():
     r = validation.run_case("hybrid_leg_family", quick=True)
     assert all(c.passed for c in r.checks if _shadow_gap(c))

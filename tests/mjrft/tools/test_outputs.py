@@ -89,7 +89,7 @@ def test_a_clone_named_mjrft_found_first_says_what_happened(tmp_path):
     import subprocess
     import sys
 
-    repo = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    repo = os.path.abspath(os.path.join(os.path.dirname(__file__), *[os.pardir] * 3))  # tests/mjrft/tools/ -> repo
     os.symlink(repo, tmp_path / "mjrft")
     for stmt in ("import mjrft.envs", "import mjrft.models", "import mjrft.train",
                  "import gymnasium; gymnasium.make('mjrft.envs:mjrft/HexapodSand-v0')"):

@@ -16,7 +16,7 @@ pytest.importorskip("stable_baselines3")
 from mjrft.tools.cli import main as cli  # noqa: E402
 from mjrft.train.evaluate import evaluate, pretrained_names, trained_env  # noqa: E402
 
-SWEEP = Path(__file__).resolve().parents[1] / "benchmarks" / "results" / "learning" / "tripod_sweep.csv"
+SWEEP = Path(__file__).resolve().parents[2] / "benchmarks" / "results" / "learning" / "tripod_sweep.csv"
 
 
 def best_tripod_frequency(env_id: str) -> float:

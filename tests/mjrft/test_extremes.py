@@ -4,7 +4,7 @@ body, keeps a resting body at rest, and warns (TerrainStabilityWarning) beyond i
 Covers zero and tiny velocities, elements exactly at, just below and far below the surface (10x the
 RHex leg length), speeds up to 10 m/s, timesteps from 1e-5 s to 1e-2 s, media 10x stiffer and 10x
 softer than poppy seeds, 1 g to 500 kg bodies and degenerate geometry. The force laws alone are
-covered by tests/test_laws.py; these tests go through the coupler (element memory, compiled loop).
+covered by tests/mjrft/laws/test_laws.py; these tests go through the coupler (element memory, compiled loop).
 """
 
 from __future__ import annotations
