@@ -3,8 +3,9 @@
 ``resolution`` is the target element edge length in metres: every face or patch is cut into
 ``max(1, ceil(extent / resolution))`` cells per direction (with small per-shape minimums), so even a
 tiny primitive gets at least one element per face. A mesh's triangles larger than half the resolution
-are cut the same way; smaller ones are merged into elements of about the resolution (see
-:func:`_mesh`), so a detailed mesh costs what its size calls for, not what its triangle count does.
+are cut the same way; smaller ones, and the sliver pieces of long thin triangles, are merged into
+elements of about the resolution (see :func:`_mesh`), so a detailed or CAD-exported mesh costs what its
+size calls for, not what its triangle count or triangle shapes do.
 Element areas sum to :func:`surface_area` exactly for box, sphere, capsule, cylinder and mesh, and to
 within ~1e-3 for ellipsoids.
 """
@@ -269,6 +270,10 @@ def _ellipsoid(axes: np.ndarray, res: float) -> Elements:
 
 MERGE_BELOW = 0.5  # a triangle whose longest edge is at most this many resolutions is merged with its neighbours
 MERGE_BINS = 3  # normal-direction bins per cube face (6 x 3 x 3 = 54 directions) of the merged clusters
+# A triangle whose height over its longest edge is below 2 SLIVER_ASPECT (area < SLIVER_ASPECT x longest edge^2:
+# a sliver, as CAD exports are full of) is split like any other, but its pieces are merged like small triangles.
+SLIVER_ASPECT = 0.025
+MAX_PIECES = 20_000_000  # above this many split pieces, mesh_element_count gives an upper bound, unmerged
 
 
 def _mesh_faces(vertices: np.ndarray, faces: np.ndarray, res: float):
@@ -281,6 +286,33 @@ def _mesh_faces(vertices: np.ndarray, faces: np.ndarray, res: float):
     longest = np.max(np.linalg.norm(np.stack([e1, e2, v2 - v1]), axis=2), axis=0)
     small = longest <= MERGE_BELOW * res
     return v0, e1, e2, tri_area, normal, longest, small
+
+
+def _split_kind(tri_area, longest, small, res):
+    """Pieces per edge k of every triangle (0 for the small ones) and whether its pieces are slivers."""
+    k = np.where(small, 0, np.ceil(longest / res - 1e-9).clip(min=1)).astype(np.int64)
+    sliver = ~small & (tri_area < SLIVER_ASPECT * longest**2)
+    return k, sliver
+
+
+def _split(v0, e1, e2, idx, k):
+    """Centroids (n, 3) of the k^2 congruent pieces of the triangles ``idx`` (k per triangle) and their triangle."""
+    pos_parts, face_parts = [], []
+    for kk in np.unique(k):
+        sel = idx[k == kk]
+        i, j = np.meshgrid(np.arange(kk), np.arange(kk), indexing="ij")
+        up = i + j <= kk - 1
+        down = i + j <= kk - 2
+        s = np.concatenate([i[up] + 1 / 3, i[down] + 2 / 3]) / kk  # barycentric centroids of the k^2 pieces
+        t = np.concatenate([j[up] + 1 / 3, j[down] + 2 / 3]) / kk
+        p = v0[sel, None] + s[None, :, None] * e1[sel, None] + t[None, :, None] * e2[sel, None]
+        pos_parts.append(p.reshape(-1, 3))
+        face_parts.append(np.repeat(sel, len(s)))
+    if not pos_parts:
+        return np.zeros((0, 3)), np.zeros(0, dtype=np.intp)
+    face = np.concatenate(face_parts)
+    order = np.argsort(face, kind="stable")
+    return np.concatenate(pos_parts)[order], face[order]
 
 
 def _normal_bins(normal: np.ndarray) -> np.ndarray:
@@ -324,46 +356,37 @@ def _mesh(vertices: np.ndarray, faces: np.ndarray, res: float) -> Elements:
     """Elements of a triangle mesh at resolution ``res``.
 
     A triangle whose longest edge exceeds ``MERGE_BELOW res`` is split into k^2 congruent sub-triangles
-    with k = ceil(longest edge / res) (k = 1: the triangle itself). Smaller triangles are merged: those
-    whose centroids lie in the same cube of edge ``res`` (a grid fixed in the mesh frame) and whose
-    normals fall in the same direction bin (:func:`_normal_bins`, normals within about 50 degrees of each
-    other) form one element with their total area, area-weighted centroid and the unit vector of their
-    summed area vectors; a cluster therefore spans about ``res`` (its cube plus the triangles' own
-    reach of at most ``MERGE_BELOW res``). Total area is exact; so are the sums of area x any quantity
-    linear in position (depth-linear loads); a curved cluster's projected area is its total area times
-    the unit normal, at most 1 - cos(spread) above the exact |sum of area vectors|. Split elements come
-    first, in face order, then the merged ones along a Morton curve of their cubes.
+    with k = ceil(longest edge / res) (k = 1: the triangle itself); the pieces are elements. Smaller
+    triangles, and the pieces of slivers (a triangle whose area is below ``SLIVER_ASPECT`` times its
+    longest edge squared, its height under 5 % of that edge: the long thin triangles of CAD exports), are
+    merged: those whose centroids lie in the same cube of edge ``res`` (a grid fixed in the mesh
+    frame) and whose normals fall in the same direction bin (:func:`_normal_bins`, normals within about
+    50 degrees of each other) form one element with their total area, area-weighted centroid and the
+    unit vector of their summed area vectors; a cluster therefore spans about ``res`` to ``2 res`` (its
+    cube plus the reach of its triangles or pieces). So a mesh costs about what its area calls for, not
+    what its triangle count or the shape of its triangles does. Total area is exact; so are the sums of
+    area x any quantity linear in position (depth-linear loads); a curved cluster's projected area is
+    its total area times the unit normal, at most 1 - cos(spread) above the exact |sum of area vectors|.
+    Kept pieces come first, in face order, then the merged clusters along a Morton curve of their cubes.
     """
     if len(faces) == 0:
         return Elements.empty()
     v0, e1, e2, tri_area, normal, longest, small = _mesh_faces(vertices, faces, res)
+    k, sliver = _split_kind(tri_area, longest, small, res)
     parts = []
-    big = np.flatnonzero(~small)
-    if len(big):
-        k = _ncells(longest[big], res)
-        pos_parts, face_parts = [], []
-        for kk in np.unique(k):
-            idx = big[k == kk]
-            i, j = np.meshgrid(np.arange(kk), np.arange(kk), indexing="ij")
-            up = i + j <= kk - 1
-            down = i + j <= kk - 2
-            s = np.concatenate([i[up] + 1 / 3, i[down] + 2 / 3]) / kk  # barycentric centroids of the k^2 pieces
-            t = np.concatenate([j[up] + 1 / 3, j[down] + 2 / 3]) / kk
-            p = v0[idx, None] + s[None, :, None] * e1[idx, None] + t[None, :, None] * e2[idx, None]
-            pos_parts.append(p.reshape(-1, 3))
-            face_parts.append(np.repeat(idx, len(s)))
-        face = np.concatenate(face_parts)
-        order = np.argsort(face, kind="stable")
-        face = face[order]
-        kf = np.zeros(len(faces), dtype=np.intp)
-        kf[big] = k
-        parts.append(Elements(np.concatenate(pos_parts)[order], normal[face],
-                              (tri_area / np.maximum(kf, 1) ** 2)[face]))
+    keep = np.flatnonzero(~small & ~sliver)
+    if len(keep):
+        pos, face = _split(v0, e1, e2, keep, k[keep])
+        parts.append(Elements(pos, normal[face], (tri_area / np.maximum(k, 1) ** 2)[face]))
+    thin = np.flatnonzero(sliver)
     sm = np.flatnonzero(small)
-    if len(sm):
-        a = tri_area[sm]
-        cen = v0[sm] + (e1[sm] + e2[sm]) / 3.0
-        cid, n = _clusters(cen, normal[sm], res)
+    if len(sm) or len(thin):
+        pos, face = _split(v0, e1, e2, thin, k[thin])
+        cen = np.concatenate([v0[sm] + (e1[sm] + e2[sm]) / 3.0, pos])
+        face = np.concatenate([sm, face])
+        a = (tri_area / np.maximum(k, 1) ** 2)[face]
+        nrm = normal[face]
+        cid, n = _clusters(cen, nrm, res)
         area = np.bincount(cid, a, minlength=n)
         count = np.bincount(cid, minlength=n)
         ok = area > 0
@@ -372,25 +395,35 @@ def _mesh(vertices: np.ndarray, faces: np.ndarray, res: float) -> Elements:
         for d in range(3):
             mean = np.bincount(cid, cen[:, d], minlength=n) / count  # zero-area clusters: the plain mean
             pos[:, d] = np.where(ok, np.bincount(cid, a * cen[:, d], minlength=n) / np.where(ok, area, 1.0), mean)
-            vec[:, d] = np.bincount(cid, a * normal[sm, d], minlength=n)
-        first = np.full(n, len(sm))
-        np.minimum.at(first, cid, np.arange(len(sm)))
-        parts.append(Elements(pos, _unit(vec, normal[sm][first]), area))
+            vec[:, d] = np.bincount(cid, a * nrm[:, d], minlength=n)
+        first = np.full(n, len(face))
+        np.minimum.at(first, cid, np.arange(len(face)))
+        parts.append(Elements(pos, _unit(vec, nrm[first]), area))
     return Elements.concatenate(parts)
 
 
 def mesh_element_count(vertices, faces, resolution: float) -> int:
-    """How many elements :func:`geom_elements` makes of this mesh at ``resolution``, without making them
-    (the split triangles' k^2 summed, the merged clusters counted)."""
+    """How many elements :func:`geom_elements` makes of this mesh at ``resolution``: the kept pieces counted,
+    the merged clusters found from the centroids alone (no element is built). Above ``MAX_PIECES`` sliver
+    pieces it returns an upper bound instead (every piece its own element), so a hopeless resolution is
+    refused cheaply."""
     res = _check_resolution(resolution)
     v, f = _check_mesh(vertices, faces)
     if len(f) == 0:
         return 0
-    v0, e1, e2, _, normal, longest, small = _mesh_faces(v, f, res)
-    total = float(np.sum(np.ceil(longest[~small] / res - 1e-9).clip(min=1) ** 2))
-    if small.any():
-        total += _clusters(v0[small] + (e1[small] + e2[small]) / 3.0, normal[small], res)[1]
-    return int(min(total, 2**62))
+    v0, e1, e2, tri_area, normal, longest, small = _mesh_faces(v, f, res)
+    k, sliver = _split_kind(tri_area, longest, small, res)
+    kept = float(np.sum(k[~small & ~sliver].astype(np.float64) ** 2))
+    n_thin = float(np.sum(k[sliver].astype(np.float64) ** 2))
+    if n_thin > MAX_PIECES:
+        return int(min(kept + n_thin + np.count_nonzero(small), 2**62))
+    if not (small.any() or sliver.any()):
+        return int(min(kept, 2**62))
+    thin = np.flatnonzero(sliver)
+    pos, face = _split(v0, e1, e2, thin, k[thin])
+    sm = np.flatnonzero(small)
+    cen = np.concatenate([v0[sm] + (e1[sm] + e2[sm]) / 3.0, pos])
+    return int(min(kept + _clusters(cen, normal[np.concatenate([sm, face])], res)[1], 2**62))
 
 
 # --------------------------------------------------------------------------- public API

@@ -1,0 +1,124 @@
+"""Mesh collision geoms in the sand: a box given as a triangle mesh (MuJoCo's compiled mesh, re-centred by the
+compiler) feels the force of the box primitive of the same size, also when its faces are cut into the long thin
+slivers of a CAD export; flipped normals or doubled areas are rejected by the same comparison."""
+
+from __future__ import annotations
+
+import warnings
+
+import mujoco
+import numpy as np
+import pytest
+
+import mjrft
+from mjrft.errors import TerrainStabilityWarning, ValidityRangeWarning
+from mjrft.geometry import discretize_geom
+
+HALF = np.array([0.04, 0.03, 0.02])  # the box's half-sizes (m)
+RES = 0.01
+
+
+def box_mesh(strips: int = 1, flip: bool = False) -> tuple[np.ndarray, np.ndarray]:
+    """A closed box of half-sizes HALF centred at the origin, outward counter-clockwise faces; each face is
+    cut into ``strips`` strips (two triangles each) along its first axis: thin slivers for many strips."""
+    verts, faces = [], []
+    for axis in range(3):
+        u, v = (axis + 1) % 3, (axis + 2) % 3
+        for sign in (1.0, -1.0):
+            base = len(verts)
+            for i in range(strips + 1):
+                for j in range(2):
+                    p = np.zeros(3)
+                    p[axis] = sign * HALF[axis]
+                    p[u] = -HALF[u] + 2 * HALF[u] * i / strips
+                    p[v] = -HALF[v] + 2 * HALF[v] * j
+                    verts.append(p)
+            for i in range(strips):
+                a, b, c, d = base + 2 * i, base + 2 * i + 2, base + 2 * i + 3, base + 2 * i + 1
+                tri = [(a, b, c), (a, c, d)] if sign > 0 else [(a, c, b), (a, d, c)]
+                faces += [t[::-1] if flip else t for t in tri]
+    return np.array(verts), np.array(faces)
+
+
+def scene(strips: int = 1, flip: bool = False) -> mujoco.MjModel:
+    v, f = box_mesh(strips, flip)
+    fmt = lambda a: " ".join(f"{x:.12g}" for x in np.ravel(a))  # noqa: E731
+    return mujoco.MjModel.from_xml_string(f"""<mujoco>
+  <option timestep="0.001"/>
+  <asset><mesh name="boxmesh" vertex="{fmt(v)}" face="{fmt(f)}"/></asset>
+  <worldbody>
+    <geom name="floor" type="plane" size="2 2 0.1"/>
+    <body name="prim" pos="-0.3 0 0.1"><freejoint/><geom name="prim" type="box" size="{fmt(HALF)}"/></body>
+    <body name="mesh" pos="0.3 0 0.1"><freejoint/><geom name="mesh" type="mesh" mesh="boxmesh"/></body>
+  </worldbody>
+</mujoco>""")
+
+
+def push(m: mujoco.MjModel, top_depth: float, steps: int = 20, scale_mesh_area: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """Both boxes at the same depth (their top ``top_depth`` below the surface; negative: sticking out), tilted
+    the same way, moving down and sideways at the same velocity: the granular wrench on each after ``steps``
+    evaluations (the elements' memory built up the same way)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ValidityRangeWarning)
+        warnings.simplefilter("ignore", TerrainStabilityWarning)  # nothing is stepped: only the force is compared
+        terrain = mjrft.GranularTerrain(m, "poppy_cp", "rft", bodies=["prim", "mesh"], floor="floor", resolution=RES)
+        if scale_mesh_area != 1.0:
+            terrain.area[terrain.elem_body == m.body("mesh").id] *= scale_mesh_area
+        d = mujoco.MjData(m)
+        quat = np.array([np.cos(0.15), np.sin(0.15) * 0.6, np.sin(0.15) * 0.8, 0.0])
+        for name, x in (("prim", -0.3), ("mesh", 0.3)):
+            j = m.body(name).jntadr[0]
+            qa, va = m.jnt_qposadr[j], m.jnt_dofadr[j]
+            d.qpos[qa:qa + 3] = [x, 0.0, -top_depth - HALF[2]]
+            d.qpos[qa + 3:qa + 7] = quat
+            d.qvel[va:va + 3] = [0.05, 0.02, -0.08]
+        mujoco.mj_forward(m, d)
+        for _ in range(steps):
+            terrain.compute(d)
+    return terrain.wrench[m.body("prim").id].copy(), terrain.wrench[m.body("mesh").id].copy()
+
+
+def close(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest force difference over the primitive's force magnitude."""
+    return float(np.abs(a[:3] - b[:3]).max() / np.linalg.norm(a[:3]))
+
+
+def test_mesh_box_elements_are_the_box_surface():
+    m = scene()
+    el = discretize_geom(m, m.geom("mesh").id, RES)
+    prim = discretize_geom(m, m.geom("prim").id, RES)
+    assert el.total_area == pytest.approx(prim.total_area, rel=1e-6)  # the mesh is stored in float32
+    # outward: every element's normal points away from the body's centre, whatever MuJoCo did to the frame
+    centre = m.body_ipos[m.body("mesh").id]
+    assert np.all(np.einsum("ij,ij->i", el.pos - centre, el.normal) > 0)
+
+
+@pytest.mark.parametrize("strips", [1, 40], ids=["two-triangle faces", "sliver faces"])
+def test_mesh_box_feels_the_force_of_the_box_primitive(strips):
+    m = scene(strips)
+    if strips > 1:  # 40 strips of 2 mm x 6 cm per face: slivers, merged into elements of about RES
+        n_mesh = len(discretize_geom(m, m.geom("mesh").id, RES))
+        n_prim = len(discretize_geom(m, m.geom("prim").id, RES))
+        assert n_mesh < 2 * n_prim  # measured 208 against 208 (24,800 pieces unmerged)
+    prim, mesh = push(m, top_depth=0.03)  # fully under the surface: depth-linear loads are exact sums
+    assert np.linalg.norm(prim[:3]) > 50.0  # a real load (measured 141 N)
+    assert close(prim, mesh) < 1e-5  # measured 5e-8 with either triangulation (float32 vertices)
+    prim, mesh = push(m, top_depth=-0.02)  # half out: the surface cuts through elements
+    assert close(prim, mesh) < 0.01  # measured 6e-4 (two-triangle faces), 1.6e-4 (slivers) of 37 N
+
+
+def test_flipped_normals_and_doubled_areas_are_rejected():
+    prim, mesh = push(scene(flip=True), top_depth=0.03)
+    assert close(prim, mesh) > 0.3  # measured 0.51
+    prim, mesh = push(scene(), top_depth=0.03, scale_mesh_area=2.0)
+    assert abs(close(prim, mesh) - 1.0) < 0.05  # twice the force (measured 0.994 more)
+
+
+def test_sliver_merging_leaves_well_shaped_triangles_alone():
+    """A triangle whose height is above 5 % of its longest edge is split into k^2 pieces as before."""
+    m = scene(strips=4)  # strips of 2 cm x 6 cm: not slivers
+    el = discretize_geom(m, m.geom("mesh").id, RES)
+    v, f = box_mesh(4)
+    e = np.linalg.norm(np.stack([v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 1]], v[f[:, 0]] - v[f[:, 2]]]), axis=2)
+    k = np.ceil(e.max(axis=0) / RES - 1e-9)
+    assert len(el) == int((k**2).sum())
