@@ -3,13 +3,14 @@
     python benchmarks/kernel_ab.py REV [--states N] [--reps R]
 
 REV's ``mjrft/kernel.py`` (``git show``) is compiled in this process next to the installed one (uncached,
-importing the installed laws and media, so only the kernel differs). On four scenes (the hexapod's dry poppy
-seeds, the shoal's saturated strip, its water strip, and the hexapod on 3D-RFT sand, which takes the general
-per-element pass instead of the batched law), a tripod walk records N states; for each state both kernels
-run R times, alternately, each call timed on its own, and the state's time is the minimum of its calls:
-a call lasts tens of microseconds, far shorter than a scheduler slice, so on a loaded machine most calls
+importing the installed laws and media, so only the kernel differs). On five scenes (the hexapod's dry poppy
+seeds, the shoal's saturated strip, its water strip, the hexapod on 3D-RFT sand, which takes the general
+per-element pass instead of the batched law, and the dry scene with the implicit step's spring moments), a
+tripod walk records N states; for each state both kernels run R times, alternately, each call timed on its
+own, and the state's time is the minimum of its calls: a call lasts tens of microseconds, far shorter than a scheduler slice, so on a loaded machine most calls
 run undisturbed and the minimum is their cost. Prints the mean over states of those minima and their ratio,
-and whether the two kernels' forces, wrenches, stiffness moments and damping are bit-identical on every state.
+and whether the two kernels' forces, wrenches, stiffness moments (of the springs, the depth stiffness and the
+implicit step) and damping are bit-identical on every state.
 """
 
 from __future__ import annotations
@@ -37,6 +38,7 @@ SCENES = (  # label, model, start x (m), terrain keyword arguments
     ("shoal saturated", hexapod_shoal_model, 0.65, {}),
     ("shoal water", hexapod_shoal_model, 1.15, {}),
     ("rft3d (general)", hexapod_model, 0.0, {"law": "rft3d"}),
+    ("dry poppy implicit", hexapod_model, 0.0, {"implicit": True}),
 )
 
 
@@ -75,7 +77,8 @@ def n_params(kernel_function) -> int:
 
 
 def outputs(t) -> list[np.ndarray]:
-    return [t.force.copy(), t.wrench.copy(), t._stiff.copy(), t._damp.copy(), t._inert.copy(), t.depth.copy()]
+    return [t.force.copy(), t.wrench.copy(), t._stiff.copy(), t._damp.copy(), t._inert.copy(), t.depth.copy(),
+            t._imp.copy(), t._dstiff.copy()]
 
 
 def compare(old, model, data, terrain, states, reps: int) -> tuple[float, float, bool]:

@@ -777,8 +777,13 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
     added on the element's real velocity, its damping moments go to ``inert``), else an empty array.
 
     The elements arrive grouped by body (geom by geom), so each body's 17 sums are kept in local
-    variables over its run of elements and added to ``wrench``/``stiff``/``damp`` once per run: a
-    read-modify-write of the same array slot per element would chain every element on the store."""
+    variables over its run of elements and added to ``wrench``/``stiff``/``damp`` (and, for the implicit step,
+    ``imp``) once per run: a read-modify-write of the same array slot per element would chain every element on
+    the store. (The runs follow the elements' order; with each body's batched elements in one run, as for geoms
+    selected in MuJoCo's order, and no element of it outside the batch, the sums equal the element-by-element
+    ones bit for bit.)"""
+    implicit = imp.shape[0] > 0
+    ylim = delta if delta > 0.0 else v_eps
     j = 0
     while j < nbat:
         b = scr_i[1, j]
@@ -788,6 +793,7 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         d0 = d1 = d2 = d4 = d5 = d7 = 0.0  # depth stiffness: sum kd, kd r (x, y), kd r r^T (xx, xy, yy)
         c = 0.0
         cin = 0.0
+        i0 = i1 = i2 = i3 = i4 = i5 = i6 = i7 = i8 = i9 = 0.0  # the implicit step's springs (_add_implicit)
         while j < nbat and scr_i[1, j] == b:
             i = scr_i[0, j]
             k = e_area[i]
@@ -802,10 +808,19 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             fy *= mob
             fz *= mob
             rx, ry, rz = out_pos[i, 0] - bx, out_pos[i, 1] - by, out_pos[i, 2] - bz
-            if imp.shape[0] > 0:
+            if implicit and scr_f[8, j] <= ylim and kk > 0.0:  # below yield: _add_implicit's moments of T kk
                 vx, vy, vz = out_vel[i, 0], out_vel[i, 1], out_vel[i, 2]
-                _add_implicit(imp, b, rx, ry, rz, scr_f[8, j], kk, delta if delta > 0.0 else v_eps,
-                              _memory_time(math.sqrt(vx * vx + vy * vy + vz * vz), dt, delta, tau))
+                tk = _memory_time(math.sqrt(vx * vx + vy * vy + vz * vz), dt, delta, tau) * kk
+                i0 += tk
+                i1 += tk * rx
+                i2 += tk * ry
+                i3 += tk * rz
+                i4 += tk * rx * rx
+                i5 += tk * rx * ry
+                i6 += tk * rx * rz
+                i7 += tk * ry * ry
+                i8 += tk * ry * rz
+                i9 += tk * rz * rz
             if pin.shape[0] > 0:
                 gx, gy, gz, ci = inertial_force(pin, scr_f[6, j], out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2],
                                                 out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], k)
@@ -865,6 +880,17 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         dstiff[b, 5] += d5
         dstiff[b, 7] += d7
         damp[b] += (c * tau if delta > 0.0 else c) + cin
+        if implicit:
+            imp[b, 0] += i0
+            imp[b, 1] += i1
+            imp[b, 2] += i2
+            imp[b, 3] += i3
+            imp[b, 4] += i4
+            imp[b, 5] += i5
+            imp[b, 6] += i6
+            imp[b, 7] += i7
+            imp[b, 8] += i8
+            imp[b, 9] += i9
     return OK, -1
 
 

@@ -290,18 +290,20 @@ def test_flat_dry_pass_equals_general_loop(yield_displacement):
     """The kernel's pass 2 written out for dry groups (one dry Li-RFT region) gives what its general
     pass 2 gives. The general one is reached through a region map (never specialised) of one cell
     holding the same medium and law: same physics, other code path. Compared on every step of a
-    walking hexapod whose legs enter and leave the sand (cull groups switching on and off included)."""
+    walking hexapod whose legs enter and leave the sand (cull groups switching on and off included). Both
+    terrains are implicit, so the implicit step's spring moments (summed per body in the batched pass, element by
+    element in the general one) are compared too."""
     from mjrft.coupler import RegionMap
     from mjrft.models import hexapod_model
     m = hexapod_model()
     d = mujoco.MjData(m)
-    fast = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement)
-    general = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement,
+    fast = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement, implicit=True)
+    general = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement, implicit=True,
                                     regions=[mjrft.Region(None, fast.medium, "rft")],
                                     region_map=RegionMap(np.ones((1, 1), dtype=np.int64), -10.0, -10.0, 20.0))
     assert general._reg_law.shape[0] == 2 and fast._reg_law.shape[0] == 1 and general._reg_map.size == 1
     rows = fast.body_ids
-    left = entered = 0
+    left = entered = springs = 0
     for k in range(400):
         d.ctrl[:] = 2 * np.pi * 2.0 * d.time + np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
         mujoco.mj_step1(m, d)
@@ -319,11 +321,34 @@ def test_flat_dry_pass_equals_general_loop(yield_displacement):
         np.testing.assert_allclose(fast._u, general._u, rtol=1e-12, atol=1e-18)
         np.testing.assert_allclose(fast.wrench, general.wrench, rtol=1e-10, atol=1e-12)
         np.testing.assert_allclose(fast._stiff, general._stiff, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(fast._imp, general._imp, rtol=1e-10, atol=1e-12)
+        springs += int(np.count_nonzero(fast._imp[:, 0] > 0))
         assert np.all(fast.force[~buried] == 0.0) and np.all(fast._u[~buried] == 0.0)
         d.xfrc_applied[rows] = fast.wrench[rows]
         mujoco.mj_step2(m, d)
         d.xfrc_applied[rows] = 0.0
     assert entered > 100 and left > 100  # the legs went in and came out many times
+    if yield_displacement is None:  # bodies with elements below yield (the implicit step's springs) on many steps
+        assert springs > 100
+
+
+def test_min_stable_timesteps_equals_both_parts():
+    """min_stable_timesteps (one set of jacobians for both parts) returns exactly min_stable_timestep's springs and
+    depth limits, on every step of a walking hexapod (finite ones included), and only for the data last stepped."""
+    from mjrft.models import hexapod_model
+    m = hexapod_model()
+    d = mujoco.MjData(m)
+    t = mjrft.GranularTerrain(m, resolution=0.01)
+    finite = 0
+    for _ in range(60):
+        d.ctrl[:] = 2 * np.pi * 2.0 * d.time + np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
+        t.step(d, 5)
+        pair = t.min_stable_timesteps(d)
+        assert pair == (t.min_stable_timestep(d, "springs"), t.min_stable_timestep(d, "depth"))
+        finite += np.isfinite(pair[0]) and np.isfinite(pair[1]) and pair[0] != pair[1]
+    assert finite > 30
+    with pytest.raises(ValueError, match="needs the MjData this terrain last stepped"):
+        t.min_stable_timesteps(mujoco.MjData(m))
 
 
 def test_flat_dry_pass_reports_nonfinite_position():
