@@ -456,8 +456,8 @@ class GranularWrapper(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):
 
     def _update_limit(self, data) -> None:
         if self.substeps == "auto":
-            self._limit = min(self.terrain.min_stable_timestep(data, "springs"), self._static_limit)
-            self._depth_limit = self.terrain.min_stable_timestep(data, "depth")
+            springs, self._depth_limit = self.terrain.min_stable_timesteps(data)
+            self._limit = min(springs, self._static_limit)
 
     def _add_cfrc_ext(self, data) -> None:
         """Add the sand's wrench (force, torque about each body's CoM) to ``cfrc_ext`` in MuJoCo's convention."""

@@ -45,8 +45,8 @@ from .media import get_medium
 from .mujoco_c import mujoco_functions, mujoco_step_functions
 from .regions import STRESS_SLOTS, Region, _region_entries, build_regions
 from .settings import TerrainSettings, _custom, check_custom_keys, resolve_settings
-from .stability import (HELD_STEPS, _stable_dts, _stable_timesteps, largest_rate, stability_warning,
-                        track_depth_springs, track_stiffness, unstable_mode)
+from .stability import (HELD_STEPS, _stable_dts, _stable_timestep_pair, _stable_timesteps, largest_rate,
+                        stability_warning, track_depth_springs, track_stiffness, unstable_mode)
 
 # names of the settings, the selection, the floor, the regions, the elements and the stability check that were
 # defined in this module, importable from it as well
@@ -771,6 +771,21 @@ class GranularTerrain:
         out[:] = np.inf
         self._stable_into(data, out, "min_stable_timestep", part)
         return float(out.min())
+
+    def min_stable_timesteps(self, data: mujoco.MjData) -> tuple[float, float]:
+        """``(min_stable_timestep(data, "springs"), min_stable_timestep(data, "depth"))`` (s) in one compiled call
+        that builds the buried bodies' jacobians once: the per-step query of a caller that needs both (equal to
+        the two calls)."""
+        if data is not self._data:
+            raise ValueError("min_stable_timesteps needs the MjData this terrain last stepped")
+        if _JACOBIAN_FUNCTIONS is None:
+            return self.min_stable_timestep(data, "springs"), self.min_stable_timestep(data, "depth")
+        jac, minv_jac = self._jac_rows
+        springs, depth = _stable_timestep_pair(*_JACOBIAN_FUNCTIONS, self.model._address, data._address,
+                                               self.body_ids, self._stiff, self._dstiff, self._inert, self.inertial,
+                                               float(self.yield_displacement), float(self.damping_time), jac,
+                                               minv_jac, self._rows_scratch, self._dt_scratch)
+        return float(springs), float(depth)
 
     def _stable_into(self, data, out: np.ndarray, what: str, part: str) -> None:
         """Write each buried body's stable timestep of ``part`` (:meth:`stable_timestep`) into ``out`` (nbody)."""

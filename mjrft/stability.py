@@ -297,6 +297,38 @@ def _stable_timesteps(f_jac, f_solve, m_addr, d_addr, bodies, stiff, inert, use_
     _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, vertical, out)
 
 
+@njit(cache=True, error_model="numpy")
+def _stable_timestep_pair(f_jac, f_solve, m_addr, d_addr, bodies, stiff, dstiff, inert, use_inert, delta, tau, jac,
+                          minv_jac, rows, out):
+    """The smallest stable timestep over ``bodies`` of the springs (``stiff``, with ``use_inert`` the inertial
+    dampers ``inert``) and of the depth stiffness (``dstiff``), as (springs, depth): :func:`_stable_timesteps`
+    of both parts from one set of jacobians (each body's rows are the same in both, so the limits are equal to
+    two separate calls'). ``out`` (nbody) is scratch."""
+    nv = jac.shape[1]
+    n = 0
+    for i in range(bodies.shape[0]):
+        b = bodies[i]
+        if stiff[b, 0] > 0 or dstiff[b, 0] > 0 or (use_inert and inert[b, 0] > 0):
+            at = jac.ctypes.data + 6 * n * nv * 8
+            call_mj_arrays(f_jac, m_addr, d_addr, at, at + 3 * nv * 8, b)
+            rows[n] = b
+            n += 1
+    if n == 0:
+        return np.inf, np.inf
+    call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, 6 * n)
+    out[:] = np.inf
+    _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, False, out)
+    springs = np.inf
+    for i in range(n):
+        springs = min(springs, out[rows[i]])
+    out[:] = np.inf
+    _stable_dts(jac, minv_jac, rows[:n], dstiff, inert, False, delta, tau, True, out)
+    depth = np.inf
+    for i in range(n):
+        depth = min(depth, out[rows[i]])
+    return springs, depth
+
+
 def spring(lam: float, lam_c: float, yield_displacement: float, damping_time: float) -> tuple[float, float]:
     """(K, c) per unit mass of the stiffest mode, for :func:`stable_step` / :func:`max_stable_dt` with w = 1:
     ``lam`` the largest rate of the granular stiffness (the damping's in the viscous mode, ``yield_displacement``
