@@ -40,6 +40,7 @@ from .errors import (NonFiniteError, SandContactWarning, TerrainStabilityWarning
 from .floor import _remove_contacts
 from .implicit_step import IMPLICIT_FUNCTIONS
 from .laws import validity
+from .laws.solidify import STICK_SPEED, check_solidify
 from .laws.wet import P_WATER_DEPTH
 from .media import get_medium
 from .mujoco_c import mujoco_functions, mujoco_step_functions
@@ -221,6 +222,11 @@ class GranularTerrain:
             nothing. The medium needs a grain diameter and a bulk density.
         inertial_drag: its coefficient ``C`` (default ``mjrft.laws.inertial.INERTIAL_DRAG`` = 2.20, derived
             from the DynaRoACH paper's numbers; the same for every medium).
+        solidify: ``f``, the static yield factor of elements at rest (:mod:`mjrft.laws.solidify`): an element
+            that has stopped holds up to ``f`` times the law's stress at its depth before it flows again (0, the
+            default, is off; needs the rest memory, ``yield_displacement > 0``). CPU kernel only.
+        stick_speed: the speed (m/s) below which an element counts as at rest under ``solidify`` (default
+            ``mjrft.laws.solidify.STICK_SPEED`` = 1 mm/s).
         max_elements: the most elements the terrain may build (default ``MAX_ELEMENTS`` = 1,000,000). The
             count is estimated from the geoms' surface areas before anything is built, and a finer
             ``resolution`` raises a ``ValueError`` naming the count and the setting to change.
@@ -297,7 +303,7 @@ class GranularTerrain:
     def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, floor=None,
                  surface=None, resolution=None, yield_displacement=None, damping_time=None, v_eps=None,
                  water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
-                 water_density=None, inertial=None, inertial_drag=None, max_elements=None, implicit=False):
+                 water_density=None, inertial=None, inertial_drag=None, max_elements=None, implicit=False, solidify=0.0, stick_speed=STICK_SPEED):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         if not isinstance(implicit, (bool, np.bool_)):
@@ -307,6 +313,7 @@ class GranularTerrain:
                                f"{', '.join(IMPLICIT_FUNCTIONS)}) and they were not found in the library the "
                                "mujoco bindings loaded; use implicit=False")
         self.implicit = bool(implicit)
+        self.solidify, self.stick_speed = check_solidify(solidify, stick_speed)
         self.model = model
         cfg = _custom(model)
         check_custom_keys(cfg)
@@ -326,6 +333,9 @@ class GranularTerrain:
         self.surface = s.surface
         self.resolution, self.resolution_auto = s.resolution, s.resolution_auto
         self.yield_displacement, self.v_eps, self.damping_time = s.yield_displacement, s.v_eps, s.damping_time
+        if self.solidify > 0.0 and self.yield_displacement <= 0.0:
+            raise ValueError(f"solidify={self.solidify:g} needs the rest memory (yield_displacement > 0); "
+                             "the viscous mode (yield_displacement=0) has no memory to solidify")
         self.transition, self.buoyancy, self.inertial_drag = s.transition, s.buoyancy, s.inertial_drag
 
         # --- regions: strips along x or a map; water layer, buoyancy ---
@@ -556,7 +566,8 @@ class GranularTerrain:
                 self._hf_z, self._hf_frame, self._reg_map, self._reg_map_frame, self._reg_rho, self.transition,
                 max(0.0, -float(self.model.opt.gravity[2])), dt, self.yield_displacement, self.damping_time, self.v_eps,
                 self._u, self.pos, self.vel, self.normal, self.depth, self.force, self.region,
-                self.wrench, self._stiff, self._damp, self._inert, self._scr_f, self._scr_i, self._imp, self._dstiff)
+                self.wrench, self._stiff, self._damp, self._inert, self._scr_f, self._scr_i, self._imp, self._dstiff,
+                self.solidify, self.stick_speed)
 
     def _step_args(self, data, dt) -> tuple:
         """Arguments of ``kernel.run_steps`` after ``(nstep, f_step1, f_step2, m_addr, d_addr)`` (also used by

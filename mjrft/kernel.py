@@ -22,6 +22,7 @@ from .implicit_step import implicit_wrench
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
 from .laws.rft import rft_stress_batch
+from .laws.solidify import solid_memory
 from .laws.registry import LAW_IDS
 from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
 from .media import P_INERTIA
@@ -220,13 +221,17 @@ def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps):
+def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps, solid, stick):
     """Advance element ``i``'s rest memory ``u[i]`` by ``dt`` (``dt_d`` = dt / delta, ``inv_d`` = 1 / delta,
     hoisted out of the element loop) at velocity ``v`` and return the regularised motion (mx, my, mz, |m|,
     mobilisation) that the law sees (docs/numerics.md, "Rest regularisation"): with ``delta > 0``
     ``u <- delta v_hat + (u - delta v_hat) exp(-|v| dt / delta)``, ``m = u + tau v``, mobilisation
-    ``min(1, |m| / delta)``; in the viscous mode ``m = v``, ``min(1, |v| / v_eps)``."""
+    ``min(1, |m| / delta)``; in the viscous mode ``m = v``, ``min(1, |v| / v_eps)``. ``solid > 0``: the
+    solidify option's memory instead (:func:`mjrft.laws.solidify.solid_memory`, static yield factor ``solid``,
+    at rest below the speed ``stick``)."""
     if delta > 0.0:
+        if solid > 0.0:
+            return solid_memory(u, i, vx, vy, vz, speed, dt_d * delta, delta, tau, solid, stick)
         if speed > 0.0:
             a = math.exp(-speed * dt_d)
             s = delta / speed
@@ -456,7 +461,7 @@ def _inside_strip(geom_xpos, G, g_aabb, g, gid, reg_bounds, breg, blend):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, dt_d, inv_d, delta, tau, v_eps,
-              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, scr_f, scr_i):
+              solid, stick, u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, scr_f, scr_i):
     """Pass 2 of a dry group (one dry Li-RFT region everywhere, or a group inside such a strip): the listed
     elements ``scr_i[0, nbat:nlist]`` through the rest memory into the law's batch, without the region and
     water branches of the general pass (about 9% of the kernel's time; tested equal to it). ``rot``, ``com``,
@@ -473,7 +478,8 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
             _clear(u, out_force, i)
             continue
         speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-        mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
+        mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps,
+                                           solid, stick)
         nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, out_depth[i])
     return OK, nbat
 
@@ -529,7 +535,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                    dt, delta, tau, v_eps,
                    u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                   wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff):
+                   wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff, solid, stick):
     """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
 
     Elements come in cull groups (``g_*``: runs of up to ``elements.CULL_GROUP`` elements of one geom).
@@ -570,6 +576,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     Inertial regime: when a region's ``p[P_INERTIA] > 0`` every buried element of it adds
     :func:`mjrft.laws.inertial.inertial_force` on its real velocity (no rest memory: a rate-dependent
     drag needs none). With the regime off in every region nothing of it runs (one flag per step).
+
+    ``solid``, ``stick``: the solidify option (:mod:`mjrft.laws.solidify`; ``solid = 0`` off).
     """
     nreg = reg_law.shape[0]
     nb = reg_bounds.shape[0]
@@ -650,8 +658,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         # region and water branches (about 9% of the kernel's time); tested equal to the general loop.
         if dry_group:
             status, nbat = _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, dt_d, inv_d,
-                                     delta, tau, v_eps, u, out_pos, out_vel, out_nrm, out_depth, out_force,
-                                     out_region, scr_f, scr_i)
+                                     delta, tau, v_eps, solid, stick, u, out_pos, out_vel, out_nrm, out_depth,
+                                     out_force, out_region, scr_f, scr_i)
             if status != OK:
                 return status, b
             continue
@@ -703,7 +711,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 u[i, 2] = 0.0
                 mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0
             else:
-                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps)
+                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps,
+                                                   solid, stick)
             if single and reg == breg:
                 # gathered; force, wrench and stiffness after the loop (_scatter_batch)
                 nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth)
@@ -925,8 +934,8 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               surface, top, reg_bounds, reg_law, reg_params,
               hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity, dt, delta, tau, v_eps,
               u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp, inert, scr_f,
-              scr_i, imp, dstiff, stiff_max, damp_max, inert_max, dstiff_max, implicit, f_implicit, qacc_smooth,
-              use_inert, imp_jac, imp_minv_jac, imp_blocks, imp_a, imp_rhs, imp_rows):
+              scr_i, imp, dstiff, solid, stick, stiff_max, damp_max, inert_max, dstiff_max, implicit, f_implicit,
+              qacc_smooth, use_inert, imp_jac, imp_minv_jac, imp_blocks, imp_a, imp_rhs, imp_rows):
     """``nstep`` x (mj_step1, terrain_kernel, [implicit_wrench], xfrc += wrench, mj_step2, restore xfrc).
 
     With ``implicit`` the wrench of each step is made linearly implicit by :func:`implicit_wrench`
@@ -944,7 +953,7 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                       hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
                                       dt, delta, tau, v_eps,
                                       u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                                      wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff)
+                                      wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff, solid, stick)
         if status != OK:
             return status, body, s
         track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max)

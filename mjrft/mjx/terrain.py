@@ -99,6 +99,8 @@ def _unsupported(terrain: GranularTerrain) -> list[str]:
         out.append("the inertial regime (inertial=True)")
     if terrain.surface_hfield is not None:
         out.append("a height-field surface")
+    if terrain.solidify > 0.0:
+        out.append(f"solidify = {terrain.solidify:g}")
     return out
 
 
