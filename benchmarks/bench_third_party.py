@@ -23,7 +23,14 @@ time of the rigid env (MuJoCo's step and the env's own work, per physics step) a
 (``(sand - rigid) / physics steps``: the granular kernel and its bookkeeping); ``sand / rigid >= 0.7`` needs
 the second to be at most 0.43x the first.
 
+Then the vendored robots of ``models/third_party`` (``--vendored``), each with its own controller at its own
+timestep: the same controlled run (settle, then its motion pattern) on sand and on the unchanged model's rigid
+floor, interleaved, CPU time of the physics steps (controller included in both); the element count and size,
+the net vertical granular force / weight at rest (mean and largest deviation over the last 0.5 s of the settle)
+and the sinkage. ``--robots`` with no id skips the gymnasium robots.
+
     python benchmarks/bench_third_party.py [--steps N] [--repeats R] [--rest SECONDS] [--robots Ant-v5 ...]
+                                          [--vendored unitree_h1 ...]
 """
 
 from __future__ import annotations
@@ -173,12 +180,66 @@ def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0) ->
     return rows
 
 
+def h1_setup(sand: bool):
+    """Unitree H1 (mesh feet): model, data leaning over its soles, a step function running its controller (the
+    open-loop sway after 1 s of settling), the terrain (poppy_cp, the feet, implicit) or None."""
+    from mjrft.models import unitree_h1 as h1
+
+    m, d = h1.load()
+    ctl = h1.Controller(m)
+    ctl.reset(d)
+    terrain = mjrft.GranularTerrain(m, "poppy_cp", floor="auto", bodies=list(h1.FEET), implicit=True) if sand else None
+
+    def step():
+        t = d.time - 1.0
+        ctl(d, ctl.step_targets(t, sway=0.05, lift=0.1, freq=0.5) if t > 0 else None)
+        if terrain is None:
+            mujoco.mj_step(m, d)
+        else:
+            terrain.step(d)
+
+    return m, d, step, terrain
+
+
+VENDORED = {"unitree_h1": h1_setup}
+
+
+def vendored_row(name: str, seconds: float = 3.0, repeats: int = 3) -> dict:
+    """Sand against the rigid twin for a vendored robot (see the module docstring)."""
+    setup = VENDORED[name]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sand_t, rigid_t = [], []
+        for _ in range(repeats + 1):  # the first pair warms up (compiles)
+            for sand, out in ((True, sand_t), (False, rigid_t)):
+                m, d, step, terrain = setup(sand)
+                n = int(round(seconds / m.opt.timestep))
+                t0 = time.process_time()
+                for _ in range(n):
+                    step()
+                out.append(time.process_time() - t0)
+        m, d, step, terrain = setup(True)
+        n_settle = int(round(1.0 / m.opt.timestep))
+        weight = float(m.body_subtreemass[1]) * -float(m.opt.gravity[2])
+        loads = []
+        for _ in range(n_settle):
+            step()
+            loads.append(float(terrain.wrench[:, 2].sum()) / weight)
+    rest = np.array(loads[-int(round(0.5 / m.opt.timestep)):])
+    return {"robot": name, "elements": terrain.n_elements, "resolution": terrain.resolution, "h": float(m.opt.timestep),
+            "sand": n / float(np.median(sand_t[1:])), "rigid": n / float(np.median(rigid_t[1:])),
+            "balance": float(rest.mean()), "balance_dev": float(np.abs(rest - 1.0).max()),
+            "sinkage": float(terrain.sinkage()[terrain.body_ids].max()), "seconds": seconds}
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--steps", type=int, default=400, help="timed env steps per robot and run (default 400)")
     ap.add_argument("--repeats", type=int, default=3, help="interleaved repeats, median reported (default 3)")
     ap.add_argument("--rest", type=float, default=3.0, help="seconds of zero action before the weight balance")
-    ap.add_argument("--robots", nargs="+", default=list(ROBOTS), help="gymnasium ids")
+    ap.add_argument("--robots", nargs="*", default=list(ROBOTS), help="gymnasium ids (none: skip them)")
+    ap.add_argument("--vendored", nargs="*", default=list(VENDORED), choices=list(VENDORED),
+                    help="vendored robots of models/third_party (none: skip them)")
     args = ap.parse_args(argv)
     rows = run(args.robots, args.steps, args.repeats, args.rest)
     print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
@@ -207,6 +268,18 @@ def main(argv=None) -> None:
         print(f"{r['robot']:<15} {r['weight']:>9.2f} {r['balance']:>9.4f} {r['cfrc_balance']:>17.4f} "
               f"{r['speed']:>16.2g} {1e3 * r['sinkage']:>10.1f} "
               f"{1e3 * r['run_sinkage_mean']:>11.1f}/{1e3 * r['run_sinkage_max']:<11.1f}")
+    vendored = [vendored_row(name, repeats=args.repeats) for name in args.vendored]
+    if vendored:
+        print()
+        print(f"vendored robots (models/third_party) with their controllers, {vendored[0]['seconds']:g} s: settle 1 s, "
+              f"then their motion pattern; median of {args.repeats} (CPU time of the physics steps, sand and rigid "
+              "interleaved); at rest: last 0.5 s of the settle")
+        print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'sand st/s':>9} {'rigid st/s':>10} "
+              f"{'sand/rigid':>10} {'Fz/weight':>9} {'max dev':>8} {'sinkage mm':>10}")
+        for r in vendored:
+            print(f"{r['robot']:<15} {r['elements']:>8d} {1e3 * r['resolution']:>7.1f} {1e3 * r['h']:>5.3g} "
+                  f"{r['sand']:>9.0f} {r['rigid']:>10.0f} {r['sand'] / r['rigid']:>10.3f} {r['balance']:>9.4f} "
+                  f"{r['balance_dev']:>8.1e} {1e3 * r['sinkage']:>10.1f}")
 
 
 if __name__ == "__main__":
