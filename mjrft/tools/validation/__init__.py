@@ -36,10 +36,11 @@ def case_names() -> list[str]:
     return list(load_cases())
 
 
-def run_case(name: str, quick: bool = False) -> CaseResult:
+def run_case(name: str, quick: bool = False, variant: str | None = None) -> CaseResult:
+    """Run case ``name`` (``variant``: one of its wrong-physics variants, ``CASES[name].variants``)."""
     from .report import run_case as _run
 
-    return _run(name, quick)
+    return _run(name, quick, variant)
 
 
 def run_cases(names=None, quick: bool = False, progress: bool = True) -> list[CaseResult]:

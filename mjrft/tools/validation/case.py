@@ -33,7 +33,8 @@ from typing import Callable, Sequence
 from mjrft.errors import unknown
 
 __all__ = ["CASES", "CONSISTENCY", "Case", "CaseResult", "Check", "Datum", "Line", "MUCH_LESS", "Panel", "SIMILAR",
-           "UPRIGHT_TILT", "VALIDATION", "case", "check_band", "check_close", "check_outcome", "papers", "published", "similar"]
+           "UPRIGHT_TILT", "VALIDATION", "WRONG_PHYSICS", "case", "check_band", "check_close", "check_outcome", "papers",
+           "published", "similar", "stress_scaled", "wrong_physics"]
 
 VALIDATION = "validation"
 CONSISTENCY = "consistency"
@@ -208,21 +209,82 @@ class Case:
     title: str
     paper: str
     run: Callable[[bool], CaseResult]
+    variants: tuple = ()  # the WRONG_PHYSICS variants ``run(quick, variant=...)`` accepts
 
 
 CASES: dict[str, Case] = {}
 
 
-def case(name: str, title: str, paper: str):
-    """Register ``run(quick: bool) -> CaseResult`` as the validation case ``name``."""
+def case(name: str, title: str, paper: str, variants: Sequence[str] = ()):
+    """Register ``run(quick: bool) -> CaseResult`` as the validation case ``name``; ``variants``: the names of
+    :data:`WRONG_PHYSICS` that ``run(quick, variant=name)`` can rerun the case under (its controls)."""
 
     def register(run):
         if name in CASES:
             raise ValueError(f"validation case {name!r} is registered twice")
-        CASES[name] = Case(name, title, paper, run)
+        for v in variants:
+            if v not in WRONG_PHYSICS:
+                raise unknown("wrong-physics variant", v, list(WRONG_PHYSICS))
+        CASES[name] = Case(name, title, paper, run, tuple(variants))
         return run
 
     return register
+
+
+# ------------------------------------------------------------------------------------------------
+# wrong physics (the controls every validation check must reject)
+# ------------------------------------------------------------------------------------------------
+#: Named wrong physics a case can be rerun under (``run(quick, variant=name)``), so that its own check functions
+#: judge readings that the paper's claims must rule out. A case builds its rigs from :func:`wrong_physics`.
+WRONG_PHYSICS = {
+    "x2": "every granular stress of the medium doubled (the parameter slots GranularTerrain's stress_scale "
+          "multiplies: Li's coefficients and zeta, xi_n, the depth-only and hybrid constants)",
+    "x0.5": "every granular stress of the medium halved",
+    "depth_only": "Li's depth-only law (suppl. eqs. S3-S7) on the same medium in place of the case's law: the "
+                  "stress of a plate pushed down, blind to the element's orientation and direction of motion",
+    "rate_independent": "Li RFT (law rft) on the same medium in place of a speed-dependent law: the stress the "
+                        "medium's coefficients give at their calibration speed, at every speed",
+    "no_undisturbed_rule": "the hybrid whole-leg model counting every element, its undisturbed-grain (shadow) rule "
+                           "off (hybrid paper, sec. 3.2)",
+}
+_STRESS_FACTOR = {"x2": 2.0, "x0.5": 0.5}
+
+
+def stress_scaled(medium, k: float):
+    """``medium`` with every granular stress times ``k``: ``params()[STRESS_SLOTS]`` scale by ``k``, the rest
+    (friction, speed factors, the water's drag and buoyancy) keeps its value."""
+    import dataclasses
+
+    from mjrft.media import get_medium
+
+    from mjrft.laws.hybrid import GAMMA_S
+
+    m = get_medium(medium)
+    extra = dict(m.extra)
+    if "hybrid_unit_weight" in extra:
+        extra["hybrid_unit_weight"] = extra["hybrid_unit_weight"] * k  # the wedge's force is linear in it
+    elif m.rho_bulk is None:
+        extra["hybrid_unit_weight"] = GAMMA_S * k  # the hybrid law's default (else 9.81 x rho_bulk, scaled below)
+    return dataclasses.replace(
+        m, name=f"{m.name}_x{k:g}".replace(".", "p"), coeffs=tuple(c * k for c in m.coeffs), zeta=m.zeta * k,
+        alpha_z_measured=None if m.alpha_z_measured is None else m.alpha_z_measured * k,
+        grain_density=None if m.grain_density is None else m.grain_density * k,  # xi_n and C rho_bulk
+        extra=tuple(sorted(extra.items())))
+
+
+def wrong_physics(variant: str | None, medium, law: str):
+    """The (medium, law) a case builds a rig from under the wrong-physics ``variant`` (None: unchanged)."""
+    if variant is None:
+        return medium, law
+    if variant in _STRESS_FACTOR:
+        return stress_scaled(medium, _STRESS_FACTOR[variant]), law
+    if variant == "depth_only":
+        return medium, "depth_only"
+    if variant == "rate_independent":
+        return medium, "rft" if law == "wet" else law
+    if variant in WRONG_PHYSICS:
+        return medium, law  # a variant of a model the case builds itself (e.g. no_undisturbed_rule)
+    raise unknown("wrong-physics variant", variant, list(WRONG_PHYSICS))
 
 
 # ------------------------------------------------------------------------------------------------

@@ -51,14 +51,20 @@ def check_names(names) -> list[str]:
     return list(dict.fromkeys(names))
 
 
-def run_case(name: str, quick: bool = False) -> CaseResult:
+def run_case(name: str, quick: bool = False, variant: str | None = None) -> CaseResult:
+    """Run case ``name``; ``variant``: one of the case's wrong-physics variants (``Case.variants``), for controls."""
     (name,) = check_names([name])
     from . import CASES
+    from .case import WRONG_PHYSICS
 
+    if variant is not None and variant not in CASES[name].variants:
+        raise unknown(f"wrong-physics variant of case {name!r}", variant, list(CASES[name].variants))
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        result = CASES[name].run(quick)
+        result = CASES[name].run(quick) if variant is None else CASES[name].run(quick, variant=variant)
+        if variant is not None:
+            result.notes = f"Wrong-physics control: {WRONG_PHYSICS[variant]}. " + result.notes
     result.seconds = time.perf_counter() - t0
     result.warnings = distinct_warnings(caught)
     return result

@@ -84,6 +84,35 @@ def control(name: str, what: str, slow: bool = False, marks: tuple = ()):
     return register
 
 
+VARIANT_REJECTS: dict[str, list[str]] = {}  # case -> the checks its wrong-physics variants must fail
+
+
+def _named(result: CaseResult, names) -> list[Check]:
+    """The checks of ``result`` named in ``names``; a name ending in ``*`` stands for every check that starts with it
+    (and must match one)."""
+    out = []
+    for n in names:
+        hit = [c for c in result.checks if (c.name.startswith(n[:-1]) if n.endswith("*") else c.name == n)]
+        assert hit, (result.name, n, [c.name for c in result.checks])
+        out += hit
+    return out
+
+
+def wrong_physics_control(name: str, variant: str, rejects: tuple[str, ...], slow: bool = False):
+    """Register the control "case ``name`` rerun at its quick settings under the wrong-physics ``variant``
+    (:data:`mjrft.tools.validation.case.WRONG_PHYSICS`) fails every validation check named in ``rejects``"""
+    VARIANT_REJECTS.setdefault(name, []).extend(rejects)
+
+    def check():
+        r = validation.run_case(name, quick=True, variant=variant)
+        named = _named(r, rejects)
+        assert all(c.is_validation for c in named), [c.name for c in named if not c.is_validation]
+        accepted = [(c.name, c.simulated) for c in named if c.passed]
+        assert not accepted, (variant, accepted)
+
+    control(name, f"rejects {variant}", slow=slow)(check)
+
+
 @pytest.fixture(scope="module")
 def quick_run():
     """``quick_run(name)``: the quick-settings result of case ``name``, run once per module."""
@@ -291,6 +320,27 @@ def test_a_consistency_check_states_why_and_is_counted_apart():
     tolerance = check_close("k", 1.0, 1.0, 0.1, source="s", basis="the paper's error").tolerance
     assert tolerance == "<= 10 % (the paper's error)"
 
+
+
+def test_wrong_physics_variants():
+    from mjrft.media import get_medium
+    from mjrft.regions import STRESS_SLOTS
+
+    # x2 / x0.5 scale exactly the slots GranularTerrain's stress_scale multiplies, in every law's constants
+    hybrid_sand = get_medium("generic").with_extra(hybrid_unit_weight=13000.0)
+    for m in ("poppy_lp", "sea_sand_saturated", "generic", hybrid_sand):
+        p = get_medium(m).params()
+        other = np.setdiff1d(np.arange(p.size), STRESS_SLOTS)
+        for k in (2.0, 0.5):
+            q = case_mod.stress_scaled(m, k).params()
+            assert np.allclose(q[STRESS_SLOTS], k * p[STRESS_SLOTS]) and np.array_equal(q[other], p[other])
+    assert case_mod.wrong_physics(None, "poppy_lp", "rft") == ("poppy_lp", "rft")
+    assert case_mod.wrong_physics("rate_independent", "sea_sand_saturated", "wet") == ("sea_sand_saturated", "rft")
+    assert case_mod.wrong_physics("depth_only", "poppy_lp", "rft") == ("poppy_lp", "depth_only")
+    with pytest.raises(ValueError, match="unknown wrong-physics variant 'x3'.*valid choices"):
+        case_mod.wrong_physics("x3", "poppy_lp", "rft")
+    with pytest.raises(ValueError, match="wrong-physics variant of case 'sgrft_rpm'.*valid choices"):
+        validation.run_case("sgrft_rpm", quick=True, variant="x2")
 
 
 # ------------------------------------------------------------------------------------------- DynaRoACH
@@ -672,6 +722,18 @@ def sgrft_robot_similar_speeds(r):
     outcomes(r)
 
 
+wrong_physics_control("sgrft_plate_depth", "rate_independent", ("alpha^10*", "alpha^20*"))
+wrong_physics_control("sgrft_plate_depth", "x2", ("alpha^10*", "alpha^20*"))
+wrong_physics_control("sgrft_plate_depth", "x0.5", ("alpha^10*", "alpha^20*"))
+wrong_physics_control("sgrft_legs", "depth_only", ("R-leg forward-force asymmetry*", "V-leg forward-force asymmetry*"))
+wrong_physics_control("sgrft_rpm", "rate_independent", (
+    "thrust grows from 30 to 40 rpm (R, V, T)", "R-leg thrust change vs SGRFT's prediction",
+    "V-leg thrust change vs SGRFT's prediction", "R-leg thrust change vs measured", "V-leg thrust change vs measured"))
+wrong_physics_control("sgrft_propeller_leg", "rate_independent", (
+    "peak thrust grows from 30 to 40 rpm (every depth)", "thrust change 30 -> 40 rpm at 30 mm*"))
+wrong_physics_control("sgrft_robot", "rate_independent", ("v_wet / v_dry above 60 rpm*",), slow=True)
+
+
 # ------------------------------------------------------------------------------------------- thesis biped
 SIM_VF = "55 deg: denser bed, shorter step (simulation)"
 SIM_VF_CAUSE = ("mjrft shortens the 55 deg step on the looser bed, as the thesis' experiment did (sec. 2.5.2): on "
@@ -861,6 +923,16 @@ def test_every_registered_case_has_its_outcome_test():
     assert set(OUTCOMES) == cases, (f"cases without an outcome test: {sorted(cases - set(OUTCOMES))}; "
                                     f"outcome tests of no case: {sorted(set(OUTCOMES) - cases)}")
     assert set(DISAGREEMENTS) <= cases and {k.split(":")[0] for k in CONTROLS} <= cases
+
+
+@pytest.mark.parametrize("name", [n for n, c in validation.load_cases().items() if c.variants])
+def test_every_validation_check_fails_a_control_or_the_case(name, quick_run):
+    """In a case with wrong-physics variants, each validation check is rejected by one of the case's variant controls,
+    or fails on mjrft's own physics (a documented disagreement, so it can fail)."""
+    r = quick_run(name)
+    covered = {c.name for c in _named(r, VARIANT_REJECTS.get(name, ()))}
+    bare = [c.name for c in r.validation_checks if c.passed and c.name not in covered]
+    assert not bare, f"validation checks of {name} that no wrong-physics control rejects: {bare}"
 
 
 @pytest.mark.parametrize("name, check", OUTCOMES.values())
