@@ -5,7 +5,8 @@ them with ``python -m mjrft.models.generate``); the parametric generators
 ``hexapod_xml/hexapod_model``, ``biped_xml/biped_model`` and
 ``humanoid_xml/humanoid_model``, the rigs' ``plate_rig_xml/leg_rig_xml`` and the shoal scene's
 ``hexapod_shoal_xml/hexapod_shoal_model`` and SGRFT's propeller-leg robot
-``propeller_robot_xml/propeller_robot_model`` are re-exported here (imported lazily).
+``propeller_robot_xml/propeller_robot_model`` and DynaRoACH with its swing-and-lift legs
+``dynaroach_xml/dynaroach_model`` are re-exported here (imported lazily).
 """
 
 from __future__ import annotations
@@ -44,6 +45,7 @@ _LAZY = {
     "plate_rig_xml": "rigs", "leg_rig_xml": "rigs",
     "hexapod_shoal_xml": "shoal", "hexapod_shoal_model": "shoal",
     "propeller_robot_xml": "propeller_robot", "propeller_robot_model": "propeller_robot",
+    "dynaroach_xml": "dynaroach", "dynaroach_model": "dynaroach",
 }
 
 __all__ = ["MODEL_NAMES", "model_path", *_LAZY]
