@@ -15,7 +15,7 @@ its displacement from where it stopped (its anchor):
 ```text
 |v| <  v_s:  u <- u + v dt,  |u| <= f delta                    (solid: elastic about the anchor, capped)
 |v| >= v_s:  u <- delta v_hat + (u - delta v_hat) exp(-|v| dt / delta)     (flowing: the rest memory)
-m = u + tau v,   F = law(depth, n, m / |m|) * area * min(f, |m| / delta)
+m = u + tau v,   F = law(depth, n, m / |m|) * area * min(f, |m| / delta, max(1, |u| / delta))
 ```
 
 Below the static yield the element is the rest memory's solid spring (stiffness ``|F_law| / delta``); at
@@ -67,7 +67,7 @@ def check_solidify(solidify, stick_speed):
 def solid_memory(u, i, vx, vy, vz, speed, dt, delta, tau, factor, stick):
     """Advance element ``i``'s memory ``u[i]`` under the solidify option (module docstring; ``delta > 0``) and
     return what the law sees, as the rest memory does: (mx, my, mz, |m|, mobilisation ``min(factor, |m| /
-    delta)``). Below the static yield at rest the returned ``|m|`` is ``min(|m|, delta)`` (the direction is
+    delta, max(1, |u| / delta))``). Below the static yield at rest the returned ``|m|`` is ``min(|m|, delta)`` (the direction is
     unchanged): the element is a spring of stiffness ``|F_law| / delta`` for the stability check and the
     implicit step."""
     cap = factor * delta
@@ -92,7 +92,9 @@ def solid_memory(u, i, vx, vy, vz, speed, dt, delta, tau, factor, stick):
     my = u[i, 1] + tau * vy
     mz = u[i, 2] + tau * vz
     ml = math.sqrt(mx * mx + my * my + mz * mz)
-    mob = min(factor, ml / delta)
+    # above 1 only as far as the memory itself is (the damping term tau v never lifts a flowing element above the law)
+    ul = math.sqrt(u[i, 0] * u[i, 0] + u[i, 1] * u[i, 1] + u[i, 2] * u[i, 2])
+    mob = min(factor, ml / delta, max(1.0, ul / delta))
     if speed < stick and ml > delta and ml < cap * (1.0 - 1e-9):
         s = delta / ml  # a solid element below its static yield: a spring of stiffness |F_law| / delta
         return mx * s, my * s, mz * s, delta, mob
