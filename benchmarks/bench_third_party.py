@@ -180,9 +180,9 @@ def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0) ->
     return rows
 
 
-def h1_setup(sand: bool):
+def h1_setup(sand: bool, settle: float = 1.0):
     """Unitree H1 (mesh feet): model, data leaning over its soles, a step function running its controller (the
-    open-loop sway after 1 s of settling), the terrain (poppy_cp, the feet, implicit) or None."""
+    open-loop sway, after ``settle`` s holding the pose), the terrain (poppy_cp, the feet, implicit) or None."""
     from mjrft.models import unitree_h1 as h1
 
     m, d = h1.load()
@@ -191,7 +191,7 @@ def h1_setup(sand: bool):
     terrain = mjrft.GranularTerrain(m, "poppy_cp", floor="auto", bodies=list(h1.FEET), implicit=True) if sand else None
 
     def step():
-        t = d.time - 1.0
+        t = d.time - settle
         ctl(d, ctl.step_targets(t, sway=0.05, lift=0.1, freq=0.5) if t > 0 else None)
         if terrain is None:
             mujoco.mj_step(m, d)
@@ -218,18 +218,23 @@ def vendored_row(name: str, seconds: float = 3.0, repeats: int = 3) -> dict:
                 for _ in range(n):
                     step()
                 out.append(time.process_time() - t0)
-        m, d, step, terrain = setup(True)
-        n_settle = int(round(1.0 / m.opt.timestep))
+        m, d, step, terrain = setup(True, settle=2.0)  # at rest for 2 s, then its motion pattern for 3 s
         weight = float(m.body_subtreemass[1]) * -float(m.opt.gravity[2])
-        loads = []
-        for _ in range(n_settle):
+        loads, shares = [], []
+        for i in range(int(round(5.0 / m.opt.timestep))):
             step()
             loads.append(float(terrain.wrench[:, 2].sum()) / weight)
-    rest = np.array(loads[-int(round(0.5 / m.opt.timestep)):])
-    return {"robot": name, "elements": terrain.n_elements, "resolution": terrain.resolution, "h": float(m.opt.timestep),
+            shares.append(terrain.wrench[terrain.body_ids, 2] / weight)
+            if d.time <= 2.0 + 1e-9:
+                sinkage = float(terrain.sinkage()[terrain.body_ids].max())
+    h = float(m.opt.timestep)
+    rest = np.array(loads[int(round(1.5 / h)):int(round(2.0 / h))])
+    moving = np.array(loads[int(round(2.0 / h)):])
+    return {"robot": name, "elements": terrain.n_elements, "resolution": terrain.resolution, "h": h,
             "sand": n / float(np.median(sand_t[1:])), "rigid": n / float(np.median(rigid_t[1:])),
-            "balance": float(rest.mean()), "balance_dev": float(np.abs(rest - 1.0).max()),
-            "sinkage": float(terrain.sinkage()[terrain.body_ids].max()), "seconds": seconds}
+            "balance": float(rest.mean()), "balance_dev": float(np.abs(rest - 1.0).max()), "sinkage": sinkage,
+            "moving": float(moving.mean()), "share_min": float(np.array(shares)[int(round(2.0 / h)):].min()),
+            "sinkage_end": float(terrain.sinkage()[terrain.body_ids].max()), "seconds": seconds}
 
 
 def main(argv=None) -> None:
@@ -242,44 +247,50 @@ def main(argv=None) -> None:
                     help="vendored robots of models/third_party (none: skip them)")
     args = ap.parse_args(argv)
     rows = run(args.robots, args.steps, args.repeats, args.rest)
-    print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
-          f"law {mjrft.coupler.DEFAULTS['law']}); {args.steps} random-action env steps, median of {args.repeats} "
-          "(CPU time of env.step, the four envs interleaved)")
-    print()
-    print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'k min/mean/max':>15} {'sand st/s':>9} "
-          f"{'rigid same dt':>13} {'stock':>7} {'sand/rigid':>10} {'sand/stock':>10} {'stab.warn':>9} {'diverged':>8}")
-    for r in rows:
-        print(f"{r['robot']:<15} {r['elements']:>8d} {1e3 * r['resolution']:>7.1f} {1e3 * r['h']:>5.3g} "
-              f"{r['k_min']:>4d}/{r['k_mean']:>5.2f}/{r['k_max']:<4d} {r['sand']:>9.0f} {r['rigid']:>13.0f} "
-              f"{r['stock']:>7.0f} {r['sand'] / r['rigid']:>10.2f} {r['sand'] / r['stock']:>10.2f} "
-              f"{r['stability_warnings']:>9d} {r['diverged']:>8d}")
-    print()
-    print("the implicit step against the explicit one, and the cost per physics step (us of CPU time)")
-    print(f"{'robot':<15} {'explicit k mean':>15} {'explicit st/s':>13} {'sand/explicit':>13} {'rigid us':>8} "
-          f"{'sand adds us':>12} {'adds/rigid':>10}")
-    for r in rows:
-        print(f"{r['robot']:<15} {r['k_explicit']:>15.2f} {r['explicit']:>13.0f} {r['sand'] / r['explicit']:>13.2f} "
-              f"{r['rigid_us']:>8.1f} {r['sand_us']:>12.1f} {r['sand_us'] / r['rigid_us']:>10.2f}")
-    print()
-    print(f"at rest after {args.rest:g} s of zero action (target: vertical granular force / weight within 2 %)")
-    print(f"{'robot':<15} {'weight N':>9} {'Fz/weight':>9} {'cfrc_ext z/weight':>17} {'fastest body m/s':>16} "
-          f"{'sinkage mm':>10} {'run sinkage mean/max mm':>23}")
-    for r in rows:
-        print(f"{r['robot']:<15} {r['weight']:>9.2f} {r['balance']:>9.4f} {r['cfrc_balance']:>17.4f} "
-              f"{r['speed']:>16.2g} {1e3 * r['sinkage']:>10.1f} "
-              f"{1e3 * r['run_sinkage_mean']:>11.1f}/{1e3 * r['run_sinkage_max']:<11.1f}")
+    if rows:
+        print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
+              f"law {mjrft.coupler.DEFAULTS['law']}); {args.steps} random-action env steps, median of {args.repeats} "
+              "(CPU time of env.step, the four envs interleaved)")
+        print()
+        print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'k min/mean/max':>15} {'sand st/s':>9} "
+              f"{'rigid same dt':>13} {'stock':>7} {'sand/rigid':>10} {'sand/stock':>10} {'stab.warn':>9} "
+              f"{'diverged':>8}")
+        for r in rows:
+            print(f"{r['robot']:<15} {r['elements']:>8d} {1e3 * r['resolution']:>7.1f} {1e3 * r['h']:>5.3g} "
+                  f"{r['k_min']:>4d}/{r['k_mean']:>5.2f}/{r['k_max']:<4d} {r['sand']:>9.0f} {r['rigid']:>13.0f} "
+                  f"{r['stock']:>7.0f} {r['sand'] / r['rigid']:>10.2f} {r['sand'] / r['stock']:>10.2f} "
+                  f"{r['stability_warnings']:>9d} {r['diverged']:>8d}")
+        print()
+        print("the implicit step against the explicit one, and the cost per physics step (us of CPU time)")
+        print(f"{'robot':<15} {'explicit k mean':>15} {'explicit st/s':>13} {'sand/explicit':>13} {'rigid us':>8} "
+              f"{'sand adds us':>12} {'adds/rigid':>10}")
+        for r in rows:
+            print(f"{r['robot']:<15} {r['k_explicit']:>15.2f} {r['explicit']:>13.0f} "
+                  f"{r['sand'] / r['explicit']:>13.2f} "
+                  f"{r['rigid_us']:>8.1f} {r['sand_us']:>12.1f} {r['sand_us'] / r['rigid_us']:>10.2f}")
+        print()
+        print(f"at rest after {args.rest:g} s of zero action (target: vertical granular force / weight within 2 %)")
+        print(f"{'robot':<15} {'weight N':>9} {'Fz/weight':>9} {'cfrc_ext z/weight':>17} {'fastest body m/s':>16} "
+              f"{'sinkage mm':>10} {'run sinkage mean/max mm':>23}")
+        for r in rows:
+            print(f"{r['robot']:<15} {r['weight']:>9.2f} {r['balance']:>9.4f} {r['cfrc_balance']:>17.4f} "
+                  f"{r['speed']:>16.2g} {1e3 * r['sinkage']:>10.1f} "
+                  f"{1e3 * r['run_sinkage_mean']:>11.1f}/{1e3 * r['run_sinkage_max']:<11.1f}")
     vendored = [vendored_row(name, repeats=args.repeats) for name in args.vendored]
     if vendored:
         print()
-        print(f"vendored robots (models/third_party) with their controllers, {vendored[0]['seconds']:g} s: settle 1 s, "
-              f"then their motion pattern; median of {args.repeats} (CPU time of the physics steps, sand and rigid "
-              "interleaved); at rest: last 0.5 s of the settle")
+        print(f"vendored robots (models/third_party) with their controllers, {vendored[0]['seconds']:g} s timed: 1 s "
+              f"holding the pose, then their motion pattern; median of {args.repeats} (CPU time of the physics steps, "
+              "sand and rigid interleaved); then 2 s at rest (Fz/weight over its last 0.5 s) and 3 s of the pattern "
+              "(Fz/weight mean, the least share of the weight on one foot, the sinkage at the end)")
         print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'sand st/s':>9} {'rigid st/s':>10} "
-              f"{'sand/rigid':>10} {'Fz/weight':>9} {'max dev':>8} {'sinkage mm':>10}")
+              f"{'sand/rigid':>10} {'Fz/weight':>9} {'max dev':>8} {'sinkage mm':>10} {'moving Fz/W':>11} "
+              f"{'least foot':>10} {'sinkage end':>11}")
         for r in vendored:
             print(f"{r['robot']:<15} {r['elements']:>8d} {1e3 * r['resolution']:>7.1f} {1e3 * r['h']:>5.3g} "
-                  f"{r['sand']:>9.0f} {r['rigid']:>10.0f} {r['sand'] / r['rigid']:>10.3f} {r['balance']:>9.4f} "
-                  f"{r['balance_dev']:>8.1e} {1e3 * r['sinkage']:>10.1f}")
+                  f"{r['sand']:>9.0f} {r['rigid']:>10.0f} {r['sand'] / r['rigid']:>10.3f} {r['balance']:>9.5f} "
+                  f"{r['balance_dev']:>8.1e} {1e3 * r['sinkage']:>10.1f} {r['moving']:>11.4f} {r['share_min']:>10.3f} "
+                  f"{1e3 * r['sinkage_end']:>11.1f}")
 
 
 if __name__ == "__main__":

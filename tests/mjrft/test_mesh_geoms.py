@@ -54,7 +54,8 @@ def scene(strips: int = 1, flip: bool = False) -> mujoco.MjModel:
 </mujoco>""")
 
 
-def push(m: mujoco.MjModel, top_depth: float, steps: int = 20, scale_mesh_area: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def push(m: mujoco.MjModel, top_depth: float, steps: int = 20,
+         scale_mesh_area: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """Both boxes at the same depth (their top ``top_depth`` below the surface; negative: sticking out), tilted
     the same way, moving down and sideways at the same velocity: the granular wrench on each after ``steps``
     evaluations (the elements' memory built up the same way)."""

@@ -16,7 +16,7 @@ import mjrft
 from mjrft.errors import TerrainStabilityWarning, ValidityRangeWarning
 from mjrft.models import unitree_h1 as h1
 
-MASS = 51.649896  # kg: the sum of the robot's <inertial> masses (the 0.1 kg "not_use_body" at z = 20 m is not part of it)
+MASS = 51.649896  # kg: the robot's <inertial> masses (the 0.1 kg "not_use_body" at z = 20 m is not part of it)
 REST = 0.5  # s: the window at the end of a run over which the load is averaged
 
 
@@ -92,7 +92,8 @@ def test_h1_without_its_balance_term_tips_over_on_the_rigid_floor():
 
 def test_h1_stands_on_sand_and_carries_its_weight():
     m, d, ctl, terrain = h1_on()
-    assert terrain.floor == m.geom("floor").id and (m.geom_contype[terrain.floor], m.geom_conaffinity[terrain.floor]) == (0, 0)
+    floor = m.geom("floor").id
+    assert terrain.floor == floor and (m.geom_contype[floor], m.geom_conaffinity[floor]) == (0, 0)
     assert set(m.geom_bodyid[terrain.elem_geom]) == {m.body(f).id for f in h1.FEET}
     with warnings.catch_warnings():
         warnings.simplefilter("error", TerrainStabilityWarning)  # the implicit step is stable at 2 ms
@@ -138,8 +139,8 @@ def test_h1_without_the_lean_tips_backwards_on_sand():
 def test_h1_shifts_its_weight_from_foot_to_foot_on_sand():
     """An open-loop sway (hip rolls 0.05 rad at 0.5 Hz) with the unloaded knee bending 0.1 rad, for 4 s after
     settling: no divergence, each foot unloaded in turn. The feet stay in the sand (13-16 cm deep): lifting them
-    out of it (0.25 rad at 1 Hz) sends the pelvis 0.45 m sideways within 1.5 s (measured; its soles are 3 cm wide and the
-    controller has no lateral balance)."""
+    out of it (0.25 rad at 1 Hz) sends the pelvis 0.45 m sideways within 1.5 s (measured; its soles are 3 cm wide
+    and the controller has no lateral balance)."""
     m, d, ctl, terrain = h1_on()
     with warnings.catch_warnings():
         warnings.simplefilter("error", TerrainStabilityWarning)
@@ -150,5 +151,5 @@ def test_h1_shifts_its_weight_from_foot_to_foot_on_sand():
     assert np.all(np.isfinite(d.qpos)) and abs(h1.pelvis_pitch(d)) < 0.15  # measured 0.015
     assert np.linalg.norm(d.qpos[:2] - start[:2]) < 0.1  # stays in place (measured 0.037 m)
     assert abs(load.mean() - 1.0) < 0.05  # the grains carry it throughout (measured 0.9999)
-    assert feet[:, 0].min() < 0.3 and feet[:, 1].min() < 0.3  # each foot carries under 30 % at times (measured 3 % and 2 %)
+    assert feet[:, 0].min() < 0.3 and feet[:, 1].min() < 0.3  # each foot under 30 % at times (measured 3 %, 2 %)
     assert feet[:, 0].max() > 0.7 and feet[:, 1].max() > 0.7
