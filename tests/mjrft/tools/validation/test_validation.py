@@ -23,6 +23,7 @@ import importlib
 import json
 import math
 import os
+import re
 from typing import Callable
 
 import gymnasium
@@ -88,11 +89,11 @@ VARIANT_REJECTS: dict[str, list[str]] = {}  # case -> the checks its wrong-physi
 
 
 def _named(result: CaseResult, names) -> list[Check]:
-    """The checks of ``result`` named in ``names``; a name ending in ``*`` stands for every check that starts with it
-    (and must match one)."""
+    """The checks of ``result`` named in ``names``; ``*`` in a name stands for any text (each name must match one)."""
     out = []
     for n in names:
-        hit = [c for c in result.checks if (c.name.startswith(n[:-1]) if n.endswith("*") else c.name == n)]
+        pattern = re.compile(".*".join(re.escape(part) for part in n.split("*")))
+        hit = [c for c in result.checks if pattern.fullmatch(c.name)]
         assert hit, (result.name, n, [c.name for c in result.checks])
         out += hit
     return out
@@ -604,6 +605,12 @@ def li2013_scaling(r):
             assert c.reference == pytest.approx(zeta[name])
 
 
+PLATE_FIT_CHI = ("*: alpha_z^fit(0, pi/2), rig under the fit", "*: measured / fit alpha_z(0, pi/2) = chi")
+wrong_physics_control("li2013_plate", "x2", PLATE_FIT_CHI)
+wrong_physics_control("li2013_plate", "x0.5", PLATE_FIT_CHI)
+wrong_physics_control("li2013_plate", "depth_only", ("poppy_lp: depth-only alpha_z > fit*",))
+
+
 DEPTH_ONLY_FZ = "peak F_z C / reversed C under the depth-only law: similar (every medium)"
 
 
@@ -768,6 +775,14 @@ def rft3d_generic(r):
     assert r.passed, [(c.name, c.published, c.simulated) for c in r.checks if not c.passed]
     assert sum(" law, " in c.name for c in r.checks) == 16 and sum(" rig, " in c.name for c in r.checks) == 16
     assert r.panels and all(any(line.is_paper for line in p.lines) for p in r.panels)
+
+
+RIG_VALUES = ("3D-RFT rig, *", "Li M0 rig, *")
+wrong_physics_control("rft3d_generic", "x2", RIG_VALUES, slow=True)
+wrong_physics_control("rft3d_generic", "x0.5", RIG_VALUES, slow=True)
+wrong_physics_control("rft3d_generic", "depth_only", (
+    "3D-RFT rig: every published sign", "3D-RFT rig: lift at beta = +pi/4*", "Li M0 rig: every published sign",
+    "Li M0 rig: lift at beta = +pi/4*"))
 
 
 # ------------------------------------------------------------------------------------------- SGRFT (wet sand)
