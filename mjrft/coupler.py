@@ -46,8 +46,9 @@ from .media import get_medium
 from .mujoco_c import mujoco_functions, mujoco_step_functions
 from .regions import STRESS_SLOTS, Region, _region_entries, build_regions
 from .settings import TerrainSettings, _custom, check_custom_keys, resolve_settings
-from .stability import (HELD_STEPS, _stable_dts, _stable_timestep_pair, _stable_timesteps, largest_rate,
-                        stability_warning, track_depth_springs, track_stiffness, unstable_mode)
+from .stability import (HELD_STEPS, TRACK_SLOTS, _stable_dts, _stable_timestep_pair, _stable_timesteps, chatter_warning,
+                        chattering, largest_rate, stability_warning, track_chatter, track_depth_springs, track_stiffness,
+                        unstable_mode)
 
 # names of the settings, the selection, the floor, the regions, the elements and the stability check that were
 # defined in this module, importable from it as well
@@ -381,7 +382,7 @@ class GranularTerrain:
         self._saved = np.zeros((model.nbody, 6))
         self._stiff = np.zeros((model.nbody, 10))  # moments of the element stiffness (kernel.terrain_kernel)
         self._damp = np.zeros(model.nbody)
-        self._stiff_max = np.zeros((model.nbody, HELD_STEPS + 1, 10))  # see stability.track_stiffness
+        self._stiff_max = np.zeros((model.nbody, TRACK_SLOTS, 10))  # see stability.track_stiffness, track_chatter
         self._jac6 = (np.zeros((6, model.nv)), np.zeros((6, model.nv)))  # stability check scratch
         self._jac_rows = (np.zeros((6 * len(self.body_ids), model.nv)), np.zeros((6 * len(self.body_ids), model.nv)))
         self._dt_scratch = np.full(model.nbody, np.inf)  # min_stable_timestep's
@@ -402,6 +403,7 @@ class GranularTerrain:
         self._last_time = -np.inf
         self._steps = 0
         self._warned: set[int] = set()
+        self._chatter_warned: set[int] = set()  # bodies warned about chatter (_check_chatter)
         self._cb_prev = None
 
     def _bind(self, data: mujoco.MjData) -> None:
@@ -556,6 +558,7 @@ class GranularTerrain:
         status, body = kernel.terrain_kernel(*self._kernel_args(dt))
         track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max, self._inert, self._inert_max)
         track_depth_springs(self._dstiff, self._dstiff_max)
+        track_chatter(self.wrench, self.body_ids, self._stiff_max)
         self._finish(data, status, body, dt, 1)
         return self.wrench
 
@@ -615,6 +618,7 @@ class GranularTerrain:
             if not self.implicit:  # the springs' explicit limit does not bound the implicit step (docs/numerics.md)
                 self._check_stability(data, dt)
             self._check_depth_springs(data, dt)
+            self._check_chatter(data, dt)
             if self._validity.dynamic:
                 self._validity.check(self.depth, self.vel, self.region, data.time)
 
@@ -750,6 +754,15 @@ class GranularTerrain:
                     f"{limits[b]:.3g} s of the grains' depth stiffness on body '{name}' (its force grows with its "
                     "depth, explicitly in every mode: a light body on a large area sunk shallow); use a smaller "
                     "timestep (GranularWrapper: substeps)"))
+
+    def _check_chatter(self, data, dt) -> None:
+        """Warn once per body whose granular force alternated from step to step since the last check
+        (:func:`mjrft.stability.track_chatter`, docs/numerics.md, "Chatter"), in either mode."""
+        for b, steps, change, force in chattering(self._stiff_max, self.body_ids):
+            if b not in self._chatter_warned:
+                self._chatter_warned.add(b)
+                name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
+                warnings.warn(chatter_warning(name, data.time, dt, steps, change, force, self.implicit), stacklevel=4)
 
     def _warn(self, b: int, warning_of) -> None:
         """Warn once about body ``b``: ``warning_of(its name)`` is the :class:`TerrainStabilityWarning`; a stress

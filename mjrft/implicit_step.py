@@ -17,6 +17,11 @@ from numba import njit
 from .mujoco_c import call_mj, call_mj_arrays
 from .stability import add_k6
 
+#: An element whose memory ``|u|`` is within this fraction of ``yield_displacement`` holds (it has slid less than
+#: about ``-ln(1 - 0.9) = 2.3`` yield displacements since it last rested or turned): its spring enters the implicit
+#: step even when its damping term ``tau v`` takes ``|u + tau v|`` past yield (docs/numerics.md, "Implicit step").
+HOLD_FRACTION = 0.9
+
 #: MuJoCo functions the implicit step calls (:func:`implicit_wrench`), in the order of its first arguments
 IMPLICIT_FUNCTIONS = ("mj_fwdActuation", "mj_fwdAcceleration", "mj_jacBodyCom", "mj_solveM")
 

@@ -18,7 +18,7 @@ import math
 
 from numba import njit
 
-from .implicit_step import implicit_wrench
+from .implicit_step import HOLD_FRACTION, implicit_wrench
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
 from .laws.rft import rft_stress_batch
@@ -27,7 +27,7 @@ from .laws.registry import LAW_IDS
 from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
 from .media import P_INERTIA
 from .mujoco_c import call_mj
-from .stability import track_depth_springs, track_stiffness
+from .stability import track_chatter, track_depth_springs, track_stiffness
 
 # names of the stability check, the implicit step and the C calls, importable from here as well
 from .implicit_step import IMPLICIT_FUNCTIONS  # noqa: F401
@@ -293,11 +293,23 @@ def _memory_time(speed, dt, delta, tau):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _add_implicit(imp, b, rx, ry, rz, ml, kk, limit, t):
-    """The implicit step's spring of one element (docs/numerics.md, "Implicit step"): below yield
-    (``|m| <= limit``) the moments of ``t kk`` about body ``b``'s CoM are added to ``imp[b]`` (as
-    :func:`_add_moments`); a yielding element adds nothing (its force only turns, and stays explicit)."""
-    if ml <= limit and kk > 0.0:
+def _holds(ml, limit, ux, uy, uz, delta):
+    """Whether an element's spring enters the implicit step (docs/numerics.md, "Implicit step"): below yield
+    (``|m| <= limit``), or, with the rest memory, holding: its memory ``u`` within ``HOLD_FRACTION`` of ``delta``
+    (it has not slid about ``2.3 delta`` since it last rested or turned), however far its damping term ``tau v``
+    takes ``|m|`` past yield."""
+    if ml <= limit:
+        return True
+    hold = HOLD_FRACTION * delta
+    return delta > 0.0 and ux * ux + uy * uy + uz * uz <= hold * hold
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_implicit(imp, b, rx, ry, rz, held, kk, t):
+    """The implicit step's spring of one element (docs/numerics.md, "Implicit step"): an element that
+    :func:`_holds` (``held``) adds the moments of ``t kk`` about body ``b``'s CoM to ``imp[b]`` (as
+    :func:`_add_moments`); a sliding element adds nothing (its force only turns, and stays explicit)."""
+    if held and kk > 0.0:
         _add_moments(imp, b, rx, ry, rz, t * kk)
 
 
@@ -732,7 +744,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     kk = _linear_stiffness(fx, fy, fz, ml, delta, v_eps)
                     damp[b] += kk * tau if delta > 0.0 else kk
                     if implicit:
-                        _add_implicit(imp, b, px - bx, py - by, pz - bz, ml, kk, ylim,
+                        _add_implicit(imp, b, px - bx, py - by, pz - bz,
+                                      _holds(ml, ylim, u[i, 0], u[i, 1], u[i, 2], delta), kk,
                                       _memory_time(speed, dt, delta, tau))
                     fx *= mob
                     fy *= mob
@@ -758,7 +771,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 if not (ok and _isfinite3(fx, fy, fz)):
                     return BAD_FORCE, b
                 if implicit:
-                    _add_implicit(imp, b, px - bx, py - by, pz - bz, ml, kk, ylim,
+                    _add_implicit(imp, b, px - bx, py - by, pz - bz,
+                                  _holds(ml, ylim, u[i, 0], u[i, 1], u[i, 2], delta), kk,
                                   _memory_time(speed, dt, delta, tau))
                 kk, cd = _with_water_damping(kk, cw, delta, tau)
                 damp[b] += cd
@@ -817,8 +831,10 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             fy *= mob
             fz *= mob
             rx, ry, rz = out_pos[i, 0] - bx, out_pos[i, 1] - by, out_pos[i, 2] - bz
-            if implicit and scr_f[8, j] <= ylim and kk > 0.0:  # below yield: _add_implicit's moments of T kk
-                vx, vy, vz = out_vel[i, 0], out_vel[i, 1], out_vel[i, 2]
+            ml = scr_f[8, j]
+            vx, vy, vz = out_vel[i, 0], out_vel[i, 1], out_vel[i, 2]
+            if implicit and kk > 0.0 and _holds(ml, ylim, ml * scr_f[3, j] - tau * vx, ml * scr_f[4, j] - tau * vy,
+                                                ml * scr_f[5, j] - tau * vz, delta):  # _add_implicit's T kk
                 tk = _memory_time(math.sqrt(vx * vx + vy * vy + vz * vz), dt, delta, tau) * kk
                 i0 += tk
                 i1 += tk * rx
@@ -964,6 +980,7 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                   imp_blocks, imp_a, imp_rhs, imp_rows)
             if bad >= 0:
                 return BAD_FORCE, bad, s
+        track_chatter(wrench, rows, stiff_max)
         add_rows(xfrc, rows, wrench, saved)
         call_mj(f_step2, m_addr, d_addr)
         restore_rows(xfrc, rows, saved)

@@ -23,6 +23,12 @@ from .mujoco_c import call_mj_arrays
 
 HELD_STEPS = 3  # consecutive steps beyond the stability limit that warn (docs/numerics.md, "Stability limit")
 SPIKE_GROWTH = 2.0  # growth of a perturbation in a single step that warns even for a shorter spike
+# Chatter (docs/numerics.md, "Chatter"): a body whose granular force reverses its change on CHATTER_STEPS consecutive
+# steps, each change larger than CHATTER_AMPLITUDE of the force, oscillates with the step's period 2, not the physics'
+CHATTER_STEPS = 8
+CHATTER_AMPLITUDE = 0.05
+CHATTER_SLOT = HELD_STEPS + 1  # the slot of ``stiff_max`` (nbody, TRACK_SLOTS, 10) that track_chatter keeps
+TRACK_SLOTS = HELD_STEPS + 2
 
 
 @njit(cache=True, error_model="numpy")
@@ -32,8 +38,9 @@ def track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max):
     steps (the least stiff of the last HELD_STEPS steps), in ``[:, 1]`` the stiffest single step (both
     since the coupler last cleared them) and in ``[:, 2:]`` the previous steps; ``damp_max`` the largest
     summed damping; ``inert_max`` (nbody, 10) the inertial damping moments ``inert`` of the step with the
-    largest summed inertial damping (only when some body has any)."""
-    n = stiff_max.shape[1]
+    largest summed inertial damping (only when some body has any). ``stiff_max[:, CHATTER_SLOT]`` is
+    :func:`track_chatter`'s."""
+    n = HELD_STEPS + 1
     for b in range(stiff.shape[0]):
         if inert[b, 0] > inert_max[b, 0]:
             for j in range(10):
@@ -57,6 +64,61 @@ def track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max):
             for j in range(10):
                 stiff_max[b, 2, j] = stiff[b, j]
         damp_max[b] = max(damp_max[b], damp[b])
+
+
+@njit(cache=True, error_model="numpy")
+def track_chatter(wrench, bodies, stiff_max):
+    """After a step, per body ``b`` of ``bodies``, from its granular force ``wrench[b, :3]`` (as applied): count
+    the consecutive steps on which the force's change reversed (``dF_k . dF_k-1 < -|dF_k| |dF_k-1| / 2``) with
+    ``|dF_k| > CHATTER_AMPLITUDE`` of the force. ``stiff_max[b, CHATTER_SLOT]`` holds the last force (0:3) and
+    change (3:6), the current run (6), the longest run since the coupler last cleared it (7), the largest
+    relative change in such a run (8) and the force's size then (9)."""
+    for i in range(bodies.shape[0]):
+        b = bodies[i]
+        c = stiff_max[b, CHATTER_SLOT]
+        fx, fy, fz = wrench[b, 0], wrench[b, 1], wrench[b, 2]
+        dx, dy, dz = fx - c[0], fy - c[1], fz - c[2]
+        d2 = dx * dx + dy * dy + dz * dz
+        p2 = c[3] * c[3] + c[4] * c[4] + c[5] * c[5]
+        f2 = max(fx * fx + fy * fy + fz * fz, c[0] * c[0] + c[1] * c[1] + c[2] * c[2])
+        big = d2 > CHATTER_AMPLITUDE * CHATTER_AMPLITUDE * f2 and f2 > 0.0
+        turned = dx * c[3] + dy * c[4] + dz * c[5] < -0.5 * math.sqrt(d2 * p2)
+        if big and turned:
+            c[6] += 1.0
+            if c[6] >= c[7]:
+                c[7] = c[6]
+                c[8] = max(c[8], math.sqrt(d2 / f2))
+                c[9] = math.sqrt(f2)
+        else:
+            c[6] = 0.0
+        c[0], c[1], c[2] = fx, fy, fz
+        c[3], c[4], c[5] = dx, dy, dz
+
+
+def chattering(stiff_max, bodies) -> list[tuple[int, int, float, float]]:
+    """(body, steps, relative change, force in N) of each of ``bodies`` that :func:`track_chatter` saw reverse
+    its force's change on at least ``CHATTER_STEPS`` consecutive steps since the last call; clears those records."""
+    out = []
+    for b in bodies:
+        c = stiff_max[b, CHATTER_SLOT]
+        if c[7] >= CHATTER_STEPS:
+            out.append((int(b), int(c[7]), float(c[8]), float(c[9])))
+        c[7:] = 0.0
+    return out
+
+
+def chatter_warning(body: str, time: float, dt: float, steps: int, change: float, force: float,
+                    implicit: bool) -> TerrainStabilityWarning:
+    """The :class:`TerrainStabilityWarning` for ``body`` (its name) whose granular force alternated for ``steps``
+    steps by ``change`` (relative) of ``force`` (N) at timestep ``dt``: what it is and the cure."""
+    cure = ("halve the timestep (GranularWrapper: substeps) until it stops" if implicit else
+            "use the implicit granular step (GranularTerrain(..., implicit=True)) or a timestep below the "
+            "springs' stability limit (terrain.stable_timestep(data, 'springs'))")
+    return TerrainStabilityWarning(
+        f"mjrft: body '{body}' chatters at timestep {dt:g} s: its granular force ({force:.3g} N) reversed its change "
+        f"on {steps} consecutive steps, by up to {100 * change:.3g} % of it, before t = {time:.4g} s; this "
+        f"period-2 oscillation is the {'implicit' if implicit else 'explicit'} step's, not the physics' "
+        f"(docs/numerics.md, \"Chatter\"); {cure}")
 
 
 @njit(cache=True, error_model="numpy")
