@@ -76,21 +76,12 @@ from gymnasium.envs.mujoco import MujocoEnv
 
 from mjrft.coupler import GranularTerrain, mujoco_reset_error, mujoco_resets
 from mjrft.errors import NonFiniteError, check_positive
-from mjrft.laws import law_id
-from mjrft.media import get_medium
 from mjrft.models import model_path
-from mjrft.tools.presets import model_resolution
 from mjrft.tools.presets import resolve as resolve_preset
 
 from .randomization import TerrainRandomization, TerrainRandomizer, upload_surface
 
 G = 9.81
-
-
-def check_frame_skip(frame_skip) -> int:
-    if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
-        raise ValueError(f"frame_skip must be an integer >= 1, got {frame_skip!r}")
-    return int(frame_skip)
 
 
 def split_env_kwargs(kwargs: dict) -> tuple[dict, dict]:
@@ -130,18 +121,11 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         for name, val in (("width", width), ("height", height)):
             if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
                 raise ValueError(f"{name} must be an integer >= 1 (pixels), got {val!r}")
-        # a preset fills what was left as None (mjrft.tools.presets); explicit keyword arguments win
-        chosen = resolve_preset(preset, law=law, resolution=resolution, timestep=timestep, frame_skip=frame_skip)
-        law, timestep = chosen["law"], chosen["timestep"]
-        frame_skip = check_frame_skip(10 if chosen["frame_skip"] is None else chosen["frame_skip"])
-        self._timestep = None if timestep is None else check_positive("timestep", timestep)
-        # early validation (rigid envs too), naming the bad value and the valid choices
-        if medium is not None:
-            get_medium(medium)
-        if law is not None:
-            law_id(law)
-        if resolution is not None:
-            check_positive("resolution", resolution)
+        # the simulation settings, each checked once (rigid envs too): a preset fills what was left as None
+        # (mjrft.tools.presets); explicit keyword arguments win
+        sim = resolve_preset(preset, medium=medium, law=law, resolution=resolution, timestep=timestep,
+                             frame_skip=frame_skip)
+        self._timestep, frame_skip = sim.timestep, sim.frame_skip
         for name, val in (("forward_reward_weight", forward_reward_weight),
                           ("energy_cost_weight", energy_cost_weight), ("ctrl_cost_weight", ctrl_cost_weight),
                           ("reset_noise_scale", reset_noise_scale)):
@@ -177,9 +161,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                            camera_id=camera_id, default_camera_config=self.default_camera_config)
         utils.EzPickle.__init__(self, **(pickle_kwargs or {}))
 
-        if self.sand and resolution is None and chosen["resolution_scale"] != 1.0:
-            resolution = chosen["resolution_scale"] * model_resolution(self.model)
-        self.terrain = (GranularTerrain(self.model, medium, law, resolution=resolution) if self.sand else None)
+        self.terrain = (GranularTerrain(self.model, sim.medium, sim.law, resolution=sim.resolution,
+                                        resolution_scale=sim.resolution_scale) if self.sand else None)
         # terrain randomisation: None costs nothing (no draw, no info entry)
         self.randomizer = (None if randomization is None else
                            TerrainRandomizer(randomization, self.terrain, self.model))

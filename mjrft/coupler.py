@@ -45,7 +45,7 @@ from .laws.wet import P_WATER_DEPTH
 from .media import get_medium
 from .mujoco_c import mujoco_functions, mujoco_step_functions
 from .regions import STRESS_SLOTS, Region, _region_entries, build_regions
-from .settings import TerrainSettings, _custom, check_custom_keys, resolve_settings
+from .settings import TerrainSettings, resolve_settings
 from .stability import (HELD_STEPS, TRACK_SLOTS, _stable_dts, _stable_timestep_pair, _stable_timesteps, chatter_warning,
                         chattering, largest_rate, stability_warning, track_chatter, track_depth_springs, track_stiffness,
                         unstable_mode)
@@ -57,7 +57,7 @@ from .floor import FLOOR_PAIR_MARGIN, _find_floor, geom_world_boxes  # noqa: F40
 from .regions import LAW_WATER, RegionMap, RegionTables  # noqa: F401
 from .selection import (_SUPPORTED_GEOMS, AUTO_ELEMENTS, AUTO_MIN_RESOLUTION, auto_resolution,  # noqa: F401
                         select_geoms)
-from .settings import CUSTOM_KEYS, CUSTOM_PREFIX, DEFAULTS, default_resolution  # noqa: F401
+from .settings import CUSTOM_KEYS, CUSTOM_PREFIX, DEFAULTS, _custom  # noqa: F401
 from .stability import spring  # noqa: F401
 
 STABILITY_CHECK_EVERY = 50
@@ -197,6 +197,9 @@ class GranularTerrain:
             that cuts the selected geoms into about ``AUTO_ELEMENTS`` = 3,000 elements (surface area /
             size^2; the measured choice is documented at the constant), but not finer than
             ``AUTO_MIN_RESOLUTION`` = 5 mm (see :func:`auto_resolution`).
+        resolution_scale: a factor (> 0) on the resolution the terrain takes from the model when ``resolution`` is
+            None (its ``mjrft:resolution``, or ``"auto"``'s size): the environments' presets use it
+            (:mod:`mjrft.tools.presets`); default 1. Exclusive with ``resolution``.
         yield_displacement: ``delta`` of the rest regularisation (m); 0 switches it to a viscous ramp.
         damping_time: ``tau`` (s) of the Kelvin-Voigt damping below yield; default ``0.5 sqrt(delta/g)``
             (5 ms for delta = 1 mm): critical damping at omega = 2 / tau = 400 rad/s, which keeps the
@@ -302,9 +305,10 @@ class GranularTerrain:
     """
 
     def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, bodies=None, geoms=None, floor=None,
-                 surface=None, resolution=None, yield_displacement=None, damping_time=None, v_eps=None,
-                 water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None, drag_coefficient=None,
-                 water_density=None, inertial=None, inertial_drag=None, max_elements=None, implicit=False, solidify=0.0, stick_speed=STICK_SPEED):
+                 surface=None, resolution=None, resolution_scale=1.0, yield_displacement=None, damping_time=None,
+                 v_eps=None, water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None,
+                 drag_coefficient=None, water_density=None, inertial=None, inertial_drag=None, max_elements=None,
+                 implicit=False, solidify=0.0, stick_speed=STICK_SPEED):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         if not isinstance(implicit, (bool, np.bool_)):
@@ -316,14 +320,12 @@ class GranularTerrain:
         self.implicit = bool(implicit)
         self.solidify, self.stick_speed = check_solidify(solidify, stick_speed)
         self.model = model
-        cfg = _custom(model)
-        check_custom_keys(cfg)
-        s = resolve_settings(model, cfg, medium=medium, law=law, bodies=bodies, geoms=geoms, floor=floor,
-                             surface=surface, resolution=resolution, yield_displacement=yield_displacement,
-                             damping_time=damping_time, v_eps=v_eps, water_depth=water_depth, regions=regions,
-                             region_map=region_map, transition=transition, buoyancy=buoyancy,
-                             drag_coefficient=drag_coefficient, water_density=water_density, inertial=inertial,
-                             inertial_drag=inertial_drag)
+        s = resolve_settings(model, medium=medium, law=law, bodies=bodies, geoms=geoms, floor=floor, surface=surface,
+                             resolution=resolution, resolution_scale=resolution_scale,
+                             yield_displacement=yield_displacement, damping_time=damping_time, v_eps=v_eps,
+                             water_depth=water_depth, regions=regions, region_map=region_map, transition=transition,
+                             buoyancy=buoyancy, drag_coefficient=drag_coefficient, water_density=water_density,
+                             inertial=inertial, inertial_drag=inertial_drag, stacklevel=3)
         self._settings = s  # what set_medium / set_regions change
         self.stress_scale = 1.0  # factor on every granular stress (set_medium)
         self.medium, self.law = s.medium, s.law

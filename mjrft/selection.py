@@ -13,7 +13,7 @@ import mujoco
 import numpy as np
 
 from .errors import unknown
-from .geometry import discretize_geom, estimate_elements
+from .geometry import estimate_elements, geom_element_count
 
 
 _SUPPORTED_GEOMS = {
@@ -139,7 +139,8 @@ def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS
     surface area, not finer than ``finest``, then coarsened until the elements :func:`~mjrft.geometry.discretize_geom`
     makes of them are at most 10 % more than ``target``: first by :func:`~mjrft.geometry.estimate_elements`
     (area / size^2 per primitive, a mesh's count exactly), then by the count the discretiser builds (it rounds
-    each face, ring and cap up to whole elements: ~10 % more than the area estimate at a few thousand elements). The
+    each face, ring and cap up to whole elements: ~10 % more than the area estimate at a few thousand elements),
+    counted from its cells without building the elements (:func:`~mjrft.geometry.geom_element_count`). The
     count before :func:`~mjrft.geometry.exposed_elements` drops the faces hidden inside neighbouring geoms, so
     a terrain's ``n_elements`` is at most ``1.1 target`` (or fewer, at ``finest``)."""
     from .geometry.discretize import _mesh_arrays, surface_area
@@ -157,8 +158,7 @@ def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS
             break
         res *= math.sqrt(n / target)
     for _ in range(8):
-        n = sum(estimate_elements(model, [g], res) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH
-                else len(discretize_geom(model, int(g), res)) for g in geom_ids)
+        n = sum(geom_element_count(model, g, res) for g in geom_ids)
         if n <= 1.1 * target:
             break
         res *= math.sqrt(n / target)

@@ -1,8 +1,9 @@
 """A terrain's settings: each from its argument, else the model's MJCF ``<custom>`` ``mjrft:*`` entry, else
-:data:`DEFAULTS`, checked and resolved (:func:`resolve_settings` -> :class:`TerrainSettings`).
+:data:`DEFAULTS`, checked and resolved in one place (:func:`resolve_settings` -> :class:`TerrainSettings`, frozen;
+the coupler and everything after it read only that).
 
-:data:`CUSTOM_KEYS` are the ``mjrft:*`` keys a model may carry (:func:`check_custom_keys` warns about any other),
-:func:`_custom` reads them, :func:`default_resolution` is the element size a terrain on a model would use.
+:data:`CUSTOM_KEYS` are the ``mjrft:*`` keys a model may carry (:func:`check_custom_keys` warns about any other);
+:func:`_custom` reads them, once per :func:`resolve_settings`.
 """
 
 from __future__ import annotations
@@ -43,11 +44,13 @@ CUSTOM_KEYS = ("medium", "law", "bodies", "geoms", "floor", "surface", "surface_
                "buoyancy", "drag_coefficient", "water_density", "inertial", "inertial_drag")
 
 
-@dataclass
+@dataclass(frozen=True)
 class TerrainSettings:
     """The settings of a :class:`GranularTerrain`, each from its argument, else the model's ``mjrft:*`` entry, else
     :data:`DEFAULTS`, checked (:func:`resolve_settings`). ``regions`` are the extra regions as given (region 0,
-    the terrain's own medium and law, is not among them); ``water_depth`` is region 0's (None: the medium's)."""
+    the terrain's own medium and law, is not among them); ``water_depth`` is region 0's (None: the medium's).
+    ``resolution_auto``: the element size came from ``"auto"`` (:func:`~mjrft.selection.auto_resolution`, times
+    ``resolution_scale``)."""
 
     medium: Medium
     law: str
@@ -102,16 +105,6 @@ def _custom(model: mujoco.MjModel) -> dict:
     return out
 
 
-def default_resolution(model: mujoco.MjModel) -> float:
-    """The element size a :class:`GranularTerrain` on ``model`` with no resolution argument uses: the model's
-    ``mjrft:resolution`` if it is a number, else :func:`auto_resolution` of the geoms the terrain selects."""
-    cfg = _custom(model)
-    value = cfg.get("resolution", DEFAULTS["resolution"])
-    if not isinstance(value, str):
-        return float(value)
-    return auto_resolution(model, select_geoms(model, cfg.get("bodies"), cfg.get("geoms")))
-
-
 def _resolve_surface(model: mujoco.MjModel, cfg: dict, floor, surface, geom_ids) -> tuple:
     """(floor geom id or None, surface height, hfield geom id or None, hfield heights, hfield frame, the floor's
     warnings) from the ``floor`` / ``surface`` arguments (at most one given) or the model's ``mjrft:floor`` /
@@ -132,23 +125,36 @@ def _resolve_surface(model: mujoco.MjModel, cfg: dict, floor, surface, geom_ids)
     return floor_id, check_finite("surface", surface), hfield, hf_z, hf_frame, tuple(notes)
 
 
-def _resolve_resolution(model: mujoco.MjModel, resolution, geom_ids) -> tuple[float, bool]:
-    """(element size in m, whether it was chosen by ``"auto"``) of a resolution setting."""
+def _resolve_resolution(model: mujoco.MjModel, cfg: dict, resolution, scale, geom_ids) -> tuple[float, bool]:
+    """(element size in m, whether it was chosen by ``"auto"``): the ``resolution`` argument as given, else
+    ``scale`` times the model's own (its ``mjrft:resolution``, a length or ``"auto"``; default ``"auto"``)."""
+    scale = check_positive("resolution_scale", scale)
+    if resolution is not None and scale != 1.0:
+        raise ValueError(f"resolution={resolution!r} and resolution_scale={scale!r} both set the element size; pass "
+                         "resolution_scale (a factor on the model's own resolution) or resolution, not both")
+    if resolution is None:
+        resolution = cfg.get("resolution", DEFAULTS["resolution"])
     auto = isinstance(resolution, str) and resolution.strip().lower() == "auto"
     if auto:
         resolution = auto_resolution(model, geom_ids)
     elif isinstance(resolution, str):
         raise ValueError(f"resolution must be a length in m or 'auto', got {resolution!r}")
-    return check_positive("resolution", resolution), auto
+    resolution = check_positive("resolution", resolution)
+    return (resolution if scale == 1.0 else scale * resolution), auto
 
 
-def resolve_settings(model: mujoco.MjModel, cfg: dict, *, medium=None, law=None, bodies=None, geoms=None, floor=None,
-                     surface=None, resolution=None, yield_displacement=None, damping_time=None, v_eps=None,
-                     water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None,
-                     drag_coefficient=None, water_density=None, inertial=None, inertial_drag=None) -> TerrainSettings:
-    """The :class:`TerrainSettings` of a terrain on ``model`` whose ``<custom>`` entries are ``cfg`` (keyword
-    arguments as :class:`GranularTerrain`'s); raises on the first bad or conflicting value, naming it."""
+def resolve_settings(model: mujoco.MjModel, *, medium=None, law=None, bodies=None, geoms=None, floor=None,
+                     surface=None, resolution=None, resolution_scale=1.0, yield_displacement=None, damping_time=None,
+                     v_eps=None, water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None,
+                     drag_coefficient=None, water_density=None, inertial=None, inertial_drag=None,
+                     stacklevel: int = 2) -> TerrainSettings:
+    """The :class:`TerrainSettings` of a terrain on ``model`` (keyword arguments as :class:`GranularTerrain`'s): the
+    model's ``<custom>`` entries are read once here (an unknown ``mjrft:*`` key is warned about, ``stacklevel``
+    counted as :func:`warnings.warn` counts from here: 2 names the caller); raises on the first bad or conflicting
+    value, naming it."""
     _check_selection(bodies, geoms)
+    cfg = _custom(model)
+    check_custom_keys(cfg, stacklevel=stacklevel + 1)
 
     def pick(key, value):
         if value is not None:
@@ -169,7 +175,7 @@ def resolve_settings(model: mujoco.MjModel, cfg: dict, *, medium=None, law=None,
     if not geom_ids:
         raise _nothing_selected(model, pick("bodies", bodies), pick("geoms", geoms))
     floor_id, surface, hfield, hf_z, hf_frame, floor_warnings = _resolve_surface(model, cfg, floor, surface, geom_ids)
-    resolution, resolution_auto = _resolve_resolution(model, pick("resolution", resolution), geom_ids)
+    resolution, resolution_auto = _resolve_resolution(model, cfg, resolution, resolution_scale, geom_ids)
     yield_displacement = check_positive("yield_displacement", pick("yield_displacement", yield_displacement),
                                         allow_zero=True)
     v_eps = check_positive("v_eps", pick("v_eps", v_eps), allow_zero=True)

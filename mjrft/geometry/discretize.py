@@ -172,11 +172,17 @@ def _ragged(counts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 # --------------------------------------------------------------------------- primitive patches
 
 
+def _box_cells(h: np.ndarray, res: float, k: int) -> tuple[int, int]:
+    """Cells (along u, along v) of the box's two faces normal to axis ``k``."""
+    u, v = (k + 1) % 3, (k + 2) % 3
+    return int(_ncells(2 * h[u], res)), int(_ncells(2 * h[v], res))
+
+
 def _box(h: np.ndarray, res: float) -> Elements:
     parts = []
     for k in range(3):
         u, v = (k + 1) % 3, (k + 2) % 3
-        nu, nv = int(_ncells(2 * h[u], res)), int(_ncells(2 * h[v], res))
+        nu, nv = _box_cells(h, res, k)
         cu = -h[u] + (np.arange(nu) + 0.5) * (2 * h[u] / nu)
         cv = -h[v] + (np.arange(nv) + 0.5) * (2 * h[v] / nv)
         gu, gv = (g.ravel() for g in np.meshgrid(cu, cv, indexing="ij"))
@@ -190,11 +196,16 @@ def _box(h: np.ndarray, res: float) -> Elements:
     return Elements.concatenate(parts)
 
 
-def _hemisphere(radius: float, res: float, center_z: float, up: bool) -> Elements:
-    """Upper (or lower) hemisphere: equal polar-angle bands, per-band sector counts, exact zone areas."""
+def _hemisphere_cells(radius: float, res: float) -> tuple[np.ndarray, np.ndarray]:
+    """(polar-angle band edges, sectors per band) of a hemisphere."""
     nb = int(_ncells(0.5 * math.pi * radius, res, _MIN_BANDS))
     edges = np.linspace(0.0, 0.5 * math.pi, nb + 1)
-    ns = _ncells(2 * math.pi * radius * np.sin(edges[1:]), res, _MIN_SECTORS)
+    return edges, _ncells(2 * math.pi * radius * np.sin(edges[1:]), res, _MIN_SECTORS)
+
+
+def _hemisphere(radius: float, res: float, center_z: float, up: bool) -> Elements:
+    """Upper (or lower) hemisphere: equal polar-angle bands, per-band sector counts, exact zone areas."""
+    edges, ns = _hemisphere_cells(radius, res)
     band_area = 2 * math.pi * radius**2 * (np.cos(edges[:-1]) - np.cos(edges[1:]))
     band, j = _ragged(ns)
     # Polar angle of the band's area centre (mean height of the zone): depth-linear loads and projected
@@ -208,9 +219,13 @@ def _hemisphere(radius: float, res: float, center_z: float, up: bool) -> Element
     return Elements(pos, d, (band_area / ns)[band])
 
 
+def _cylinder_cells(radius: float, half: float, res: float) -> tuple[int, int]:
+    """(rings along z, sectors) of a cylinder's side."""
+    return int(_ncells(2 * half, res)), int(_ncells(2 * math.pi * radius, res, _MIN_SECTORS))
+
+
 def _cylinder_side(radius: float, half: float, res: float) -> Elements:
-    nz = int(_ncells(2 * half, res))
-    ns = int(_ncells(2 * math.pi * radius, res, _MIN_SECTORS))
+    nz, ns = _cylinder_cells(radius, half, res)
     z = -half + (np.arange(nz) + 0.5) * (2 * half / nz)
     phi = (np.arange(ns) + 0.5) * (2 * math.pi / ns)
     gz, gp = (g.ravel() for g in np.meshgrid(z, phi, indexing="ij"))
@@ -220,12 +235,17 @@ def _cylinder_side(radius: float, half: float, res: float) -> Elements:
     return Elements(pos, normal, np.full(nz * ns, 4 * math.pi * radius * half / (nz * ns)))
 
 
-def _disk(radius: float, res: float, z: float, up: bool) -> Elements:
-    """Flat cap at height z: rings x per-ring sectors, exact annulus-sector areas, true sector centroids."""
+def _disk_cells(radius: float, res: float) -> tuple[np.ndarray, np.ndarray]:
+    """(ring edges, sectors per ring) of a flat cap."""
     nr = int(_ncells(radius, res))
     edges = np.linspace(0.0, radius, nr + 1)
+    return edges, _ncells(2 * math.pi * edges[1:], res, _MIN_SECTORS)
+
+
+def _disk(radius: float, res: float, z: float, up: bool) -> Elements:
+    """Flat cap at height z: rings x per-ring sectors, exact annulus-sector areas, true sector centroids."""
+    edges, ns = _disk_cells(radius, res)
     r1, r2 = edges[:-1], edges[1:]
-    ns = _ncells(2 * math.pi * r2, res, _MIN_SECTORS)
     ring_area = math.pi * (r2**2 - r1**2)
     half_angle = math.pi / ns
     den = r2**2 - r1**2
@@ -239,12 +259,19 @@ def _disk(radius: float, res: float, z: float, up: bool) -> Elements:
     return Elements(pos, normal, (ring_area / ns)[ring])
 
 
-def _ellipsoid(axes: np.ndarray, res: float) -> Elements:
-    """(polar angle, azimuth) grid; 4x4 Gauss sub-quadrature of |r_theta x r_phi| per patch."""
+def _ellipsoid_cells(axes: np.ndarray, res: float) -> tuple[int, int]:
+    """(polar-angle bands, azimuth sectors) of an ellipsoid's grid."""
     a, b, c = axes
     nth = 2 * int(_ncells(0.5 * math.pi * max(a, b, c), res, _MIN_BANDS))
     nph = int(_ncells(2 * math.pi * max(a, b), res, _MIN_SECTORS))
     nph += -nph % 4  # multiple of 4: grid symmetric under x -> -x and y -> -y
+    return nth, nph
+
+
+def _ellipsoid(axes: np.ndarray, res: float) -> Elements:
+    """(polar angle, azimuth) grid; 4x4 Gauss sub-quadrature of |r_theta x r_phi| per patch."""
+    a, b, c = axes
+    nth, nph = _ellipsoid_cells(axes, res)
     dth, dph = math.pi / nth, 2 * math.pi / nph
     th = ((np.arange(nth) + 0.5)[:, None] + 0.5 * _GAUSS_X[None, :]) * dth  # (nth, 4)
     ph = ((np.arange(nph) + 0.5)[:, None] + 0.5 * _GAUSS_X[None, :]) * dph  # (nph, 4)
@@ -456,6 +483,28 @@ def geom_elements(geom_type, size, resolution: float, mesh_vertices=None, mesh_f
     return _ellipsoid(s, res)
 
 
+def element_count(geom_type, size, resolution: float, mesh_vertices=None, mesh_faces=None) -> int:
+    """How many elements :func:`geom_elements` makes of this geom (same arguments), counted from the cells the
+    shapes are cut into, without making them (a mesh: :func:`mesh_element_count`)."""
+    name = _geom_name(geom_type)
+    res = _check_resolution(resolution)
+    if name == "mesh":
+        return mesh_element_count(mesh_vertices, mesh_faces, res)
+    s = _check_size(name, size)
+    if name == "box":
+        return sum(2 * nu * nv for nu, nv in (_box_cells(s, res, k) for k in range(3)))
+    if name == "ellipsoid":
+        nth, nph = _ellipsoid_cells(s, res)
+        return nth * nph
+    cap = int(_hemisphere_cells(s[0], res)[1].sum())
+    if name == "sphere":
+        return 2 * cap
+    nz, ns = _cylinder_cells(s[0], s[1], res)
+    if name == "cylinder":
+        cap = int(_disk_cells(s[0], res)[1].sum())
+    return nz * ns + 2 * cap
+
+
 def _mesh_arrays(model: mujoco.MjModel, mesh_id: int) -> tuple[np.ndarray, np.ndarray]:
     va, vn = model.mesh_vertadr[mesh_id], model.mesh_vertnum[mesh_id]
     fa, fn = model.mesh_faceadr[mesh_id], model.mesh_facenum[mesh_id]
@@ -491,6 +540,15 @@ def discretize_geom(model: mujoco.MjModel, geom_id: int, resolution: float) -> E
         verts, faces = _mesh_arrays(model, int(model.geom_dataid[geom_id]))
     local = geom_elements(geom_type, model.geom_size[geom_id], resolution, verts, faces)
     return local.transform(*_geom_frame(model, geom_id))
+
+
+def geom_element_count(model: mujoco.MjModel, geom_id: int, resolution: float) -> int:
+    """How many elements :func:`discretize_geom` makes of ``model``'s geom ``geom_id`` (:func:`element_count`)."""
+    geom_id = int(geom_id)
+    geom_type = int(model.geom_type[geom_id])
+    if _geom_name(geom_type) == "mesh":
+        return element_count(geom_type, None, resolution, *_mesh_arrays(model, int(model.geom_dataid[geom_id])))
+    return element_count(geom_type, model.geom_size[geom_id], resolution)
 
 
 def estimate_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> int:

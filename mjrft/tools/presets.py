@@ -6,8 +6,8 @@
 Each preset sets:
 
 * ``resolution_scale``: the element size as a multiple of the model's own resolution (its MJCF
-  ``<custom>`` ``mjrft:resolution``: hexapod 5 mm, humanoid 2 cm, biped 2 cm), so one preset fits robots
-  of every size;
+  ``<custom>`` ``mjrft:resolution``: hexapod 5 mm, humanoid 2 cm, biped 2 cm; ``"auto"``'s size for a model
+  without one), so one preset fits robots of every size (:class:`mjrft.GranularTerrain`'s ``resolution_scale``);
 * ``law``: the force law (``rft``, Li 2013 with the medium's own fit, in all three);
 * ``timestep`` (s) and ``frame_skip``: the physics step and the steps per env step. All three presets
   keep the control period ``timestep x frame_skip`` at 10 ms, so a policy sees the same task under
@@ -54,16 +54,20 @@ The biped is not one of the study's scenarios; its presets use the same scales.
 
 from __future__ import annotations
 
-import mujoco
+from dataclasses import dataclass
 
-from mjrft.coupler import CUSTOM_PREFIX, default_resolution
-from mjrft.errors import unknown
+import numpy as np
+
+from mjrft.errors import check_positive, unknown
+from mjrft.laws import law_id
+from mjrft.media import Medium, get_medium
 
 PRESETS: dict[str, dict] = {
     "fast": {"resolution_scale": 4.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
     "default": {"resolution_scale": 1.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
     "accurate": {"resolution_scale": 0.5, "law": "rft", "timestep": 0.0005, "frame_skip": 20},
 }
+FRAME_SKIP = 10  # physics steps per env step without a preset or a frame_skip argument
 
 
 def get_preset(name: str) -> dict:
@@ -73,28 +77,47 @@ def get_preset(name: str) -> dict:
     raise unknown("preset", name, PRESETS)
 
 
-def model_resolution(model: mujoco.MjModel) -> float:
-    """The model's own element size: its ``<custom>`` ``mjrft:resolution``, else the coupler's automatic one."""
-    i = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_NUMERIC, CUSTOM_PREFIX + "resolution")
-    if i < 0:
-        return default_resolution(model)
-    return float(model.numeric_data[model.numeric_adr[i]])
+@dataclass(frozen=True)
+class EnvSettings:
+    """An environment's simulation settings, each checked once (:func:`resolve`): ``medium`` and ``law`` (None:
+    the model's own), ``resolution`` (m; None: ``resolution_scale`` times the model's own, which
+    :class:`mjrft.GranularTerrain` applies), ``timestep`` (s; None: the model's own) and ``frame_skip``."""
+
+    medium: Medium | None
+    law: str | None
+    resolution: float | None
+    resolution_scale: float
+    timestep: float | None
+    frame_skip: int
 
 
-def resolve(preset: str | None, *, law=None, resolution=None, timestep=None, frame_skip=None) -> dict:
-    """Fill the keyword arguments left as None from ``preset`` (None: nothing filled); explicit values win.
+def check_frame_skip(frame_skip) -> int:
+    """``frame_skip`` as an int; anything but an integer >= 1 raises, naming the value."""
+    if isinstance(frame_skip, bool) or not isinstance(frame_skip, (int, np.integer)) or frame_skip < 1:
+        raise ValueError(f"frame_skip must be an integer >= 1, got {frame_skip!r}")
+    return int(frame_skip)
 
-    Returns ``law``, ``resolution`` (m or None), ``resolution_scale`` (applied only when ``resolution``
-    is None), ``timestep`` (s or None: the model's own) and ``frame_skip`` (None: the caller's default).
+
+def resolve(preset: str | None, *, medium=None, law=None, resolution=None, timestep=None,
+            frame_skip=None) -> EnvSettings:
+    """The :class:`EnvSettings` of keyword arguments where those left as None come from ``preset`` (None: nothing
+    filled; ``frame_skip`` then defaults to :data:`FRAME_SKIP`); explicit values win. Each value is checked here,
+    naming the bad value and the valid choices (rigid environments too, where medium and law go unused).
+
+    The preset's ``resolution_scale`` applies only when ``resolution`` is None.
     """
     p = get_preset(preset) if preset is not None else {}
-    return {
-        "law": law if law is not None else p.get("law"),
-        "resolution": resolution,
-        "resolution_scale": p.get("resolution_scale", 1.0) if resolution is None else 1.0,
-        "timestep": timestep if timestep is not None else p.get("timestep"),
-        "frame_skip": frame_skip if frame_skip is not None else p.get("frame_skip"),
-    }
+    law = law if law is not None else p.get("law")
+    timestep = timestep if timestep is not None else p.get("timestep")
+    frame_skip = frame_skip if frame_skip is not None else p.get("frame_skip", FRAME_SKIP)
+    if law is not None:
+        law_id(law)
+    if resolution is not None:
+        resolution = check_positive("resolution", resolution)
+    scale = p.get("resolution_scale", 1.0) if resolution is None else 1.0
+    return EnvSettings(medium=None if medium is None else get_medium(medium), law=law, resolution=resolution,
+                       resolution_scale=scale, timestep=None if timestep is None else check_positive("timestep", timestep),
+                       frame_skip=check_frame_skip(frame_skip))
 
 
-__all__ = ["PRESETS", "get_preset", "model_resolution", "resolve"]
+__all__ = ["FRAME_SKIP", "PRESETS", "EnvSettings", "check_frame_skip", "get_preset", "resolve"]

@@ -108,7 +108,6 @@ from mjrft.errors import NonFiniteError, TerrainStabilityWarning, check_positive
 from mjrft.media import generic, get_medium
 
 from .outputs import output_dir
-from .presets import model_resolution
 
 SAMPLE_DT = 0.002  # s; errors are computed on samples at these instants (a multiple of every timestep)
 CONTROL_PERIOD = 0.01  # s; the default control period (1 ms x 10)
@@ -476,7 +475,7 @@ def make_terrain(scenario: Scenario, model: mujoco.MjModel, config: Config) -> G
     law, medium = law_and_medium(config.law, _custom(model).get("medium", DEFAULTS["medium"]))
     if config.law == "hybrid" and scenario.hybrid_extra is not None:
         medium = medium.with_extra(**scenario.hybrid_extra())
-    return GranularTerrain(model, medium, law, resolution=model_resolution(model) * config.resolution_scale,
+    return GranularTerrain(model, medium, law, resolution_scale=config.resolution_scale,
                            inertial=INERTIAL_VARIANTS.get(config.law))
 
 

@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mjrft.geometry import (GEOM_TYPES, Elements, discretize_geom, exposed, exposed_elements, geom_elements,
-                            inside_geom, surface_area)
+from mjrft.geometry import (GEOM_TYPES, Elements, discretize_geom, element_count, exposed, exposed_elements,
+                            geom_elements, inside_geom, surface_area)
 
 RES = 0.005  # default resolution (m)
 
@@ -123,6 +123,18 @@ def test_count_grows_as_resolution_shrinks(name):
     gtype, size, kw, *_ = SHAPES[name]
     counts = [len(geom_elements(gtype, size, r, **kw)) for r in (1.0, 0.03, 0.01, 0.005)]
     assert counts == sorted(counts) and counts[-1] > counts[1] > counts[0]
+
+
+@pytest.mark.parametrize("name", list(SHAPES))
+def test_element_count_is_the_discretisers_count(name):
+    """element_count counts the cells without building them: the count auto_resolution coarsens by."""
+    gtype, size, kw, *_ = SHAPES[name]
+    rng = np.random.default_rng(7)
+    for r in (1.0, 0.03, 0.0125, 0.01, 0.005, 0.002, *rng.uniform(0.002, 0.05, 20)):
+        assert element_count(gtype, size, r, **kw) == len(geom_elements(gtype, size, r, **kw)), r
+    if name != "mesh":  # a wrong shape's count is told apart (control)
+        other = "sphere" if name != "sphere" else "box"
+        assert element_count(SHAPES[other][0], SHAPES[other][1], 0.005) != len(geom_elements(gtype, size, 0.005, **kw))
 
 
 def test_coarse_resolution_still_covers_every_face():

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import mjrft
-from mjrft.coupler import AUTO_ELEMENTS, AUTO_MIN_RESOLUTION, FLOOR_PAIR_MARGIN, auto_resolution, default_resolution
+from mjrft.coupler import AUTO_ELEMENTS, AUTO_MIN_RESOLUTION, FLOOR_PAIR_MARGIN, auto_resolution
+from mjrft.settings import resolve_settings
 from mjrft.errors import TerrainStabilityWarning
 from mjrft.geometry import discretize_geom, estimate_elements, geom_elements, mesh_element_count, surface_area
 
@@ -166,7 +167,7 @@ def test_floor_from_the_models_custom_section_and_auto_resolution_text():
         warnings.simplefilter("error")  # mjrft:floor is a known key
         terrain = mjrft.GranularTerrain(m)
     assert terrain.floor == gid(m, "floor") and terrain.medium.name == "glass3_cp" and terrain.resolution_auto
-    assert default_resolution(m) == terrain.resolution
+    assert resolve_settings(mujoco.MjModel.from_xml_string(robot_xml(custom=custom))).resolution == terrain.resolution
     both = custom.replace("</custom>", '<numeric name="mjrft:surface" data="0"/></custom>')
     with pytest.raises(ValueError, match="<custom> gives both mjrft:floor and mjrft:surface; keep one of them"):
         mjrft.GranularTerrain(mujoco.MjModel.from_xml_string(robot_xml(custom=both)))

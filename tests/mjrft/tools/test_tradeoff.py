@@ -14,6 +14,7 @@ import pytest
 from mjrft.tools import cli, presets
 from mjrft.tools import tradeoff as T
 from mjrft.media import MEDIA, generic
+from mjrft.settings import resolve_settings
 
 C = T.Config
 # a tiny grid: the model's resolution, 4x and 2x coarser, and a reference at half the resolution and 0.5 ms
@@ -233,11 +234,19 @@ def test_get_preset_and_resolve():
     with pytest.raises(ValueError, match="unknown preset 'turbo'; valid choices: accurate, default, fast"):
         presets.get_preset("turbo")
     got = presets.resolve("accurate", law="depth_only", frame_skip=4)
-    assert got == {"law": "depth_only", "resolution": None, "resolution_scale": 0.5, "timestep": 0.0005,
-                   "frame_skip": 4}
-    assert presets.resolve(None) == {"law": None, "resolution": None, "resolution_scale": 1.0, "timestep": None,
-                                     "frame_skip": None}
-    assert presets.resolve("fast", resolution=0.01)["resolution_scale"] == 1.0
+    assert got == presets.EnvSettings(medium=None, law="depth_only", resolution=None, resolution_scale=0.5,
+                                      timestep=0.0005, frame_skip=4)
+    assert presets.resolve(None) == presets.EnvSettings(medium=None, law=None, resolution=None, resolution_scale=1.0,
+                                                        timestep=None, frame_skip=presets.FRAME_SKIP)
+    assert presets.resolve("fast", resolution=0.01).resolution_scale == 1.0
+    assert presets.resolve(None, medium="poppy_lp").medium is MEDIA["poppy_lp"]  # looked up once, here
+    for bad, match in (({"medium": "mud"}, "unknown medium 'mud'; valid choices: "),
+                       ({"law": "fluid"}, "unknown law 'fluid'; valid choices: "),
+                       ({"resolution": -1.0}, "resolution must be finite and > 0"),
+                       ({"timestep": 0.0}, "timestep must be finite and > 0"),
+                       ({"frame_skip": 2.5}, "frame_skip must be an integer >= 1")):
+        with pytest.raises(ValueError, match=match):
+            presets.resolve("fast", **bad)
 
 
 @pytest.fixture
@@ -252,7 +261,7 @@ def gymnasium():
 def test_env_presets(gymnasium):
     env = gymnasium.make("mjrft/HexapodSand-v0", preset="fast", max_episode_steps=5)
     u = env.unwrapped
-    assert u.terrain.resolution == pytest.approx(4 * presets.model_resolution(u.model)) == pytest.approx(0.02)
+    assert u.terrain.resolution == 4 * resolve_settings(u.model).resolution == pytest.approx(0.02)
     assert u.model.opt.timestep == 0.001 and u.frame_skip == 10 and u.dt == pytest.approx(0.01)
     env.reset(seed=0)
     obs, reward, *_ = env.step(np.zeros(6, np.float32))
