@@ -14,13 +14,23 @@ from .base import GranularMujocoEnv, split_env_kwargs
 from .randomization import DEFAULT_SURFACE_GRID, TerrainRandomization
 
 
+#: the sand envs' physics step (s) and steps per env step when neither ``preset``, ``timestep`` nor
+#: ``frame_skip`` is given: 0.5 ms x 20 = the 10 ms control period. The legs' explicit granular-stiffness
+#: limit (:mod:`mjrft.stability`) falls to 0.69-1 ms under the initial PPO policy's random actions on poppy
+#: seeds, below the models' 1 ms step; at 0.5 ms no step passes it (``tests/envs/test_hexapod_timestep.py``).
+SAND_TIMESTEP = 0.0005
+SAND_FRAME_SKIP = 20
+
+
 class HexapodSand(GranularMujocoEnv):
     """RHex-class hexapod (150 g, six continuously rotating C-legs) walking forward (+x) on sand.
 
     Model: :func:`mjrft.models.hexapod_xml` (``variant``, ``curvature``, ``sand``; ``curvature`` is the
     signed leg curvature 1/r in 1/m, default 1/R': positive = Li 2013's C-leg, convex side leading in
     stance, negative = reversed C-leg, convention in :mod:`mjrft.geometry.curved_leg`); granular bodies
-    torso + six legs. Physics step 1 ms, default ``frame_skip = 10`` (``dt = 0.01`` s). With
+    torso + six legs. Physics step 0.5 ms, ``frame_skip = 20`` (``dt = 0.01`` s; ``SAND_TIMESTEP``,
+    ``SAND_FRAME_SKIP``: the legs' granular-stiffness limit falls below 1 ms in training) unless ``preset``,
+    ``timestep`` or ``frame_skip`` is given; on the rigid floor 1 ms and ``frame_skip = 10``. With
     ``variant="small"`` (25 g, DynaRoACH-sized) the sand scene turns on the dry laws' inertial regime
     (:mod:`mjrft.laws.inertial`; ``inertial=False`` turns it off), the RHex-class robot leaves it off.
 
@@ -123,6 +133,8 @@ class HexapodSand(GranularMujocoEnv):
         self._max_lag = check_positive("max_lag", max_lag)
         self.planar = bool(planar)
         env_kw, model_kw = split_env_kwargs(kwargs)
+        if sand and all(env_kw.get(key) is None for key in ("preset", "timestep", "frame_skip")):
+            env_kw.update(timestep=SAND_TIMESTEP, frame_skip=SAND_FRAME_SKIP)
         randomization = TerrainRandomization.from_value(env_kw.get("terrain_randomization"))
         if sand and randomization is not None and randomization.roughness > 0:
             model_kw.setdefault("surface_grid", DEFAULT_SURFACE_GRID)  # a height-field surface to carry it

@@ -56,6 +56,7 @@ import mujoco
 import numpy as np
 
 from ...gaits import make_gait, tripod_angles
+from mjrft.envs.hexapod import SAND_TIMESTEP
 from mjrft.media import MEDIA, generic
 from ..case import (MUCH_LESS, SIMILAR, UPRIGHT_TILT, Check, CaseResult, Line, Panel, case, check_band, check_close,
                     check_outcome, published, similar)
@@ -378,7 +379,8 @@ def run_robot(quick: bool) -> CaseResult:
                f"{', '.join(f'{k:g}' for k in s['sweep'])} /R'. Loosely packed poppy seeds: the medium's fit (rft), "
                f"the generic profile x zeta = 0.248 N/cm^3 (rft), the depth-only law. Each trial starts on the "
                f"gait's pose (tripod A mid-stance), discards the first {SETTLE:g} s and averages the torso's speed over "
-               f"{strides} strides; physics step 1 ms, elements 5 mm (the model's)."),
+               f"{strides} strides; physics step {SAND_TIMESTEP * 1e3:g} ms (the sand env's), elements 5 mm (the "
+               f"model's)."),
         checks=checks, panels=panels, cause=" ".join(causes),
         notes=(f"Choices where the paper is silent: the servo-driven legs (kp 2 N m/rad, torque limit 0.3 N m, the "
                f"model's) follow the commanded rotation: realised stride frequency within {100 * f_dev:.1f} % of f in "
