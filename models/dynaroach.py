@@ -42,9 +42,12 @@ Choices where the paper is silent (its leg angles are in fig. 1B, E, which the t
   This is geometry on the paper's statement, not a fit to a simulated speed.
 * Lift range ``B = 60 deg``: at lift 0 the leg hangs straight down, and at mid-protraction the sideways
   lift raises its tip by ``2 r (1 - cos B)`` = one leg radius (1 cm). Not in the text.
-* Hips: the lift hinge sits beside the torso, ``2 r - 1.2 cm = 0.8 cm`` above the CoM, so that standing
-  on its tips with the legs at mid-retraction the CoM is the paper's standing body height (1.2 cm) above
-  them. The torso (10 x 4.5 x 1.5 cm box) and the hips' fore-aft places (+-4 cm) are the small hexapod's
+* Hips: the lift hinge sits on the torso's side at the CoM's height. The paper's heights are above the
+  granular surface ("1.86 cm above the surface", sec. 3.1.2), where the robot stands on legs sunk "only a
+  few particle diameters" (sec. 2.1.2): with the hips at the CoM and 2 cm legs, a standing height of 1.2 cm
+  (sec. 3.1.1) is legs sunk 0.8 cm, 2.7 grain diameters. mjrft's own static sinkage then gives the
+  standing height (case ``dynaroach_legs`` compares it with 1.2 cm; on a rigid floor the robot stands 2 cm
+  high). The torso (10 x 4.5 x 1.5 cm box) and the hips' fore-aft places (+-4 cm) are the small hexapod's
   (:mod:`mjrft.models.hexapod`, ``variant="small"``); the link plates weigh 0.05 g each, the legs 0.4 g
   (0.2 cm thick), the torso the rest of 25 g.
 * The servos stand in for the rigid linkage: position servos kp 0.2 N m/rad, kv 1e-3 N m s/rad, limit
@@ -79,10 +82,9 @@ LEG_WIDTH = 0.007  # m (paper, fig. 7 caption)
 LEG_THICKNESS = 0.002  # m (choice)
 LEG_MASS = 0.0004  # kg (choice)
 PLATE_MASS = 0.00005  # kg (choice)
-STANDING_HEIGHT = 0.012  # m, CoM above the tips standing (paper, sec. 3.1.1)
 HIP_X = 0.04  # m, front and rear hips (choice, the small hexapod's)
 HIP_GAP = 0.0015  # m between the torso's side and the lift hinge (choice)
-HIP_Z = LEG_CHORD - STANDING_HEIGHT  # m above the CoM (module docstring)
+HIP_Z = 0.0  # m above the CoM: the lift hinges at the CoM's height (module docstring)
 SWING_AMPLITUDE = math.radians(30.0)  # A (module docstring)
 LIFT_RANGE = math.radians(60.0)  # B (module docstring)
 KP, KV, TORQUE_LIMIT, ARMATURE, DAMPING = 0.2, 1e-3, 0.05, 1e-6, 1e-5
