@@ -194,10 +194,17 @@ def _body_sinkage(depth, elem_body, slot, out):
 
 
 @njit(cache=True, error_model="numpy")
-def _sinkage_and_force(depth, elem_body, slot, wrench, bodies):
-    """(:func:`_body_sinkage`, ``wrench[bodies, :3]``) as new arrays, in one compiled call (each env step's info)."""
+def _sinkage_and_force(depth, g_start, g_active, elem_body, slot, wrench, bodies):
+    """(:func:`_body_sinkage`, ``wrench[bodies, :3]``) as new arrays, in one compiled call (each env step's info).
+    Only the elements of the cull groups the kernel evaluated last (``g_active``; ``g_start`` their first
+    elements) are read: the kernel zeroes the depth of a group it skips, so the others hold 0."""
     sink = np.zeros(bodies.shape[0])
-    _body_sinkage(depth, elem_body, slot, sink)
+    for g in range(g_active.shape[0]):
+        if g_active[g]:
+            for e in range(g_start[g], g_start[g + 1]):
+                j = slot[elem_body[e]]
+                if depth[e] > sink[j]:
+                    sink[j] = depth[e]
     force = np.empty((bodies.shape[0], 3))
     for i in range(bodies.shape[0]):
         for j in range(3):
@@ -477,8 +484,8 @@ class GranularWrapper(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):
 
     def _sand_info(self, info: dict) -> dict:
         t = self.terrain
-        info["sinkage"], info["granular_force"] = _sinkage_and_force(t.depth, t.elem_body, self._slot, t.wrench,
-                                                                     self.body_ids)
+        info["sinkage"], info["granular_force"] = _sinkage_and_force(t.depth, t._g_start, t._g_active, t.elem_body,
+                                                                     self._slot, t.wrench, self.body_ids)
         info["substeps"] = self.last_substeps
         if self.terrain_info is not None:
             info["terrain"] = dict(self.terrain_info)  # a new dict each call, as gymnasium asks
@@ -502,7 +509,7 @@ class GranularWrapper(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):
     def step(self, action):
         a = np.asarray(action)
         shape = self.action_space.shape
-        if a.shape != shape or not np.issubdtype(a.dtype, np.number):
+        if a.shape != shape or a.dtype.kind not in "iufcm":  # np.number's kinds
             raise ValueError(f"action must be numbers of shape {shape}, got {a.dtype} of shape {a.shape}")
         if not np.all(np.isfinite(a)):
             raise ValueError(f"action contains NaN or infinite values: {a!r}")
