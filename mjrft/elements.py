@@ -77,9 +77,43 @@ def _cull_groups(model: mujoco.MjModel, groups) -> tuple[np.ndarray, np.ndarray,
             np.ascontiguousarray(np.array(g_aabb, dtype=np.float64).reshape(-1, 6)))
 
 
+def check_mesh_winding(model: mujoco.MjModel, geom_ids) -> None:
+    """Refuse a closed mesh geom whose faces wind clockwise seen from outside (its normals point inward, its
+    signed volume is negative): MuJoCo compiles it (it takes the volume's magnitude for the inertia), but every
+    element's normal would be reversed and the grains would push the wrong way. Open meshes are not checked."""
+    for g in geom_ids:
+        if int(model.geom_type[g]) != int(mujoco.mjtGeom.mjGEOM_MESH):
+            continue
+        mid = int(model.geom_dataid[g])
+        va, fa = int(model.mesh_vertadr[mid]), int(model.mesh_faceadr[mid])
+        v = np.asarray(model.mesh_vert[va:va + int(model.mesh_vertnum[mid])], dtype=np.float64)
+        f = np.asarray(model.mesh_face[fa:fa + int(model.mesh_facenum[mid])], dtype=np.int64)
+        if len(f) == 0:
+            continue
+        # closed: every edge is walked both ways (vertices at the same place count as one: float32 positions)
+        _, same = np.unique(np.round(v * 1e6), axis=0, return_inverse=True)
+        w = same.reshape(-1)[f]
+        edges = np.concatenate([w[:, [0, 1]], w[:, [1, 2]], w[:, [2, 0]]]) @ np.array([len(v), 1])
+        reverse = np.concatenate([w[:, [1, 0]], w[:, [2, 1]], w[:, [0, 2]]]) @ np.array([len(v), 1])
+        if not np.isin(reverse, edges).all():
+            continue  # open: no inside to point to
+        a, b, c = v[f[:, 0]], v[f[:, 1]], v[f[:, 2]]
+        volume = float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum()) / 6.0
+        area = 0.5 * float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum())
+        if volume < -1e-6 * area**1.5:
+            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, int(g))
+            mesh = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_MESH, mid)
+            raise ValueError(f"mesh geom {int(g)}{f' {name!r}' if name else ''} (mesh {mesh!r}) is inside out: its "
+                             f"faces wind clockwise seen from outside (signed volume {volume:.3g} m^3), so its "
+                             "normals point inward and the grains would push it the wrong way; reverse the order "
+                             "of each face's vertices")
+
+
 def build_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> ElementTables:
     """Cut the geoms into elements of about ``resolution`` and keep the exposed ones (only the exposed surface
-    of each body's union of geoms meets grains, see :func:`~mjrft.geometry.exposed_elements`)."""
+    of each body's union of geoms meets grains, see :func:`~mjrft.geometry.exposed_elements`). A closed mesh
+    turned inside out is refused (:func:`check_mesh_winding`)."""
+    check_mesh_winding(model, geom_ids)
     parts = [discretize_geom(model, gid, resolution) for gid in geom_ids]
     groups = list(zip(geom_ids, exposed_elements(model, geom_ids, parts, resolution)))
     if not groups:

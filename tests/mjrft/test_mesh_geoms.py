@@ -54,8 +54,8 @@ def scene(strips: int = 1, flip: bool = False) -> mujoco.MjModel:
 </mujoco>""")
 
 
-def push(m: mujoco.MjModel, top_depth: float, steps: int = 20,
-         scale_mesh_area: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+def push(m: mujoco.MjModel, top_depth: float, steps: int = 20, scale_mesh_area: float = 1.0,
+         flip_mesh_normals: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Both boxes at the same depth (their top ``top_depth`` below the surface; negative: sticking out), tilted
     the same way, moving down and sideways at the same velocity: the granular wrench on each after ``steps``
     evaluations (the elements' memory built up the same way)."""
@@ -63,8 +63,10 @@ def push(m: mujoco.MjModel, top_depth: float, steps: int = 20,
         warnings.simplefilter("ignore", ValidityRangeWarning)
         warnings.simplefilter("ignore", TerrainStabilityWarning)  # nothing is stepped: only the force is compared
         terrain = mjrft.GranularTerrain(m, "poppy_cp", "rft", bodies=["prim", "mesh"], floor="floor", resolution=RES)
-        if scale_mesh_area != 1.0:
-            terrain.area[terrain.elem_body == m.body("mesh").id] *= scale_mesh_area
+        mesh = terrain.elem_body == m.body("mesh").id
+        terrain.area[mesh] *= scale_mesh_area
+        if flip_mesh_normals:
+            terrain._e_lnrm[mesh] *= -1.0
         d = mujoco.MjData(m)
         quat = np.array([np.cos(0.15), np.sin(0.15) * 0.6, np.sin(0.15) * 0.8, 0.0])
         for name, x in (("prim", -0.3), ("mesh", 0.3)):
@@ -109,7 +111,7 @@ def test_mesh_box_feels_the_force_of_the_box_primitive(strips):
 
 
 def test_flipped_normals_and_doubled_areas_are_rejected():
-    prim, mesh = push(scene(flip=True), top_depth=0.03)
+    prim, mesh = push(scene(), top_depth=0.03, flip_mesh_normals=True)
     assert close(prim, mesh) > 0.3  # measured 0.51
     prim, mesh = push(scene(), top_depth=0.03, scale_mesh_area=2.0)
     assert abs(close(prim, mesh) - 1.0) < 0.05  # twice the force (measured 0.994 more)
@@ -123,3 +125,22 @@ def test_sliver_merging_leaves_well_shaped_triangles_alone():
     e = np.linalg.norm(np.stack([v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 1]], v[f[:, 0]] - v[f[:, 2]]]), axis=2)
     k = np.ceil(e.max(axis=0) / RES - 1e-9)
     assert len(el) == int((k**2).sum())
+
+
+def test_an_inside_out_mesh_is_refused_with_the_reason():
+    """MuJoCo compiles a closed mesh whose faces wind clockwise (it takes the volume's magnitude), but its normals
+    point inward: the terrain refuses it, naming the geom, instead of pushing it the wrong way."""
+    m = scene(flip=True)
+    assert m.body_mass[m.body("mesh").id] == pytest.approx(m.body_mass[m.body("prim").id], rel=1e-6)
+    with pytest.raises(ValueError, match=r"mesh geom \d+ 'mesh' \(mesh 'boxmesh'\) is inside out.*reverse the order"):
+        mjrft.GranularTerrain(m, "poppy_cp", "rft", bodies=["prim", "mesh"], floor="floor", resolution=RES)
+    # an open mesh (the box without its top face) has no inside and is not checked
+    v, f = box_mesh()
+    top = np.all(v[f][:, :, 2] > HALF[2] - 1e-9, axis=1)
+    fmt = lambda a: " ".join(f"{x:.12g}" for x in np.ravel(a))  # noqa: E731
+    m = mujoco.MjModel.from_xml_string(f"""<mujoco><asset><mesh name="cup" vertex="{fmt(v)}" face="{fmt(f[~top][:, ::-1])}"/>
+  </asset><worldbody><geom name="floor" type="plane" size="1 1 .1"/>
+  <body name="cup" pos="0 0 .1"><freejoint/><geom type="mesh" mesh="cup" mass="0.1"/></body></worldbody></mujoco>""")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert mjrft.GranularTerrain(m, "poppy_cp", bodies=["cup"], floor="floor", resolution=RES).n_elements > 0
