@@ -110,6 +110,18 @@ def test_h1_stands_on_sand_and_carries_its_weight():
     assert abs(h1.pelvis_pitch(d) - ctl.lean) < 0.05 and abs(ctl.com_offset(d)) < 0.02  # upright over its soles
 
 
+def test_h1_explicit_step_at_2ms_is_past_its_limit():
+    """Control for the per-step bound: the explicit granular step at the model's 2 ms is beyond the soles'
+    stability limit (0.76 ms); the terrain says so and the load swings from step to step (it does not diverge)."""
+    m, d, ctl, terrain = h1_on(implicit=False)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        load, _ = run(m, d, ctl, terrain, 2.0)
+    assert any(issubclass(w.category, TerrainStabilityWarning) and "ankle_link" in str(w.message) for w in caught)
+    rest = load[-int(round(REST / m.opt.timestep)):]
+    assert np.ptp(rest) > 0.1  # measured 0.91 to 1.09 times the weight
+
+
 def test_h1_without_the_granular_force_falls_through_the_surface():
     """Control: the floor's contacts are gone, so nothing but the grains holds the robot up."""
     m, d, ctl, terrain = h1_on()
