@@ -1,15 +1,22 @@
 """The Unitree H1 humanoid (vendored under ``third_party/unitree_h1/``: Unitree's own MuJoCo model, whose feet
 collide through a triangle mesh) and a simple controller for it on sand or on its rigid floor.
 
-The model's 20 actuators are torque motors; :class:`Controller` is a joint PD holding the ``home`` keyframe pose
-plus an ankle balance term (the "ankle strategy"): both ankles add ``balance_kp x pelvis pitch + balance_kd x
-pitch rate``. The balance term is needed: the robot is an inverted pendulum of about M g h = 51.7 kg x 9.81 x
-0.9 m = 460 N m/rad of toppling stiffness at the ankles, more than the joint PD chain supplies there under the
-ankles' 40 N m limit, so a pure joint PD lets it tip backwards within a second even on a rigid floor. An optional
-open-loop sway/step pattern (:meth:`Controller.step_targets`) shifts the weight sideways with the hip rolls and
-lifts each foot in turn with the hip pitch, knee and ankle of the unloaded leg. The gains are documented choices
-(not from a paper or from Unitree): stiff enough that the knee sags by under 0.05 rad under its ~42 N m holding
-torque.
+The model's 20 actuators are torque motors. :class:`Controller` is a joint PD holding the ``home`` keyframe pose
+with two additions, both needed on poppy seeds (measured in ``tests/models/test_unitree_h1.py``):
+
+* a lean: both ankles turned so that the centre of mass stands over the midpoint of the soles' centroids. In the
+  keyframe it is 6 cm behind it, outside the soles' middle third (+-5 cm of a 30 cm sole), where a yielding bed
+  cannot hold the moment: the heels sink and the robot tips backwards. :meth:`Controller.reset` puts the robot in
+  the leaning pose with its soles level at the floor's height;
+* an ankle balance term (the "ankle strategy"): both ankles add ``balance_kp x`` (centre of mass ahead of the
+  soles' midpoint, m) ``+ balance_kd x`` (pelvis forward speed). The robot is an inverted pendulum of about
+  M g h = 51.6 kg x 9.81 m/s^2 x 0.9 m = 460 N m/rad of toppling stiffness, more than the joint PD chain gives
+  under the ankles' 40 N m limit: without the term it tips over within 2 s even on its rigid floor.
+
+:meth:`Controller.step_targets` is an open-loop sway: the hip rolls move the pelvis from side to side and the
+unloaded leg bends (knee, half of it at the hip pitch and ankle, keeping the foot level). The gains are documented
+choices, not from a paper or from Unitree: stiff enough that the knee sags by under 0.05 rad under its ~42 N m
+holding torque.
 """
 
 from __future__ import annotations
@@ -119,13 +126,15 @@ class Controller:
         d.qpos[2] -= lowest
         mujoco.mj_forward(m, d)
 
-    def step_targets(self, t: float, sway: float = 0.08, lift: float = 0.25, freq: float = 1.0) -> np.ndarray:
-        """Joint targets of an open-loop stepping-in-place pattern at ``t`` (s): the hip rolls sway the pelvis
-        over one foot (``sway`` rad, at ``freq`` Hz), and the other leg bends by ``lift`` rad at the knee (half
-        of it at the hip pitch and ankle, keeping the foot level) while it carries the least weight."""
+    def step_targets(self, t: float, sway: float = 0.05, lift: float = 0.1, freq: float = 0.5) -> np.ndarray:
+        """Joint targets of the open-loop sway at ``t`` (s): both hip rolls turn by ``sway`` rad at ``freq`` Hz,
+        shifting the weight towards one foot, and the other leg's knee bends by up to ``lift`` rad (half of it at
+        its hip pitch and ankle, keeping the foot level) while it carries the least weight. The defaults move
+        nearly all the weight from foot to foot on poppy seeds without lifting a foot out of the grains; 0.08 rad,
+        0.25 rad at 1 Hz tip the robot sideways (no lateral balance)."""
         q = self.home.copy()
         phase = 2.0 * np.pi * freq * t
-        q[self.hip_roll] += sway * np.sin(phase)  # both hips roll together: the pelvis moves over one foot
+        q[self.hip_roll] += sway * np.sin(phase)  # both hips roll together: the pelvis moves sideways
         bend = lift * np.maximum(np.array([-np.sin(phase), np.sin(phase)]), 0.0) ** 2  # lift the unloaded leg
         q[self.knee] += bend
         q[self.hip_pitch] -= 0.5 * bend
