@@ -244,6 +244,8 @@ WRONG_PHYSICS = {
                   "stress of a plate pushed down, blind to the element's orientation and direction of motion",
     "rate_independent": "Li RFT (law rft) on the same medium in place of a speed-dependent law: the stress the "
                         "medium's coefficients give at their calibration speed, at every speed",
+    "rate_dependent": "SGRFT's wet law (Li RFT x a linear speed factor) on its saturated sand in place of a "
+                      "rate-independent law",
     "no_undisturbed_rule": "the hybrid whole-leg model counting every element, its undisturbed-grain (shadow) rule "
                            "off (hybrid paper, sec. 3.2)",
 }
@@ -282,6 +284,8 @@ def wrong_physics(variant: str | None, medium, law: str):
         return medium, "depth_only"
     if variant == "rate_independent":
         return medium, "rft" if law == "wet" else law
+    if variant == "rate_dependent":
+        return "sea_sand_saturated", "wet"
     if variant in WRONG_PHYSICS:
         return medium, law  # a variant of a model the case builds itself (e.g. no_undisturbed_rule)
     raise unknown("wrong-physics variant", variant, list(WRONG_PHYSICS))

@@ -19,6 +19,7 @@ hexapod, the humanoid's ``stance`` and ``shift`` gaits) are tested in the case's
 from __future__ import annotations
 
 import csv
+import functools
 import importlib
 import json
 import math
@@ -85,6 +86,12 @@ def control(name: str, what: str, slow: bool = False, marks: tuple = ()):
     return register
 
 
+@functools.lru_cache(maxsize=None)
+def variant_run(name: str, variant: str) -> CaseResult:
+    """Case ``name`` at its quick settings under the wrong-physics ``variant`` (run once per session)."""
+    return validation.run_case(name, quick=True, variant=variant)
+
+
 VARIANT_REJECTS: dict[str, list[str]] = {}  # case -> the checks its wrong-physics variants must fail
 
 
@@ -105,7 +112,7 @@ def wrong_physics_control(name: str, variant: str, rejects: tuple[str, ...], slo
     VARIANT_REJECTS.setdefault(name, []).extend(rejects)
 
     def check():
-        r = validation.run_case(name, quick=True, variant=variant)
+        r = variant_run(name, variant)
         named = _named(r, rejects)
         assert all(c.is_validation for c in named), [c.name for c in named if not c.is_validation]
         accepted = [(c.name, c.simulated) for c in named if c.passed]
@@ -325,7 +332,11 @@ def test_a_consistency_check_states_why_and_is_counted_apart():
 
 def test_wrong_physics_variants():
     from mjrft.media import get_medium
-    from mjrft.regions import STRESS_SLOTS
+
+    try:  # the slots GranularTerrain's stress_scale multiplies
+        from mjrft.laws.registry import STRESS_SLOTS
+    except ImportError:
+        from mjrft.regions import STRESS_SLOTS
 
     # x2 / x0.5 scale exactly the slots GranularTerrain's stress_scale multiplies, in every law's constants
     hybrid_sand = get_medium("generic").with_extra(hybrid_unit_weight=13000.0)
@@ -581,6 +592,23 @@ def hybrid_leg_family_rig_shadow_outcomes(r):
     assert all(c.passed for c in r.checks if _shadow_gap(c))
 
 
+wrong_physics_control("hybrid_leg_family", "no_undisturbed_rule", (
+    "whole-leg model: peak F_f, bent / semicircle*", "whole-leg model: very bent leg's F_f vanishes*",
+    "whole-leg model: the straight leg's F_s goes most negative*"))
+
+
+@control("hybrid_leg_family", "geometric outcomes hold under every control (why they are consistency checks)",
+         slow=True)
+def hybrid_geometric_outcomes_hold_under_every_control():
+    from mjrft.tools.validation.cases.hybrid import GEOMETRY_WHY
+
+    for variant in ("no_undisturbed_rule", "depth_only"):
+        r = variant_run("hybrid_leg_family", variant)
+        geometric = [c for c in r.checks if c.why == GEOMETRY_WHY]
+        assert len(geometric) == 18 and all(c.passed for c in geometric), (variant, [
+            c.name for c in geometric if not c.passed])
+
+
 @outcome("hybrid_speed")
 def hybrid_speed(r):
     bad = [c.name for c in _qualitative(r) if not c.passed]
@@ -588,6 +616,9 @@ def hybrid_speed(r):
     assert r.passed
     rig = [c.value for c in r.checks if c.name.startswith("per-element law (rig): spread")]
     assert len(rig) == 3 and all(math.isfinite(v) and v < 0.01 for v in rig)  # measured <= 0.3 %
+
+
+wrong_physics_control("hybrid_speed", "rate_dependent", ("per-element law (rig): spread of peak *",))
 
 
 # ------------------------------------------------------------------------------- Li 2013: plate, scaling, leg rig
