@@ -79,6 +79,8 @@ CONSTRUCTORS = [
     ("GranularTerrain fine resolution", lambda: mjrft.GranularTerrain(_hexapod(), resolution=1e-5),
      "more than max_elements"),
     ("GranularTerrain model type", lambda: mjrft.GranularTerrain("hexapod.xml"), "model must be a mujoco.MjModel"),
+    ("GranularTerrain inside-out mesh", lambda: mjrft.GranularTerrain(_inside_out_mesh(), bodies=["b"], floor="floor"),
+     "mesh geom 1 'cube' (mesh 'cube') is inside out"),
     ("medium_3d", lambda: mjrft.medium_3d("x", -1.0, 0.5, 0.3), "must be finite and > 0"),
     ("calibrate", lambda: mjrft.calibrate([0.01, 0.02], [1.0]), "depth and stress must have the same length, got 2 and 1"),
     ("plate_intrusion", lambda: mjrft.tools.rigs.plate_intrusion(depth=0), "depth must be finite and > 0, got 0"),
@@ -91,6 +93,17 @@ CONSTRUCTORS = [
     ("vector env reset option", lambda: _vector().reset(options={"reset_maks": None}),
      "unknown reset option 'reset_maks'; valid choices: reset_mask"),
 ]
+
+
+def _inside_out_mesh() -> mujoco.MjModel:
+    """A cube mesh whose faces wind clockwise seen from outside (MuJoCo compiles it)."""
+    v = " ".join(f"{x} {y} {z}" for x in (-.05, .05) for y in (-.05, .05) for z in (-.05, .05))
+    outward = [(0, 1, 3), (0, 3, 2), (4, 6, 7), (4, 7, 5), (0, 4, 5), (0, 5, 1), (2, 3, 7), (2, 7, 6),
+               (0, 2, 6), (0, 6, 4), (1, 5, 7), (1, 7, 3)]
+    f = " ".join(f"{a} {c} {b}" for a, b, c in outward)  # reversed
+    return mujoco.MjModel.from_xml_string(f"""<mujoco><asset><mesh name="cube" vertex="{v}" face="{f}"/></asset>
+  <worldbody><geom name="floor" type="plane" size="1 1 .1"/>
+  <body name="b" pos="0 0 .1"><freejoint/><geom name="cube" type="mesh" mesh="cube"/></body></worldbody></mujoco>""")
 
 
 def _vector():
