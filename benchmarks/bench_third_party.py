@@ -30,7 +30,7 @@ the net vertical granular force / weight at rest (mean and largest deviation ove
 and the sinkage. ``--robots`` with no id skips the gymnasium robots.
 
     python benchmarks/bench_third_party.py [--steps N] [--repeats R] [--rest SECONDS] [--robots Ant-v5 ...]
-                                          [--vendored unitree_h1 ...]
+                                          [--vendored unitree_h1 anymal_c dm_quadruped ...]
 """
 
 from __future__ import annotations
@@ -201,7 +201,32 @@ def h1_setup(sand: bool, settle: float = 1.0):
     return m, d, step, terrain
 
 
-VENDORED = {"unitree_h1": h1_setup}
+def quadruped_setup(name: str):
+    """The setup of a quadruped of :mod:`mjrft.models.quadrupeds` (ANYmal C, dm_control's quadruped): its model's
+    initial state, ``ctrl = 0`` for ``settle`` s, then its open-loop trot; the terrain (poppy_cp, every body,
+    implicit) or None. Its "least foot" is the least share over every body (the trunk's is 0)."""
+    def setup(sand: bool, settle: float = 1.0):
+        from mjrft.models import quadrupeds as q
+
+        m = q.MODELS[name]()
+        d = mujoco.MjData(m)
+        terrain = mjrft.GranularTerrain(m, "poppy_cp", floor="auto", implicit=True) if sand else None
+
+        def step():
+            t = d.time - settle
+            d.ctrl[:] = q.trot_ctrl(name, m, t) if t > 0 else 0.0
+            if terrain is None:
+                mujoco.mj_step(m, d)
+            else:
+                terrain.step(d)
+
+        return m, d, step, terrain
+
+    return setup
+
+
+VENDORED = {"unitree_h1": h1_setup, "anymal_c": quadruped_setup("anymal_c"),
+            "dm_quadruped": quadruped_setup("dm_quadruped")}
 
 
 def vendored_row(name: str, seconds: float = 3.0, repeats: int = 3) -> dict:
