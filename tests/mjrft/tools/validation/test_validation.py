@@ -526,6 +526,25 @@ def dynaroach_legs_transition_rejects_a_rate_independent_stride():
     assert dynaroach.transition_check("x", f, [2.0 * x if x <= 6 else 12.0 + 6.0 * (x - 6) for x in f]).passed
 
 
+@control("dynaroach_legs", "stride near 2r rejects half the swing")
+def dynaroach_legs_stride_rejects_half_the_swing():
+    """Legs swinging +-15 deg instead of +-30 stride about half as far at 3 Hz: the check fails; the model passes."""
+    from mjrft.tools.validation.cases import dynaroach
+
+    half = dynaroach.legs_run(3.0, False, 0.8, 0.3, swing=math.radians(15.0))["stride"] * 100
+    own = dynaroach.legs_run(3.0, False, 0.8, 0.3)["stride"] * 100
+    assert not dynaroach.stride_check("off", 3.0, half).passed and dynaroach.stride_check("off", 3.0, own).passed
+
+
+@control("dynaroach_legs", "speed rises rejects a speed that falls at high frequency")
+def dynaroach_legs_speed_rises_rejects_a_falling_speed():
+    """The regime-on speeds the case measures (4.2 ... 11.5, 9.9, 7.9 cm/s) fail; a rising sweep passes."""
+    from mjrft.tools.validation.cases import dynaroach
+
+    assert not dynaroach.speed_rises_check("x", [4.2, 6.3, 8.0, 10.8, 11.5, 9.9, 7.9]).passed
+    assert dynaroach.speed_rises_check("x", [4.2, 6.3, 8.2, 12.0, 15.7, 19.4, 23.1]).passed
+
+
 @control("dynaroach_legs", "standing height rejects a rigid floor")
 def dynaroach_legs_standing_height_rejects_a_rigid_floor():
     """On a rigid floor the legs do not sink and the robot stands ~2 cm high: the check fails; on the bed it passes."""
