@@ -25,12 +25,14 @@ every validation rig that moves faster than ``v_s`` are unchanged) and softens f
 flowing stress as it breaks loose. ``f = 1`` is the rest memory with an anchor that does not relax while at
 rest (the thesis's own criterion, sec. 4.4.1: the RFT force is the yield criterion of a planted foot).
 
-Stability: a solid element is the memory's spring ``k = |F_law| / delta`` carrying up to ``f`` times its
-flowing load, so a body resting on it has ``omega^2`` up to ``f g / (phi delta)``: the explicit limit of
-docs/numerics.md shrinks by up to ``sqrt(f)``. The kernel reports a solid element below its static yield
-with ``|m|`` shortened to ``min(|m|, delta)`` (same direction), so its stiffness ``|F_law| / delta`` enters the
-stability check (:mod:`mjrft.stability`) and the implicit step's springs like any element below yield; one at
-its static yield is reported as yielding (``|m| = f delta``).
+Stability: a solid element is the memory's spring ``k = |F_law| / delta`` (``F_law`` the law's stress at its
+depth times its area); holding ``mu`` times ``F_law`` (``mu = |u| / delta`` up to ``f``) a body resting on such
+elements has ``omega^2 = g / (mu delta)``, as the memory's resting body has below yield (docs/numerics.md,
+"Stability limit"): stiffest below ``mu = 1``, as before, and softer between 1 and ``f``, so the explicit limit
+is the memory's. The kernel reports a solid element below its static yield with ``|m|`` shortened to
+``min(|m|, delta)`` (same direction), so its spring ``|F_law| / delta`` enters the stability check
+(:mod:`mjrft.stability`) and the implicit step's springs like any element below yield; one at its static yield
+is reported as yielding (``|m| = f delta``).
 
 Cost: with ``solidify=0`` the kernel's rest memory runs one comparison more per buried element; the update
 below runs only when it is on. CPU kernel only (mjrft.mjx refuses it).
