@@ -17,6 +17,11 @@ seconds, for the tests) and returns:
   paper data and is drawn as markers, labelled with its source);
 * ``cause``: for a case that does not agree, the cause found by measurement.
 
+A case registered with ``variants`` also runs as ``run(quick, variant=name)`` under a named wrong
+physics (:data:`WRONG_PHYSICS`: stresses doubled or halved, the depth-only law, no speed dependence, ...),
+building its rigs from :func:`wrong_physics`, so that its own checks can be shown to reject physics the
+paper's claims rule out (the tests' controls).
+
 Published numbers live as data in ``mjrft/validation/data/<paper>.json`` (:func:`published`), each
 with its value, unit and source (paper, figure or table), never only inside a case or a test.
 """
