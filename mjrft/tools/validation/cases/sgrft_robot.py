@@ -139,7 +139,7 @@ def propeller_leg(quick: bool, variant: str | None = None) -> CaseResult:
                       tolerance=f"each > {grow * 100:g} % (significant, sgrft sec. 2.4)"),
         check_close(f"thrust change 30 -> 40 rpm at {d_ref * 1000:g} mm vs SGRFT's leg prediction",
                     published("sgrft", "thrust_change_predicted"), change, _v("prediction_error_bound", "sgrft"),
-                    unit=""),
+                    unit="", basis="SGRFT's own prediction error, fig. 6: the tolerance equals the paper's model error"),
         check_outcome("effective propulsion range grows with depth", bool(np.all(np.diff(eff) >= -1e-9)),
                       published="smaller at shallow depths, improving as the depth increases",
                       simulated=", ".join(f"{math.degrees(e):.0f} deg at {d * 1000:g} mm" for e, d in zip(eff, depths)),
@@ -147,7 +147,8 @@ def propeller_leg(quick: bool, variant: str | None = None) -> CaseResult:
                       consistency="geometry: a blade tip d below the surface stays buried over 2 acos(1 - d / R) of "
                                   "the turn, which grows with d for any law (every control passes it)"),
         check_close(f"effective propulsion range at {depths[i15] * 1000:g} mm", _d("theoretical_propulsion_range"),
-                    float(eff[i15]), lim, unit="rad"),
+                    float(eff[i15]), lim, unit="rad", basis="the paper's bound for a change that is not significant, "
+                                                            "conclusion (1)"),
         check_band("share of the in-sand range that propels, below 15 mm / at 15 mm (smallest)", short, 0.0,
                    1.0 - lim, published=_v("range_shortfall_shallow"), source=_d("range_shortfall_shallow").source,
                    qualitative=False),
