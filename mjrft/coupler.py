@@ -40,11 +40,12 @@ from .errors import (NonFiniteError, SandContactWarning, TerrainStabilityWarning
 from .floor import _remove_contacts
 from .implicit_step import IMPLICIT_FUNCTIONS
 from .laws import validity
+from .laws.registry import STRESS_SLOTS
 from .laws.solidify import STICK_SPEED, check_solidify
 from .laws.wet import P_WATER_DEPTH
 from .media import get_medium
 from .mujoco_c import mujoco_functions, mujoco_step_functions
-from .regions import STRESS_SLOTS, Region, _region_entries, build_regions
+from .regions import Region, _region_entries, build_regions
 from .settings import TerrainSettings, resolve_settings
 from .stability import (HELD_STEPS, TRACK_SLOTS, _stable_dts, _stable_timestep_pair, _stable_timesteps, chatter_warning,
                         chattering, largest_rate, stability_warning, track_chatter, track_depth_springs, track_stiffness,

@@ -226,10 +226,9 @@ class Medium:
         p[P_MU_S] = self.mu_surface
         p[P_ZETA] = self.zeta
         p[P_AZ_DOWN], p[P_AZ_UP], p[P_AX_DRAG] = self.depth_only_alphas
-        from .laws import registry  # local import: laws depend on media, not the reverse
+        from .laws.registry import fill_params  # local import: laws depend on media, not the reverse
 
-        for hook in registry.PARAM_HOOKS:
-            hook(self, p)
+        fill_params(self, p)  # each law's own constants
         return p
 
 

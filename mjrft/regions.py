@@ -3,8 +3,8 @@ the kernel's per-region tables built from them.
 
 :class:`Region` and :class:`RegionMap` are the user's description; :func:`build_regions` turns a terrain's
 settings into :class:`RegionTables` (law ids, each region's parameter row with its water layer, drag and
-inertial constants, the buoyancy's water density, the strips' bounds or the map). :data:`STRESS_SLOTS` are
-the parameter slots that ``stress_scale`` multiplies.
+inertial constants, the buoyancy's water density, the strips' bounds or the map); each law's part of them comes
+from its entry in :mod:`mjrft.laws.registry`.
 """
 
 from __future__ import annotations
@@ -15,26 +15,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .errors import UnknownNameError, check_finite, check_positive, unknown
-from .laws import LAW_IDS, law_id
-from .laws.hybrid import P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PAR_H, P_HYB_PERP_H
-from .laws.inertial import DRY_LAWS, set_inertial
+from .laws.inertial import set_inertial
+from .laws.registry import DRY_LAWS, LAW_IDS, LAWS, get_law
 from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
-from .media import (MEDIA, P_AX_DRAG, P_AZ_DOWN, P_AZ_UP, P_COEFF, P_INERTIA, P_XI, P_ZETA, Medium,
-                    get_medium)
+from .media import MEDIA, Medium, get_medium
 
 if TYPE_CHECKING:
     from .settings import TerrainSettings
 
 
-#: the slots of a region's parameter vector that hold granular stresses, which ``stress_scale``
-#: (:meth:`GranularTerrain.set_medium`) multiplies: Li's nine coefficients and zeta, 3D-RFT's xi_n, the
-#: depth-only constants, the hybrid law's bar-drag constants (N/m^3) and the inertial regime's
-#: ``C rho_bulk`` (kg/m^3). Friction coefficients, ratios and speed factors are not stresses; the water
-#: layer's drag and the buoyancy are the water's, not the grains', and keep their values.
-STRESS_SLOTS = np.array([*range(P_COEFF, P_COEFF + 9), P_XI, P_ZETA, P_AZ_DOWN, P_AZ_UP, P_AX_DRAG, P_HYB_E0,
-                         P_HYB_E1, P_HYB_E2, P_HYB_PERP_H, P_HYB_PAR_H, P_INERTIA], dtype=np.int64)
 LAW_WATER = LAW_IDS["water"]
-_SATURATED_LAWS = (LAW_IDS["wet"], LAW_WATER)
+_SATURATED_LAWS = tuple(law.id for law in LAWS if law.saturated)
 
 
 @dataclass(frozen=True)
@@ -156,7 +147,7 @@ def _region_row(k: int, reg: Region, s: TerrainSettings) -> tuple[Medium, int, n
     except UnknownNameError:
         raise unknown(f"{where}medium", reg.medium, MEDIA) from None
     try:
-        lid = law_id(reg.law)
+        lid = get_law(reg.law).id
     except UnknownNameError:
         raise unknown(f"{where}law", reg.law, LAW_IDS) from None
     wc = wet_constants(med)
@@ -167,7 +158,7 @@ def _region_row(k: int, reg: Region, s: TerrainSettings) -> tuple[Medium, int, n
     p = med.params()
     p[P_WATER_DEPTH] = hw
     p[P_WATER_DRAG] = cd * rho
-    if s.inertial and str(reg.law) in DRY_LAWS:
+    if s.inertial and get_law(reg.law).dry:
         try:
             set_inertial(p, med, s.inertial_drag)
         except ValueError as exc:

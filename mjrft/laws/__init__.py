@@ -17,19 +17,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import unknown
 from ..media import get_medium
 from .dispatch import as_elements, element_stress, evaluate
-from .inertial import DRY_LAWS, INERTIAL_DRAG, add_inertial, set_inertial
-from .registry import LAW_IDS
+from .inertial import INERTIAL_DRAG, add_inertial, set_inertial
+from .registry import DRY_LAWS, LAW_IDS, get_law
 from .rft3d import rft3d_generic
 
 
 def law_id(name: str) -> int:
-    """The kernel id of a law name; unknown names list the valid choices."""
-    if isinstance(name, str) and name in LAW_IDS:
-        return LAW_IDS[name]
-    raise unknown("law", name, LAW_IDS)
+    """The kernel id of a law name (:mod:`mjrft.laws.registry`); unknown names list the valid choices."""
+    return get_law(name).id
 
 
 def apply_law(name, depth, normal, velocity, area, medium="poppy_cp", *, inertial=False,
@@ -38,14 +35,14 @@ def apply_law(name, depth, normal, velocity, area, medium="poppy_cp", *, inertia
 
     ``inertial=True`` (dry laws ``rft``, ``rft3d``, ``depth_only`` only) adds the inertial regime with
     coefficient ``inertial_drag`` (:mod:`mjrft.laws.inertial`)."""
-    lid = law_id(name)
+    law = get_law(name)
     med = get_medium(medium)
-    if inertial and name not in DRY_LAWS:
+    if inertial and not law.dry:
         raise ValueError(f"inertial=True is an option of the dry laws ({', '.join(DRY_LAWS)}), not of law {name!r}")
     depth, normal, velocity, area = as_elements(depth, normal, velocity, area)
     out = np.empty((depth.shape[0], 3))
     p = med.params()
-    evaluate(lid, depth, normal, velocity, area, p, out)
+    evaluate(law.id, depth, normal, velocity, area, p, out)
     if inertial:
         add_inertial(depth, normal, velocity, area, set_inertial(p, med, inertial_drag), out)
     return out

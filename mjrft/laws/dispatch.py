@@ -1,8 +1,8 @@
 """One compiled entry point for every law: ``element_stress(law_id, ...)``, and the vectorised loop.
 
-Adding a law: write its ``*_stress(depth, nx, ny, nz, mx, my, mz, speed, p)`` function (stress in Pa
-on one element, m the unit motion direction, speed in m/s, p the medium's parameter vector), give it
-the next id in :mod:`mjrft.laws.registry` and a branch here.
+:func:`element_stress` is generated from the table of laws (:data:`mjrft.laws.registry.LAWS`): one branch per law,
+``if law == <id>: return <its stress function>(...)``, compiled by numba like the rest (a new law is an entry in
+the table, not an edit here). An unknown id gives zero stress.
 """
 
 from __future__ import annotations
@@ -12,28 +12,23 @@ import math
 import numpy as np
 from numba import njit
 
-from .depth_only import depth_only_stress
-from .hybrid import hybrid_stress
-from .rft import rft_stress
-from .rft3d import rft3d_stress
-from .wet import water_stress, wet_stress
+from .registry import LAWS
+
+_ARGS = "depth, nx, ny, nz, mx, my, mz, speed, p"
 
 
-@njit(cache=True, error_model="numpy")
-def element_stress(law, depth, nx, ny, nz, mx, my, mz, speed, p):
-    if law == 0:
-        return rft_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
-    if law == 1:
-        return rft3d_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
-    if law == 2:
-        return depth_only_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
-    if law == 3:
-        return wet_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
-    if law == 4:
-        return water_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
-    if law == 5:
-        return hybrid_stress(depth, nx, ny, nz, mx, my, mz, speed, p)
-    return 0.0, 0.0, 0.0
+def _dispatch_source() -> str:
+    """The source of :func:`element_stress`: one branch per entry of the table."""
+    lines = [f"def element_stress(law, {_ARGS}):"]
+    for law in LAWS:
+        lines += [f"    if law == {law.id}:", f"        return _stress_{law.id}({_ARGS})"]
+    lines.append("    return 0.0, 0.0, 0.0")
+    return "\n".join(lines) + "\n"
+
+
+_namespace = {"__name__": __name__, **{f"_stress_{law.id}": law.stress for law in LAWS}}
+exec(compile(_dispatch_source(), __file__, "exec"), _namespace)  # its code objects name this file (numba's cache)
+element_stress = njit(cache=True, error_model="numpy")(_namespace["element_stress"])
 
 
 @njit(cache=True, error_model="numpy")

@@ -166,7 +166,6 @@ from numba import njit
 
 from ..errors import check_finite, check_positive
 from ..media import G, P_FIRST_FREE, P_SIZE
-from . import registry
 from .common import LEAD_EPS, TINY, lead_weight
 
 # --- constants (section 4 of the reference; assumptions in the module docstring) ----------------
@@ -766,7 +765,8 @@ def hybrid_constants(medium) -> dict:
     return c
 
 
-def _hybrid_params(medium, p):
+def hybrid_params(medium, p):
+    """The hybrid law's constants of ``medium`` into its parameter vector ``p``."""
     c = hybrid_constants(medium)
     _, _, (g0, g1, g2), _ = wedge_shape(c["hybrid_phi"], c["hybrid_phi_w"])
     gam = c["hybrid_unit_weight"]
@@ -783,6 +783,3 @@ def _hybrid_params(medium, p):
     p[P_HYB_KF] = 1.0 if md is None else LAMBDA_FORWARD * md
     p[P_HYB_KS] = 1.0 if md is None else LAMBDA_SUPPORT * md
 
-
-if not any(getattr(h, "__module__", None) == __name__ and h.__name__ == "_hybrid_params" for h in registry.PARAM_HOOKS):
-    registry.PARAM_HOOKS.append(_hybrid_params)

@@ -75,7 +75,6 @@ TRIPOD_AREA = 3 * LEG_AREA
 INERTIAL_DRAG = (ROBOT_MASS * 9.81 * (PEAK_LIFT - 1.0)
                  / (PAPER_RHO_BULK * TRIPOD_AREA * (PEAK_SPEED ** 2 - PAPER_VC ** 2)))  # C = 2.20
 INERTIAL_SKIN = 1e-3  # m (module docstring: numerical ramp below the surface)
-DRY_LAWS = ("rft", "rft3d", "depth_only")
 
 
 def inertial_constants(medium, drag: float = INERTIAL_DRAG, skin: float = INERTIAL_SKIN) -> tuple[float, float, float]:

@@ -1,4 +1,5 @@
-"""The speed, depth and grain-size ranges over which each law's source calibrated it.
+"""The speed, depth and grain-size ranges over which each law's source calibrated it (each law's entry in
+:mod:`mjrft.laws.registry` holds its ranges; they are defined here with their sources).
 
 :class:`mjrft.GranularTerrain` checks a scene against these: the static quantities (the medium's grain
 size, and for ``rft3d`` its bulk density and internal friction) at construction, the dynamic ones
@@ -44,7 +45,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-__all__ = ["RANGES", "Range", "buried_extremes", "check_static", "dynamic_ranges", "static_quantity"]
+__all__ = ["HYBRID_RANGES", "LI_RANGES", "RFT3D_RANGES", "Range", "WET_RANGES", "buried_extremes", "check_static",
+           "dynamic_ranges", "static_quantity"]
 
 
 @dataclass(frozen=True)
@@ -82,29 +84,28 @@ class Range:
 LABELS = {"speed": "speed", "depth": "depth", "grain_diameter": "grain diameter", "rho_bulk": "bulk density",
           "mu_int": "internal friction"}
 _LI = "Li 2013 suppl."
-_LI_SPEED = Range("speed", None, 1.0, "m/s", f"{_LI} sec. 2: force within 20 % from 1 cm/s to 1 m/s")
-_LI_DEPTH = Range("depth", None, 0.0762 + 0.0381 / 2, "m",
-                  f"{_LI} sec. 2: alpha fitted with the plate at depths 2.54, 5.08 and 7.62 cm, its 3.81 cm length "
-                  "reaching 1.91 cm deeper", 100.0, "cm")
-_LI_GRAIN = Range("grain_diameter", 0.1e-3, 3.2e-3, "m",
-                  f"{_LI} sec. 3 scaling routine ~0.1 to ~1 mm, table S1 media up to 3.2 mm", 1e3, "mm")
 _SG = "SGRFT (MDPI 2022)"
+#: ``rft`` and ``depth_only``: Li's fit
+LI_RANGES = (
+    Range("speed", None, 1.0, "m/s", f"{_LI} sec. 2: force within 20 % from 1 cm/s to 1 m/s"),
+    Range("depth", None, 0.0762 + 0.0381 / 2, "m", f"{_LI} sec. 2: alpha fitted with the plate at depths 2.54, 5.08 "
+          "and 7.62 cm, its 3.81 cm length reaching 1.91 cm deeper", 100.0, "cm"),
+    Range("grain_diameter", 0.1e-3, 3.2e-3, "m", f"{_LI} sec. 3 scaling routine ~0.1 to ~1 mm, table S1 media up to "
+          "3.2 mm", 1e3, "mm"),
+)
+WET_RANGES = (Range("speed", None, 0.050, "m/s", f"{_SG}: tests at 10-50 mm/s", 1e3, "mm/s"),
+              Range("depth", None, 0.070, "m", f"{_SG}: tests at 0-60 mm with a 20 mm plate", 1e3, "mm"),
+              Range("grain_diameter", None, 1e-3, "m", f"{_SG}: sea sand, particle diameter <= 1 mm", 1e3, "mm"))
+HYBRID_RANGES = (Range("speed", None, 1.0, "m/s", "hybrid model: bar drags at 1-100 cm/s"),
+                 Range("depth", None, 0.04, "m", "hybrid model: bar drags at 2-4 cm, legs reaching 4 cm", 100.0, "cm"))
+_AGARWAL = "Agarwal 2023 example inputs (granular-physics.md sec. 2)"
+RFT3D_RANGES = (Range("speed", None, 1.0, "m/s", "quasi-static like Li's fit (mjrft's choice; Agarwal 2023 gives "
+                      "none)"),
+                Range("rho_bulk", 1310.0, 1700.0, "kg/m^3", _AGARWAL),
+                Range("mu_int", 0.21, 1.07, "", _AGARWAL))
 INERTIAL_SPEED = Range("speed", None, 2 * math.pi * 12.0 * 0.02, "m/s",
-                       "inertial regime: DynaRoACH paper, legs 2 cm hip to tip at up to 12 Hz, penetration up to ~1 m/s "
-                       "(fig. 4B)")
-RANGES: dict[str, tuple[Range, ...]] = {
-    "rft": (_LI_SPEED, _LI_DEPTH, _LI_GRAIN),
-    "depth_only": (_LI_SPEED, _LI_DEPTH, _LI_GRAIN),
-    "wet": (Range("speed", None, 0.050, "m/s", f"{_SG}: tests at 10-50 mm/s", 1e3, "mm/s"),
-            Range("depth", None, 0.070, "m", f"{_SG}: tests at 0-60 mm with a 20 mm plate", 1e3, "mm"),
-            Range("grain_diameter", None, 1e-3, "m", f"{_SG}: sea sand, particle diameter <= 1 mm", 1e3, "mm")),
-    "hybrid": (Range("speed", None, 1.0, "m/s", "hybrid model: bar drags at 1-100 cm/s"),
-               Range("depth", None, 0.04, "m", "hybrid model: bar drags at 2-4 cm, legs reaching 4 cm", 100.0, "cm")),
-    "rft3d": (Range("speed", None, 1.0, "m/s", "quasi-static like Li's fit (mjrft's choice; Agarwal 2023 gives none)"),
-              Range("rho_bulk", 1310.0, 1700.0, "kg/m^3", "Agarwal 2023 example inputs (granular-physics.md sec. 2)"),
-              Range("mu_int", 0.21, 1.07, "", "Agarwal 2023 example inputs (granular-physics.md sec. 2)")),
-    "water": (),
-}
+                       "inertial regime: DynaRoACH paper, legs 2 cm hip to tip at up to 12 Hz, penetration up to "
+                       "~1 m/s (fig. 4B)")
 STATIC = ("grain_diameter", "rho_bulk", "mu_int")
 DYNAMIC = ("speed", "depth")
 
@@ -125,10 +126,17 @@ def static_quantity(medium, quantity: str) -> float | None:
     raise ValueError(f"unknown static quantity {quantity!r}; valid choices: {', '.join(STATIC)}")
 
 
+def _law(name: str):
+    """The law's entry in :mod:`mjrft.laws.registry` (imported here: the table imports the ranges above)."""
+    from .registry import get_law
+
+    return get_law(name)
+
+
 def check_static(law: str, medium) -> list[tuple[Range, float]]:
     """The (range, value) pairs of ``law``'s static ranges that ``medium`` leaves."""
     out = []
-    for r in RANGES.get(law, ()):
+    for r in _law(law).ranges:
         if r.quantity in STATIC:
             v = static_quantity(medium, r.quantity)
             if v is not None and math.isfinite(v) and not r.contains(v):
@@ -139,8 +147,9 @@ def check_static(law: str, medium) -> list[tuple[Range, float]]:
 def dynamic_ranges(law: str, inertial: bool = False) -> tuple[Range, ...]:
     """The depth and speed ranges of ``law``; with ``inertial`` (a dry law with the inertial regime on) the
     speed range is :data:`INERTIAL_SPEED`."""
-    out = tuple(r for r in RANGES.get(law, ()) if r.quantity in DYNAMIC)
-    if inertial and law in ("rft", "rft3d", "depth_only"):
+    entry = _law(law)
+    out = tuple(r for r in entry.ranges if r.quantity in DYNAMIC)
+    if inertial and entry.dry:
         out = tuple(INERTIAL_SPEED if r.quantity == "speed" else r for r in out)
     return out
 

@@ -125,7 +125,6 @@ from numba import njit
 
 from ..errors import check_finite, check_positive
 from ..media import N_CM3, P_FIRST_FREE, generic
-from . import registry
 from .rft import rft_stress
 
 # --- SGRFT constants (table 3 and section 3 of the reference) ---------------------------------
@@ -250,7 +249,8 @@ def wet_constants(medium) -> dict:
     return c
 
 
-def _wet_params(medium, p):
+def wet_params(medium, p):
+    """The wet law's and the water layer's constants of ``medium`` into its parameter vector ``p``."""
     c = wet_constants(medium)
     p[P_WET_K] = c["wet_eps_v"] / c["wet_dv"]
     p[P_WET_VBASE] = c["wet_v_base"]
@@ -259,10 +259,6 @@ def _wet_params(medium, p):
     p[P_WATER_DEPTH] = c["water_depth"]
     p[P_WATER_DRAG] = c["drag_coefficient"] * c["water_density"]
     p[P_WATER_SKIN] = c["water_skin"]
-
-
-if not any(getattr(h, "__module__", None) == __name__ and h.__name__ == "_wet_params" for h in registry.PARAM_HOOKS):
-    registry.PARAM_HOOKS.append(_wet_params)
 
 
 def dry_reference(name: str = "sea_sand_dry_reference"):
