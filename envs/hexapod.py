@@ -97,20 +97,17 @@ class HexapodSand(GranularMujocoEnv):
 
     ## Roll and heading under the open-loop tripod
 
-    The free body rocks and can take a new heading while the gait starts. Measured with
-    ``tripod`` at 2 Hz (``seed=0``, 6 s): with C-legs (default) the steady cycle rolls +-37 deg on
-    poppy_cp and +-33 deg on poppy_lp, with 28 / 23 deg of pitch. Each tripod then stands on its middle
-    and rear legs: each front leg takes 2 % of the legs' vertical impulse (7 % when the body is held
-    planar), so the body rocks between two diagonal supports. Reversed C-legs roll +-9 deg. The
-    heading is set in the first 1 to 2 s, when the body goes from rest into this cycle: -76 deg
-    (poppy_cp) and +34 deg (poppy_lp) with C-legs, +5 deg with reversed C-legs on poppy_lp. After that
-    it turns less than 1.1 deg/s. The model, coupler and gait are mirror-symmetric: a start with
-    tripod B leading gives the mirror path (``tests/models/test_hexapod_symmetry.py``). So the direction of
-    the turn comes from which tripod carries the body first, and nothing in the open-loop gait steers
-    it back. Settling the body on the bed before the gait starts, starting on the gait's pose, a
-    finer element size, a shorter control step, the ``rft3d`` law, wider hips, the published 2 cm
-    belly and a larger roll inertia do not remove it. Held in the sagittal plane (``planar=True``, as
-    in Li 2013's simulation) the body walks straight.
+    The free body rocks about its roll axis and can turn. Measured with ``tripod`` at 1-5 Hz (10 s,
+    ``seed=0``, ``max_hip_speed=12 pi``; ``python benchmarks/free_tripod.py``, output in
+    ``benchmarks/results/free_tripod.txt``): with C-legs the body rolls +-8-12 deg on poppy_lp and +-12-21 deg on poppy_cp, with
+    reversed C-legs less; the largest torso tilt is 27 deg. The heading stays within 10 deg at 1-3 Hz
+    on both media. With C-legs at 4-5 Hz on poppy_cp (and 5 Hz on poppy_lp) the robot turns steadily
+    after the start (88 deg in 10 s at 4 Hz, several turns at 5 Hz on poppy_cp; 25 deg at 5 Hz on
+    poppy_lp): the belly, which carries 40-60 % of the weight, supplies most of the turning moment
+    (-1.8 mN m against -0.5 mN m from the six legs at 5 Hz on poppy_cp). The model, coupler and gait are
+    mirror-symmetric: a start with tripod B leading gives the mirror path
+    (``tests/models/test_hexapod_symmetry.py``). Held in the sagittal plane (``planar=True``, as in Li
+    2013's simulation) the body walks straight.
     """
 
     base_model = "hexapod"

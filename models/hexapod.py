@@ -17,10 +17,16 @@ B = rf, lm, rr (also stored as ``<custom>`` texts ``robot:tripod_a`` / ``_b``).
 
 Variant ``"rhex"`` (RHex-class, reference section 6):
 
-* torso box 13 cm long x 5 cm wide x 2 cm tall (the width is our choice: the
-  reference gives only the 13 cm length and the 13 x 2 cm belly), hips at
-  x = +5, 0, -5 cm in the belly plane (z = -1 cm in the torso frame), at
-  y = +-3.2 cm (just outside the 5 cm wide body, 2 mm clearance);
+* torso box 13 cm long x 4.9 cm wide x 3.7 cm tall, hips at x = +5, 0, -5 cm at the torso's
+  mid-height (1.85 cm above the belly), at y = +-3.15 cm (just outside the body, 2 mm clearance).
+  Li 2013 gives the 13 cm length, the 150 g mass, the pitch inertia and the centre of mass at the
+  geometric centre, not the width, height or hip height; those are RHex's (Saranli, Buehler &
+  Koditschek 2001; RHex 0.0, U. Michigan's RHex platform page: body 53 x 20 x 15 cm, 17.5 cm legs,
+  10 cm ground clearance, so the hip axles sit 7.5 cm above the belly, at the body's mid-height),
+  scaled by the body length 13 / 53: 20 -> 4.9 cm wide, 15 -> 3.7 cm tall, hips at mid-height
+  (the scaled 17.5 cm leg, 4.3 cm, is Li's 4.1 cm leg within 5 %). The belly is therefore 13 x 4.9 cm
+  where Li's robot, stripped of its shell, had 13 x 2 cm: a 2 cm wide torso on the same hips rolls over
+  under the open-loop tripod (the RHex frame's width carries the roll);
 * legs: chord 2R' = 4.1 cm, width 1.0 cm, thickness 0.3 cm, 8 box segments,
   2 g each; curvature in [-1/R', 1/R'] (R' = 2.05 cm), default 1/R' (the
   semicircular C-leg);
@@ -47,7 +53,9 @@ legs into the grains above the critical speed (Zhang et al., DynaRoACH paper);
 ``inertial=False`` turns it off. The RHex-class variant leaves it off.
 
 The torso starts so that the lowest leg point is 0.5 mm above z = 0 (the
-sand surface or the rigid floor), i.e. the belly is about one leg chord up.
+sand surface or the rigid floor), i.e. the belly of the RHex-class robot is 2.3 cm up
+(the leg chord below the hips, less the hips' height above the belly; the small one's, with its hips in
+the belly plane, one leg chord).
 
 Root joint: a free joint ``root`` (default), or with ``planar=True`` the body
 held in the sagittal (x-z) plane as Li 2013's robot simulation held it
@@ -98,6 +106,7 @@ class HexapodVariant:
     leg_mass: float
     hip_x: float  # front hip at +hip_x, middle at 0, rear at -hip_x
     hip_gap: float  # lateral clearance between body side and leg
+    hip_height: float  # hip axles above the belly (the torso's bottom face)
     pitch_inertia: float | None  # whole-robot pitch inertia about the CoM (kg m^2)
     kp: float
     kv: float
@@ -110,16 +119,16 @@ class HexapodVariant:
 
 VARIANTS: dict[str, HexapodVariant] = {
     "rhex": HexapodVariant(
-        body_length=0.13, body_width=0.05, body_height=0.02, total_mass=0.150,
+        body_length=0.13, body_width=0.049, body_height=0.037, total_mass=0.150,
         leg_chord=0.041, leg_width=0.010, leg_thickness=0.003, leg_mass=0.002,
-        hip_x=0.05, hip_gap=0.002, pitch_inertia=2.08e-4,
+        hip_x=0.05, hip_gap=0.002, hip_height=0.0185, pitch_inertia=2.08e-4,
         kp=2.0, kv=0.02, torque_limit=0.3, armature=1e-5, damping=1e-4,
         resolution=0.005, default_curvature=1.0 / 0.0205,
     ),
     "small": HexapodVariant(
         body_length=0.10, body_width=0.045, body_height=0.015, total_mass=0.025,
         leg_chord=0.02, leg_width=0.007, leg_thickness=0.002, leg_mass=0.0004,
-        hip_x=0.04, hip_gap=0.0015, pitch_inertia=None,
+        hip_x=0.04, hip_gap=0.0015, hip_height=0.0, pitch_inertia=None,
         kp=0.2, kv=1e-3, torque_limit=0.05, armature=1e-6, damping=1e-5,
         resolution=0.005, default_curvature=1.0 / 0.01,
     ),
@@ -131,7 +140,7 @@ R_PRIME = {name: v.leg_chord / 2.0 for name, v in VARIANTS.items()}
 
 def _hip_positions(v: HexapodVariant) -> dict[str, tuple[float, float, float]]:
     y = v.body_width / 2.0 + v.hip_gap + v.leg_width / 2.0
-    z = -v.body_height / 2.0
+    z = -v.body_height / 2.0 + v.hip_height
     xs = {"f": v.hip_x, "m": 0.0, "r": -v.hip_x}
     return {name: (xs[name[1]], y if name[0] == "l" else -y, z) for name in LEG_NAMES}
 
@@ -175,7 +184,8 @@ def _leg_kind(k: float) -> str:
 def _build(v, variant, curvature, n_segments, opts, torso_inertia, kp, kv, torque_limit, planar=False) -> str:
     k = curvature
     leg_z_min = _lowest_leg_point(v.leg_chord, k, v.leg_width, v.leg_thickness, n_segments)
-    z0 = v.body_height / 2.0 - leg_z_min + CLEARANCE + opts.surface
+    lowest = min(-v.body_height / 2.0, -v.body_height / 2.0 + v.hip_height + leg_z_min)  # torso frame
+    z0 = -lowest + CLEARANCE + opts.surface
     torso_mass = v.total_mass - 6 * v.leg_mass
     half = (v.body_length / 2.0, v.body_width / 2.0, v.body_height / 2.0)
     cam_pos = np.array([0.25, -0.35, 0.18]) * v.body_length / 0.13

@@ -372,7 +372,8 @@ def run_robot(quick: bool) -> CaseResult:
         name="li2013_robot", title="RHex-class robot: speed vs stride frequency and leg curvature", paper=CITE,
         source="Materials and Methods (robot experiments, robot simulation); section 5, figs. S13-S14",
         setup=(f"mjrft/HexapodSand-v0 with planar=True (torso in the sagittal plane: x, z and pitch, as Li's MBDyn "
-               f"simulation), 13 x 5 x 2 cm torso, 150 g, pitch inertia 2.08e3 g cm^2, six legs 4.1 x 1.0 x 0.3 cm of "
+               f"simulation), 13 x 4.9 x 3.7 cm torso with the hips at its mid-height, 150 g, pitch inertia 2.08e3 g cm^2, "
+               f"six legs 4.1 x 1.0 x 0.3 cm of "
                f"curvature 1/r in 1/R' (R' = 2.05 cm), alternating tripod of constant-speed leg rotation (gait "
                f"tripod: duty 0.5, sweep pi) at f = {', '.join(f'{f:g}' for f in freqs)} Hz; speed vs curvature at "
                f"{', '.join(f'{f:g}' for f in s['sweep_freqs'])} Hz over 1/r = "
@@ -386,8 +387,8 @@ def run_robot(quick: bool) -> CaseResult:
                f"model's) follow the commanded rotation: realised stride frequency within {100 * f_dev:.1f} % of f in "
                f"every trial. Li's legs rotate at constant speed (one motor, a gear train), hence duty 0.5 and sweep "
                f"pi. The env's hip speed bound is {MAX_HIP_SPEED / (2 * math.pi):g} rev/s (the gait needs f). The "
-               f"torso's width (5 cm) and the legs' 2 mm clearance from its sides are the model's choices (Li gives "
-               f"the 13 x 2 cm belly). The measured speeds of fig. S13 / the main paper's fig. 4 are not in the "
+               f"torso's width, height and hip height are RHex's scaled to the 13 cm body (mjrft.models.hexapod; Li "
+               f"gives the 13 x 2 cm belly), the legs' 2 mm clearance from its sides is the model's choice. The measured speeds of fig. S13 / the main paper's fig. 4 are not in the "
                f"source texts: no simulated speed is compared with a measured one; the medium's fit stands in for "
                f"the measurement where the text compares with it. Li checked that the legs' speed averaged over a "
                f"stance stays below 1 m/s at 5 Hz; the leg tips pass it (2 pi f x 4.1 cm = 1.29 m/s at 5 Hz), hence "

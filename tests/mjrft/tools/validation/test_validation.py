@@ -747,13 +747,27 @@ def li2013_robot_similar_speeds_rejects_the_fit():
     assert not li2013_robot.similar_speeds_check("x", [f], {f: 1.0}, {f: 1.0}, {f: math.pi}).passed
 
 
-@control("li2013_robot", "upright rejects the depth-only abrupt start",
+@control("li2013_robot", "upright rejects a robot on its back",
          marks=(pytest.mark.filterwarnings("ignore::mjrft.ValidityRangeWarning"),))
-def li2013_robot_upright_rejects_the_depth_only_abrupt_start():
-    """The depth-only robot started with every leg down (tripod B catching up at full speed) turns over at 4 Hz."""
-    r = li2013_robot.trial(1.0, 4.0, "depth_only", 2, start="env")
-    assert r["tilt"] > UPRIGHT_TILT
-    assert not li2013_robot.upright_check("depth-only", r["tilt"]).passed
+def li2013_robot_upright_rejects_a_robot_on_its_back():
+    """The planar robot started pitched half a turn (on its back) and driven by the tripod for 0.5 s: its tilt,
+    read as the case reads it, fails the upright check; started upright it passes."""
+    tilts = {}
+    for pitch in (0.0, math.pi):
+        env = gymnasium.make("mjrft/HexapodSand-v0", planar=True, medium="poppy_lp", terminate_when_unhealthy=False,
+                             reset_noise_scale=0.0)
+        u = env.unwrapped
+        obs, _ = env.reset(seed=0)
+        u.data.qpos[2] = pitch  # rooty
+        u.data.qpos[1] += 0.03 if pitch else 0.0  # rootz: the legs, now up, clear the surface
+        gait = make_gait("tripod:f=2", env)
+        tilt = 0.0
+        for _ in range(50):
+            obs, *_ = env.step(gait.predict(obs)[0])
+            tilt = max(tilt, u.torso_tilt())
+        tilts[pitch] = tilt
+    assert tilts[math.pi] > UPSIDE_DOWN and not li2013_robot.upright_check("on its back", tilts[math.pi]).passed
+    assert li2013_robot.upright_check("upright", tilts[0.0]).passed
 
 
 @control("li2013_robot", "phase spread reads much less as ten times below")
