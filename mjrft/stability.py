@@ -25,7 +25,7 @@ HELD_STEPS = 3  # consecutive steps beyond the stability limit that warn (docs/n
 SPIKE_GROWTH = 2.0  # growth of a perturbation in a single step that warns even for a shorter spike
 # Chatter (docs/numerics.md, "Chatter"): a body whose granular force reverses its change on CHATTER_STEPS consecutive
 # steps, each change larger than CHATTER_AMPLITUDE of the force, oscillates with the step's period 2, not the physics'
-CHATTER_STEPS = 8
+CHATTER_STEPS = 50
 CHATTER_AMPLITUDE = 0.05
 CHATTER_SLOT = HELD_STEPS + 1  # the slot of ``stiff_max`` (nbody, TRACK_SLOTS, 10) that track_chatter keeps
 TRACK_SLOTS = HELD_STEPS + 2

@@ -26,7 +26,7 @@ def alternating(n: int, amplitude: float, mean=(0.0, 0.0, 100.0)) -> np.ndarray:
 
 
 def test_alternating_force_is_reported_with_its_size():
-    found = run(alternating(40, 0.5))  # 50 N +- 50 N: 150 and 50
+    found = run(alternating(2 * CHATTER_STEPS, 0.5))  # 100 N +- 50 N: 150 and 50
     assert len(found) == 1
     body, steps, change, force = found[0]
     assert body == 1 and steps >= CHATTER_STEPS and change > 0.5 and force == 150.0
@@ -37,7 +37,7 @@ def test_alternating_force_is_reported_with_its_size():
 def test_record_is_cleared_by_each_report():
     wrench = np.zeros((2, 6))
     slots = np.zeros((2, TRACK_SLOTS, 10))
-    for f in alternating(20, 0.5):
+    for f in alternating(2 * CHATTER_STEPS, 0.5):
         wrench[1, :3] = f
         track_chatter(wrench, np.array([1]), slots)
     assert chattering(slots, [1]) and not chattering(slots, [1])
@@ -45,7 +45,7 @@ def test_record_is_cleared_by_each_report():
 
 def test_controls_a_short_a_small_and_a_smooth_change_are_not_reported():
     assert not run(alternating(CHATTER_STEPS, 0.5))  # too few reversals (the first change has no predecessor)
-    assert not run(alternating(40, 0.5 * CHATTER_AMPLITUDE))  # below the amplitude
+    assert not run(alternating(4 * CHATTER_STEPS, 0.5 * CHATTER_AMPLITUDE))  # below the amplitude
     t = np.linspace(0.0, 1.0, 200)[:, None]
     assert not run(100.0 + np.hstack([0 * t, 0 * t, 30.0 * np.sin(2 * np.pi * 3 * t)]))  # a gait's smooth load
     # a step change and a decaying ring-down over fewer than CHATTER_STEPS reversals

@@ -85,8 +85,7 @@ def test_quadruped_rests_on_sand_carrying_its_weight_on_every_step(name):
     assert terrain.wrench[feet, 2].sum() / weight(m) > 0.8  # the feet carry it
     assert d.xmat[1][8] > 0.99  # upright
     assert 0.0 < terrain.sinkage()[feet].min() and terrain.sinkage()[feet].max() < 0.3
-    # the chatter check is silent once it rests; a chattering landing is warned about before 0.5 s at most
-    assert all("chatters" in t and float(t.split("before t = ")[1].split(" s")[0]) < 0.5 for t in texts), texts
+    assert not texts  # neither the stability limit (the implicit step's is the depth stiffness's) nor chatter
 
 
 @pytest.mark.parametrize("name", ROBOTS)
@@ -105,9 +104,10 @@ def test_the_explicit_step_at_the_same_timestep_chatters_and_is_warned_about(nam
 
 
 def test_chatter_check_is_silent_on_a_resolved_rest():
-    """dm_control's quadruped with the implicit step at its 5 ms: no chatter warning from the landing on."""
+    """dm_control's quadruped with the implicit step at its 5 ms, from the landing on: no warning, and the load
+    within 1e-3 of the weight on every step of the last second."""
     m, d, terrain, load, texts = stand("dm_quadruped", implicit=True)
-    assert not texts and np.abs(last_second(m, load) - 1.0).max() < 1e-3  # measured 6e-5
+    assert not texts and np.abs(last_second(m, load) - 1.0).max() < 1e-3  # measured 5.8e-5
 
 
 # ----------------------------------------------------------------- walking
