@@ -115,9 +115,10 @@ def resolve(preset: str | None, *, medium=None, law=None, resolution=None, times
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
     scale = p.get("resolution_scale", 1.0) if resolution is None else 1.0
+    if timestep is not None:
+        timestep = check_positive("timestep", timestep)
     return EnvSettings(medium=None if medium is None else get_medium(medium), law=law, resolution=resolution,
-                       resolution_scale=scale, timestep=None if timestep is None else check_positive("timestep", timestep),
-                       frame_skip=check_frame_skip(frame_skip))
+                       resolution_scale=scale, timestep=timestep, frame_skip=check_frame_skip(frame_skip))
 
 
 __all__ = ["FRAME_SKIP", "PRESETS", "EnvSettings", "check_frame_skip", "get_preset", "resolve"]
