@@ -32,7 +32,7 @@ from mjrft import kernel as current
 from mjrft.models import hexapod_model, hexapod_shoal_model
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-RESOLUTION = 0.0042  # bench_step's fine resolution (2,266 elements on the hexapod)
+RESOLUTION = 0.0042  # bench_step's fine resolution (2,610 elements on the hexapod)
 SCENES = (  # label, model, start x (m), terrain keyword arguments
     ("dry poppy", hexapod_model, 0.0, {}),
     ("shoal saturated", hexapod_shoal_model, 0.65, {}),
