@@ -333,10 +333,7 @@ def test_a_consistency_check_states_why_and_is_counted_apart():
 def test_wrong_physics_variants():
     from mjrft.media import get_medium
 
-    try:  # the slots GranularTerrain's stress_scale multiplies
-        from mjrft.laws.registry import STRESS_SLOTS
-    except ImportError:
-        from mjrft.regions import STRESS_SLOTS
+    from mjrft.laws.registry import STRESS_SLOTS  # the slots GranularTerrain's stress_scale multiplies
 
     # x2 / x0.5 scale exactly the slots GranularTerrain's stress_scale multiplies, in every law's constants
     hybrid_sand = get_medium("generic").with_extra(hybrid_unit_weight=13000.0)
