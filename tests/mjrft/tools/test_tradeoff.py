@@ -285,9 +285,12 @@ def test_env_explicit_kwargs_override_preset(gymnasium):
     assert u.terrain.law == "depth_only" and u.terrain.resolution == 0.01
     assert u.model.opt.timestep == 0.001 and u.frame_skip == 5
     env.close()
-    # no preset: the model's own settings, as before presets existed
+    # no preset: the model's own resolution and the sand hexapod's own step (mjrft.envs.hexapod.SAND_TIMESTEP)
+    from mjrft.envs.hexapod import SAND_FRAME_SKIP, SAND_TIMESTEP
+
     u = gymnasium.make("mjrft/HexapodSand-v0", max_episode_steps=5).unwrapped
-    assert u.terrain.resolution == 0.005 and u.model.opt.timestep == 0.001 and u.frame_skip == 10
+    assert u.terrain.resolution == 0.005 and u.model.opt.timestep == SAND_TIMESTEP == 0.0005
+    assert u.frame_skip == SAND_FRAME_SKIP == 20
 
 
 def test_env_unknown_preset_lists_valid_names(gymnasium):
