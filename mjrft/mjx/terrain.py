@@ -17,7 +17,7 @@ arrays and evaluates the granular wrench of one world as a pure function of an `
 Implicit step (a terrain built with ``implicit=True``, as :class:`~mjrft.GranularTerrain`'s; docs/numerics.md,
 "Implicit step"): :meth:`Sand.step` applies the linearly implicit wrench instead, which keeps the
 grains' springs stable at any timestep. The element pass also sums per body the moments of ``T k`` of its
-elements below yield (the 6x6 ``G``), ``fwd_actuation`` and ``fwd_acceleration`` give the smooth acceleration
+elements that hold (the 6x6 ``G``), ``fwd_actuation`` and ``fwd_acceleration`` give the smooth acceleration
 without the grains, and the bodies with elements have their wrench solve ``(I + dt G W) F' = F - G dV_o``
 (:meth:`Sand.implicit_wrench`: one ``6 nb`` linear system per world, ``nb`` the bodies with elements); the
 memory is the explicit evaluation's, and ``state.wrench`` holds ``F'``. :meth:`Sand.wrench` stays explicit.
@@ -59,6 +59,7 @@ from mujoco.mjx._src.smooth import solve_m
 
 from ..coupler import STRESS_SLOTS, GranularTerrain
 from ..errors import NonFiniteError, check_positive
+from ..implicit_step import HOLD_FRACTION
 from ..media import get_medium
 from .laws import law_function
 
@@ -240,15 +241,16 @@ class Sand:
         f = jnp.where(moving[:, None], stress * (area * mob)[:, None], 0.0)
         tk = None
         if implicit:  # the springs' stiffness comes from the force at full mobilisation
-            tk = self._spring_tk(jnp.where(moving[:, None], stress * area[:, None], 0.0), ml, vel, dt)
+            tk = self._spring_tk(jnp.where(moving[:, None], stress * area[:, None], 0.0), ml, vel, dt, u)
         return f, u, tk
 
-    def _spring_tk(self, f_yield, ml, vel, dt):
+    def _spring_tk(self, f_yield, ml, vel, dt, u):
         """Each element's ``T k`` for the implicit step (mjrft.kernel's ``_add_implicit``; docs/numerics.md,
         "Implicit step"): the linearised stiffness ``k = |F_yield| / max(|m|, delta)`` (the damper
         ``|F| / max(|v|, v_eps)`` in the viscous mode) times ``T = tau + delta (1 - exp(-|v| dt / delta)) / |v|``
-        (``tau + dt`` at rest; 1 in the viscous mode) for elements below yield (``|m| <= delta``; viscous:
-        ``|v| <= v_eps``), 0 for the others (a yielding element's force only turns and stays explicit)."""
+        (``tau + dt`` at rest; 1 in the viscous mode) for elements that hold: below yield (``|m| <= delta``;
+        viscous: ``|v| <= v_eps``) or with their memory ``u`` within ``HOLD_FRACTION`` of ``delta`` (mjrft.kernel's
+        ``_holds``); 0 for the sliding others (their force only turns and stays explicit)."""
         f_mag = jnp.sqrt(jnp.sum(f_yield * f_yield, axis=-1))
         if self.delta > 0.0:
             limit = self.delta
@@ -262,7 +264,10 @@ class Sand:
         else:
             return jnp.zeros_like(f_mag)
         k = f_mag / jnp.maximum(ml, limit)
-        return jnp.where((ml <= limit) & (k > 0.0), t * k, 0.0)
+        holds = ml <= limit
+        if self.delta > 0.0:
+            holds = holds | (jnp.sum(u * u, axis=-1) <= (HOLD_FRACTION * self.delta) ** 2)
+        return jnp.where(holds & (k > 0.0), t * k, 0.0)
 
     def wrench(self, d, state: SandState, dt) -> tuple[jax.Array, SandState]:
         """The granular wrench (nbody, 6: force, torque about each body's CoM, world frame) on ``d``'s current
@@ -275,8 +280,8 @@ class Sand:
 
     def _evaluate(self, d, state: SandState, dt, implicit: bool):
         """The element pass: (wrench (nbody, 6), new memory (n, 3), sinkage (nbody,), non-finite bodies (nbody,
-        bool), more than ``cull`` buried (bool), the per-body moments (nbody, 10) of the elements' ``T k`` below
-        yield (``sum Tk``, ``sum Tk r``, ``sum Tk r r^T`` as ``xx xy xz yy yz zz``, r from the body's CoM) with
+        bool), more than ``cull`` buried (bool), the per-body moments (nbody, 10) of the elements' ``T k`` that hold
+        (``sum Tk``, ``sum Tk r``, ``sum Tk r r^T`` as ``xx xy xz yy yz zz``, r from the body's CoM) with
         ``implicit``, else None)."""
         pos, nrm, vel = self.element_kinematics(d)
         dtype = pos.dtype
@@ -411,7 +416,7 @@ class Sand:
     def implicit_wrench(self, m, d, w, moments, dt):
         """The linearly implicit wrench (the CPU terrain's implicit step, mjrft.implicit_step; docs/numerics.md,
         "Implicit step") of the bodies with elements, from the explicit wrench ``w`` (nbody, 6) and the moments
-        (nbody, 10) of their elements' ``T k`` below yield, on ``d`` after ``fwd_acceleration`` without the grains (its
+        (nbody, 10) of their elements' ``T k`` that hold, on ``d`` after ``fwd_acceleration`` without the grains (its
         ``qacc_smooth``, ``cdof`` and mass-matrix factor). Per body ``G_b`` is the 6x6 of the moments
         (:func:`k6`); the bodies with springs (``sum T k > 0``) have their wrench ``F'`` solve
         ``(I + dt G W) F' = F - G dV_o``, ``W = J M^-1 J^T`` (their CoM jacobians :meth:`com_jacobians`) and

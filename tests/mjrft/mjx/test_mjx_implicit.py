@@ -55,7 +55,7 @@ def replay_walk(kw: dict, every: int = 50, count: int = 12):
 
 def _zero_springs(sand: rmjx.Sand) -> rmjx.Sand:
     """``sand`` with every element's T k replaced by 0 (G = 0: the implicit system becomes the identity)."""
-    sand._spring_tk = lambda f_yield, ml, vel, dt: jnp.zeros(f_yield.shape[:-1], f_yield.dtype)
+    sand._spring_tk = lambda f_yield, ml, vel, dt, u: jnp.zeros(f_yield.shape[:-1], f_yield.dtype)
     return sand
 
 
