@@ -304,19 +304,19 @@ def test_compiled_rate_matches_numpy():
         assert kernel.largest_rate(jac, minv_jac, moments) == pytest.approx(expected, rel=1e-8)
 
 
-@pytest.mark.parametrize("env_id,gait,kwargs", [
-    ("mjrft/HexapodSand-v0", "tripod", {}),
-    ("mjrft/HexapodSand-v0", "tripod:f=2.5", {"variant": "small"}),
-    ("mjrft/BipedSand-v0", "rect", {"pitch_free": False}),
-    ("mjrft/HumanoidSand-v0", "stand", {}),
+@pytest.mark.parametrize("env_id,gait,kwargs,timestep", [
+    ("mjrft/HexapodSand-v0", "tripod", {}, 5e-4),
+    ("mjrft/HexapodSand-v0", "tripod:f=2.5", {"variant": "small"}, 5e-4),
+    ("mjrft/BipedSand-v0", "rect", {"pitch_free": False}, 1e-3),
+    ("mjrft/HumanoidSand-v0", "stand", {}, 1e-3),
 ])
-def test_bundled_robots_at_their_1ms_defaults_do_not_warn(env_id, gait, kwargs):
+def test_bundled_robots_at_their_default_timesteps_do_not_warn(env_id, gait, kwargs, timestep):
     gymnasium = pytest.importorskip("gymnasium")
     import mjrft.envs  # noqa: F401  (registers the ids)
     from mjrft.tools.gaits import make_gait
 
     env = gymnasium.make(env_id, **kwargs)
-    assert env.unwrapped.model.opt.timestep == 1e-3
+    assert env.unwrapped.model.opt.timestep == timestep
     policy = make_gait(gait, env)
     obs, _ = env.reset(seed=0)
     with warnings.catch_warnings():
