@@ -18,6 +18,7 @@ from gymnasium.utils.env_checker import data_equivalence  # noqa: E402
 from gymnasium.vector import AutoresetMode  # noqa: E402
 
 from mjrft.envs import ENV_IDS, VECTOR_ENTRY_POINTS, make_vector  # noqa: E402
+from mjrft.envs.hexapod import SAND_FRAME_SKIP  # noqa: E402
 from mjrft.envs.vector import GranularVectorEnv, unbatch_infos  # noqa: E402
 
 HEX = "mjrft/HexapodSand-v0"
@@ -222,7 +223,7 @@ def test_vector_api_contract_and_seeding(run_both):
     assert term.dtype == np.bool_ and trunc.dtype == np.bool_ and term.shape == trunc.shape == (4,)
     assert infos["granular_force"].shape == (4, 6, 3) and infos["x_velocity"].dtype == np.float64
     assert [e.np_random_seed for e in envs.envs] == [11, 12, 13, 14]
-    assert envs.get_attr("frame_skip") == (10,) * 4 and envs.call("foot_sinkage")[3].shape == (6,)
+    assert envs.get_attr("frame_skip") == (SAND_FRAME_SKIP,) * 4 and envs.call("foot_sinkage")[3].shape == (6,)
     # seeding reproduces trajectories; another seed gives another start
     other = make_vector(HEX, 4)
     assert run_both(envs, other, 3, reset_seed=21) == 0
@@ -293,7 +294,7 @@ def test_sb3_adapter_equals_dummy_vec_env():
 
     from mjrft.envs.vector import SB3VecEnv
 
-    kw = dict(max_episode_steps=4, healthy_z_range=(0.046, 0.5))  # both endings happen in 10 steps
+    kw = dict(max_episode_steps=3, healthy_z_range=(0.039, 0.5))  # both endings happen in 10 steps
     dummy = DummyVecEnv([lambda: gymnasium.make(HEX, **kw) for _ in range(3)])
     adapters = [SB3VecEnv(HEX, num_envs=3, **kw),
                 SB3VecEnv(make_vector(HEX, 3, autoreset_mode="Disabled", **kw))]
@@ -330,5 +331,5 @@ def test_sb3_ppo_learns_a_few_hundred_steps():
     model.learn(total_timesteps=256)
     assert model.num_timesteps >= 256
     assert any(not torch.equal(a, b) for a, b in zip(before, model.policy.parameters()))
-    assert venv.get_attr("frame_skip") == [10] * 4 and venv.env_is_wrapped(gymnasium.Wrapper) == [False] * 4
+    assert venv.get_attr("frame_skip") == [SAND_FRAME_SKIP] * 4 and venv.env_is_wrapped(gymnasium.Wrapper) == [False] * 4
     venv.close()
