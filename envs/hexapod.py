@@ -16,8 +16,8 @@ from .randomization import DEFAULT_SURFACE_GRID, TerrainRandomization
 
 #: the sand envs' physics step (s) and steps per env step when neither ``preset``, ``timestep`` nor
 #: ``frame_skip`` is given: 0.5 ms x 20 = the 10 ms control period. The legs' explicit granular-stiffness
-#: limit (:mod:`mjrft.stability`) falls to 0.69-1 ms under the initial PPO policy's random actions on poppy
-#: seeds, below the models' 1 ms step; at 0.5 ms no step passes it (``tests/envs/test_hexapod_timestep.py``).
+#: limit (:mod:`mjrft.stability`) falls to 0.93 ms under 40 s of the initial PPO policy's random actions on
+#: poppy seeds, below the models' 1 ms step; at 0.5 ms no step passes it (``tests/envs/test_hexapod_timestep.py``).
 SAND_TIMESTEP = 0.0005
 SAND_FRAME_SKIP = 20
 
