@@ -176,7 +176,7 @@ def test_smooth_acceleration_includes_the_applied_wrench(corrected):
             return smooth, d, mjx.fwd_acceleration(mx, d), state
 
         smooth, d, full, state = stages(mjx.put_data(model, before), sand.init()._replace(u=jnp.asarray(u)))
-    assert float(np.abs(np.asarray(state.wrench)).max()) > 0.1  # N: measured 0.38
+    assert float(np.abs(np.asarray(state.wrench)).max()) > 0.02  # N: measured 0.065
     for name in ("qfrc_smooth", "qacc_smooth"):
         got, expected = np.asarray(getattr(d, name)), np.asarray(getattr(full, name))
         assert relative(got, expected) < 1e-12, name
@@ -201,12 +201,12 @@ def test_nonfinite_is_reported_not_applied(corrected):
     with pytest.raises(NonFiniteError, match="leg_lf"):
         sand.check(state)
     nan = rmjx.Sand.from_terrain(terrain)
-    nan._spring_tk = lambda f_yield, ml, vel, dt: jnp.full(f_yield.shape[:-1], jnp.nan, f_yield.dtype)
+    nan._spring_tk = lambda f_yield, ml, vel, dt, u: jnp.full(f_yield.shape[:-1], jnp.nan, f_yield.dtype)
     d, state = jax.jit(nan.step)(mx, d0, s0)
     assert int(state.bad_body) in set(sand.imp_rows.tolist()) and not np.any(np.asarray(state.wrench))
     assert np.all(np.isfinite(np.asarray(d.qvel)))  # nothing non-finite reached the dynamics
     d, state = step(mx, d0, s0)  # control: the same state steps normally
-    assert int(state.bad_body) == -1 and np.abs(np.asarray(state.wrench)).max() > 0.1
+    assert int(state.bad_body) == -1 and np.abs(np.asarray(state.wrench)).max() > 0.02
 
 
 # ----------------------------------------------------------------- the Go2 at its own 2 ms (float32)
