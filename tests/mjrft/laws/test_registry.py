@@ -37,7 +37,9 @@ def test_dispatch_has_one_branch_per_law_and_calls_its_stress_function():
     p = MEDIA["poppy_cp"].params()
     args = (0.02, 0.3, 0.0, -0.95, 0.6, 0.0, -0.8, 0.01, p)
     for law in R.LAWS:
-        assert element_stress(law.id, *args) == law.stress(*args), law.name
+        # the dispatch may be compiled with its callee inlined (fastmath contraction): equal to rounding
+        np.testing.assert_allclose(element_stress(law.id, *args), law.stress(*args), rtol=1e-12, atol=1e-12,
+                                   err_msg=law.name)
     assert element_stress(len(R.LAWS), *args) == (0.0, 0.0, 0.0)  # no such law: nothing
     assert element_stress(0, *args) != element_stress(1, *args)  # control: the ids reach different laws
 
