@@ -41,6 +41,14 @@ Checks and tolerances:
   of the measured strides).
 * three initial phases 2 pi/3 apart change the speed by << 1 cm/s (the paper's words), read as at
   least 10x below: < 0.1 cm/s (:data:`~mjrft.tools.validation.case.MUCH_LESS`).
+* the free robot (``mjrft/HexapodSand-v0`` as a user makes it: free joint, the env's start, 10 s episodes,
+  seeds 0-2): C-legs faster than reversed C-legs at every tested f and seed on poppy LP (fig. S13's medium,
+  asserted) and on poppy CP (the env's default; the texts give no robot speeds there); upright (tilt < 60 deg,
+  asserted); on Li's 200 x 50 cm track: the path's heading within atan(25/200) = 7.1 deg in every trial; under the
+  depth-only law on poppy LP, C and reversed C speeds similar (the same reading as the planar check). When a
+  free robot leaves the straight path the case measures why: the two half-cycles' torso height and legs' load,
+  the heading rate, the same trial with the tripods swapped, and (full run) at half the timestep and with 4x the
+  elements.
 * not asserted by the fast test: depth-only's largest speed difference from the fit against the
   published 150 % (which is against the measured speeds: tolerance 50 %, only the size can be
   compared, as in ``li2013_leg_rig``), and the depth-only robot turning upside down with C-legs at
@@ -68,18 +76,24 @@ LAW_LABEL = {"fit": "medium's fit (rft)", "generic": "generic x zeta (rft)", "de
 #: hip speed bound of the env (rad/s): 6 rev/s, above the 5 rev/s the 5 Hz tripod needs (the env's default is 3)
 MAX_HIP_SPEED = 12 * math.pi
 SETTLE = 1.0  # s discarded at the start of each trial (the start from rest)
+EPISODE = 10.0  # s: a free-body trial, the length of one episode of the env at its 10 ms control step
 UPSIDE_DOWN = math.pi / 2  # torso tilt (rad) at which its up axis passes the horizontal
+FREE_MEDIA = ("poppy_lp", "poppy_cp")  # fig. S13's medium and the env's default
+MEDIUM_LABEL = {"poppy_lp": "poppy LP", "poppy_cp": "poppy CP"}
 
 
 def _settings(quick: bool) -> dict:
     """Stride frequencies (Hz) of the speed-vs-f curves, their curvatures (1/R'), the frequencies of the
-    speed-vs-curvature sweep, the strides averaged per trial, and where the three initial phases are run."""
+    speed-vs-curvature sweep, the strides averaged per trial, where the three initial phases are run, and the
+    free-body trials' frequencies and seeds."""
     if quick:
         return {"freqs": [1.0, 3.0, 5.0], "curves": [1.0, -1.0], "sweep_freqs": [3.0], "sweep": [1.0, 0.0, -1.0],
-                "strides": 2, "phase_freqs": [3.0], "abrupt_freqs": [4.0]}
+                "strides": 2, "phase_freqs": [3.0], "abrupt_freqs": [4.0],
+                "free_freqs": [1.0, 3.0, 5.0], "free_seeds": [0], "numerics": False}
     return {"freqs": [1.0, 2.0, 3.0, 4.0, 5.0], "curves": [1.0, 0.0, -1.0], "sweep_freqs": [2.0, 4.0],
             "sweep": list(published(PAPER, "leg_curvatures").value), "strides": 4,
-            "phase_freqs": [1.0, 2.0, 3.0, 4.0, 5.0], "abrupt_freqs": [3.0, 4.0, 5.0]}
+            "phase_freqs": [1.0, 2.0, 3.0, 4.0, 5.0], "abrupt_freqs": [3.0, 4.0, 5.0],
+            "free_freqs": [1.0, 2.0, 3.0, 4.0, 5.0], "free_seeds": [0, 1, 2], "numerics": True}
 
 
 def _law_kwargs(law: str) -> dict:
@@ -185,6 +199,70 @@ def trial(curvature: float, f: float, law: str, strides: int, phase: float = 0.0
     return out
 
 
+def _yaw(q) -> float:
+    """Heading (rad) of a free body's quaternion (w, x, y, z): the yaw of its x axis about the world z."""
+    w, x, y, z = q
+    return math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+
+
+def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: int = 0, seconds: float = EPISODE,
+               phase: float = 0.0, **env_kw) -> dict:
+    """One free-body trial: ``mjrft/HexapodSand-v0`` as a user makes it (free joint, the env's start and reset
+    noise of ``seed``; ``env_kw`` passed on, e.g. ``timestep``), curvature in 1/R', the tripod at f (Hz) with tripod
+    A at ``phase`` cycles, ``seconds`` long.
+
+    Returns the average speed along x after the first second (m/s), the largest torso tilt (rad), the path's
+    largest heading (rad: the direction of the torso's displacement from its start, after the first second),
+    the body's heading at the end (rad, unwrapped) and its mean rate over the second half (rad/s), and over the
+    second half the two half-cycles' mean torso height (m) and mean vertical force on the six legs (N; the
+    half-cycles of the gait's phase, ``floor(2 (phase + f t))`` even, then odd: one tripod's stance each)."""
+    from mjrft.models.hexapod import LEG_NAMES, R_PRIME
+
+    env = gymnasium.make("mjrft/HexapodSand-v0", medium=medium, law=law, curvature=curvature / R_PRIME["rhex"],
+                         max_hip_speed=MAX_HIP_SPEED, terminate_when_unhealthy=False, **env_kw)
+    u = env.unwrapped
+    m, d = u.model, u.data
+    obs, _ = env.reset(seed=seed)
+    gait = make_gait(f"tripod:f={f:.10g},phase={phase:.10g}", env)
+    legs = [m.body(f"leg_{n}").id for n in LEG_NAMES]
+    n_settle, n_total = int(round(SETTLE / u.dt)), int(round(seconds / u.dt))
+    half_rows = []  # (half-cycle parity, torso z, legs' Fz) at every physics step of the second half
+    inner = u.terrain.step
+
+    def step(data, n=1):
+        for _ in range(n):
+            inner(data, 1)
+            if data.time >= seconds / 2:
+                w = u.terrain.wrench
+                half = int(math.floor(2 * (phase + f * data.time))) % 2
+                half_rows.append((half, data.xpos[u._torso_id, 2], w[legs, 2].sum()))
+
+    u.terrain.step = step
+    x0, y0 = float(d.qpos[0]), float(d.qpos[1])
+    tilt, path, yaws = 0.0, 0.0, []
+    for i in range(n_total):
+        if i == n_settle:
+            xs, ts = float(d.qpos[0]), float(d.time)
+        action, _ = gait.predict(obs)
+        obs, _, _, _, info = env.step(action)
+        if "diverged" in info:
+            raise RuntimeError(f"li2013_robot free trial (1/r = {curvature:g}/R', f = {f:g} Hz, {medium}, {law}) "
+                               f"diverged: {info['diverged']}")
+        tilt = max(tilt, u.torso_tilt())
+        yaws.append(_yaw(d.qpos[3:7]))
+        if i >= n_settle:
+            path = max(path, abs(math.atan2(float(d.qpos[1]) - y0, float(d.qpos[0]) - x0)))
+    yaws = np.unwrap(yaws)
+    h = np.array(half_rows)
+    halves = [h[h[:, 0] == k] for k in (0, 1)]
+    out = {"speed": (float(d.qpos[0]) - xs) / (float(d.time) - ts), "tilt": tilt, "path_heading": path,
+           "heading": float(yaws[-1]), "yaw_rate": float(yaws[-1] - yaws[len(yaws) // 2]) / (seconds / 2),
+           "height_halves": tuple(float(x[:, 1].mean()) for x in halves),
+           "legs_fz_halves": tuple(float(x[:, 2].mean()) for x in halves)}
+    env.close()
+    return out
+
+
 def upright_check(label: str, tilt: float, qualitative: bool = True) -> Check:
     """The robot stays upright (the paper: only the depth-only simulation turned it upside down): the largest
     torso tilt below :data:`~mjrft.tools.validation.case.UPRIGHT_TILT` (60 deg, mjrft's documented reading of
@@ -196,7 +274,8 @@ def upright_check(label: str, tilt: float, qualitative: bool = True) -> Check:
                       basis=f"upright: tilt < {math.degrees(UPRIGHT_TILT):g} deg, mjrft's reading, every case")
 
 
-def similar_speeds_check(label: str, freqs, v_c: dict, v_rev: dict, tilt: dict, fit: dict | None = None) -> Check:
+def similar_speeds_check(label: str, freqs, v_c: dict, v_rev: dict, tilt: dict, fit: dict | None = None,
+                         qualitative: bool = True) -> Check:
     """Sec. 5: the depth-only models "erroneously predicted that the robot moved at similar speeds using both
     c-legs and reversed c-legs". "Similar" is mjrft's documented reading (:data:`SIMILAR`: v_C / v_rev within
     [1/1.2, 1.2]), required at every tested f where the robot stayed upright (``tilt`` < 60 deg), and at least
@@ -213,7 +292,7 @@ def similar_speeds_check(label: str, freqs, v_c: dict, v_rev: dict, tilt: dict, 
                    + " (f = " + ", ".join(f"{f:g}" for f in freqs) + " Hz)"
                    + ("" if len(upright) == len(freqs) else "; not upright at "
                       + ", ".join(f"{f:g}" for f in freqs if f not in upright) + " Hz, not compared")),
-        metric="ratio at every upright f", qualitative=True,
+        metric="ratio at every upright f", qualitative=qualitative,
         tolerance=(f"[{1 / (1 + SIMILAR):.3g}, {1 + SIMILAR:g}]: 'similar' read as within {100 * SIMILAR:g} % (Li's "
                    "own 'less than 20 %' for a negligible force change, suppl. Materials and Methods)"))
 
@@ -228,6 +307,123 @@ def phase_spread_check(label: str, spread: dict) -> Check:
         f"{label}: speed spread over the three initial phases, largest ({worst[0]:+g}/R', {worst[1]:g} Hz)",
         100 * spread[worst], 0.0, bound, published="<< 1 cm/s", source=published(PAPER, "trial_variation").source,
         unit="cm/s", reference=bound, basis=f"'<<' read as at least {MUCH_LESS:g}x below, mjrft's reading")
+
+
+def track_heading_bound() -> float:
+    """The largest path heading (rad) that keeps a robot started on the centreline of Li's 200 x 50 cm track on it
+    over the track's length: atan(25 / 200) = 7.1 deg."""
+    length, width = published(PAPER, "robot_track").value
+    return math.atan((width / 2) / length)
+
+
+def track_check(label: str, headings: dict, qualitative: bool = False) -> Check:
+    """The robot runs straight enough to stay on Li's track (the experiments measured v_x along a 200 x 50 cm
+    track): the path's heading (direction of the displacement from the start) within
+    :func:`track_heading_bound` in every trial. ``headings``: {(curvature, f, seed): path heading (rad)}."""
+    bound = track_heading_bound()
+    worst = max(headings, key=headings.get)
+    off = sorted({(k, f) for (k, f, _), h in headings.items() if h > bound})
+    return check_band(
+        f"{label}: largest path heading over every trial ({worst[0]:+g}/R', {worst[1]:g} Hz, seed {worst[2]})",
+        math.degrees(headings[worst]), 0.0, math.degrees(bound),
+        published="the robot runs along the 200 x 50 cm track (v_x measured from the top view)",
+        source=published(PAPER, "robot_track").source, unit="deg", qualitative=qualitative,
+        reference=math.degrees(bound),
+        basis="atan(25 cm / 200 cm): a straight path from the track's centreline stays on it over its length"
+              + ("; off the track: " + ", ".join(f"{k:+g}/R' at {f:g} Hz" for k, f in off) if off else ""))
+
+
+def free_order_check(medium: str, freqs, seeds, v: dict, qualitative: bool) -> Check:
+    """C-legs faster than reversed C-legs at every tested f and seed on the free robot. ``v``:
+    {(curvature, f, seed): speed along x (m/s)}."""
+    ratios = {f: [v[1.0, f, sd] / v[-1.0, f, sd] for sd in seeds] for f in freqs}
+    src = published(PAPER, "c_faster_than_reversed").source + "; " + published(PAPER, "robot_track").source
+    if medium != published(PAPER, "medium").value:
+        src += f" (fig. S13 is on poppy LP; on {MEDIUM_LABEL[medium]} the texts state no robot speeds)"
+    return check_outcome(
+        f"free body, {MEDIUM_LABEL[medium]}: C-legs faster than reversed C-legs at every tested f and seed",
+        min(min(r) for r in ratios.values()) > 1.0, published=published(PAPER, "c_faster_than_reversed").value,
+        source=src, qualitative=qualitative,
+        simulated="v_C / v_reversed C = " + ", ".join(
+            f"{'/'.join(f'{x:.2f}' for x in r)} ({f:g} Hz)" for f, r in ratios.items()) + f" (seeds {', '.join(map(str, seeds))})")
+
+
+def _bounce(r: dict) -> str:
+    """A free trial's second half: the two half-cycles' torso heights and legs' loads, and the heading rate."""
+    z, fz = r["height_halves"], r["legs_fz_halves"]
+    return (f"torso {1e3 * z[0]:.1f} / {1e3 * z[1]:.1f} mm and legs {fz[0]:.2f} / {fz[1]:.2f} N on alternate "
+            f"half-cycles, heading {math.degrees(r['yaw_rate']):+.1f} deg/s")
+
+
+def free_body(s: dict) -> tuple[list, str, list, dict]:
+    """The free-body trials: ``mjrft/HexapodSand-v0`` as a user makes it, C and reversed C-legs, on poppy LP and CP
+    under the medium's fit and on poppy LP under the depth-only law. Returns the checks, the measured cause of
+    their failures, the figure's panels and the trials."""
+    freqs, seeds = s["free_freqs"], s["free_seeds"]
+    runs = [("rft", medium) for medium in FREE_MEDIA] + [("depth_only", published(PAPER, "medium").value)]
+    F = {(law, medium, k, f, sd): free_trial(k, f, medium, law, sd)
+         for law, medium in runs for k in (1.0, -1.0) for f in freqs for sd in seeds}
+    checks = []
+    for medium in FREE_MEDIA:
+        v = {key[2:]: r["speed"] for key, r in F.items() if key[:2] == ("rft", medium)}
+        checks.append(free_order_check(medium, freqs, seeds, v, qualitative=medium == published(PAPER, "medium").value))
+    checks.append(upright_check("free body, medium's fit (rft), poppy LP and CP",
+                                max(r["tilt"] for key, r in F.items() if key[0] == "rft")))
+    for law, medium in runs:
+        label = f"free body, {LAW_LABEL['fit' if law == 'rft' else law]}, {MEDIUM_LABEL[medium]}"
+        checks.append(track_check(label, {key[2:]: r["path_heading"] for key, r in F.items() if key[:2] == (law, medium)}))
+    lp = published(PAPER, "medium").value
+    mean = {key: float(np.mean([F[key + (sd,)]["speed"] for sd in seeds])) for key in {k[:4] for k in F}}
+    checks.append(similar_speeds_check(
+        "free body, depth-only, poppy LP", freqs, {f: mean["depth_only", lp, 1.0, f] for f in freqs},
+        {f: mean["depth_only", lp, -1.0, f] for f in freqs},
+        {f: max(F["depth_only", lp, k, f, sd]["tilt"] for k in (1.0, -1.0) for sd in seeds) for f in freqs},
+        fit={f: mean["rft", lp, 1.0, f] / mean["rft", lp, -1.0, f] for f in freqs}, qualitative=False))
+
+    # the measured cause: which trials left the straight path, their bounce, the mirrored start and the numerics
+    bound = track_heading_bound()
+    turned = sorted({key[:4] for key, r in F.items() if r["path_heading"] > bound})
+    cause = ""
+    if turned:
+        law, medium, k, f = max(turned, key=lambda key: abs(F[key + (seeds[0],)]["yaw_rate"]))
+        worst = F[law, medium, k, f, seeds[0]]
+        mirror = free_trial(k, f, medium, law, seeds[0], phase=0.5)
+        parts = [
+            "Free body: the robots that leave a straight path ("
+            + "; ".join(f"{LAW_LABEL['fit' if lw == 'rft' else lw]} on {MEDIUM_LABEL[md]}, {kk:+g}/R' at {ff:g} Hz"
+                        for lw, md, kk, ff in turned)
+            + ") settle into a period-2 bounce: in the second half of the episode the torso rides higher after one "
+            "tripod's stance than after the other's and the legs' load alternates between the two tripods, each of "
+            "which has two legs on one side of the body; the unequal tripods turn the robot steadily. The worst, "
+            f"{LAW_LABEL['fit' if law == 'rft' else law]} on {MEDIUM_LABEL[medium]} with {k:+g}/R' legs at {f:g} Hz: "
+            f"{_bounce(worst)}; the reversed C-legs at the same f: {_bounce(F[law, medium, -k, f, seeds[0]])}. "
+            f"Started with the tripods swapped (phase 0.5) the same robot turns at "
+            f"{math.degrees(mirror['yaw_rate']):+.1f} deg/s: the side it turns to is set by the start, not by a bias "
+            "of the model"]
+        split = [key for key in turned if len({np.sign(F[key + (sd,)]["heading"]) for sd in seeds}) > 1]
+        if split:
+            lw, md, kk, ff = split[0]
+            parts.append(f"; the reset noise alone picks either side (headings at the end "
+                         + ", ".join(f"{math.degrees(F[split[0] + (sd,)]['heading']):+.0f} deg (seed {sd})" for sd in seeds)
+                         + f" for {kk:+g}/R' at {ff:g} Hz on {MEDIUM_LABEL[md]})")
+        if s["numerics"]:
+            half = free_trial(k, f, medium, law, seeds[0], timestep=SAND_TIMESTEP / 2, frame_skip=40)
+            fine = free_trial(k, f, medium, law, seeds[0], preset="accurate")
+            parts.append(f". Not numerical: at half the timestep it turns at {math.degrees(half['yaw_rate']):+.1f} "
+                         f"deg/s and with the accurate preset's 4x elements at {math.degrees(fine['yaw_rate']):+.1f} "
+                         f"deg/s (against {math.degrees(worst['yaw_rate']):+.1f})")
+        parts.append(". Li's simulation held the body planar (no roll or yaw; the planar trials above do not turn); "
+                     "the real robot's heading on the track is not reported. Speed along x counts a turning robot's "
+                     "path only in part.")
+        cause = "".join(parts)
+
+    style = {1.0: "C-leg (+1/R')", -1.0: "reversed C-leg (-1/R')"}
+    panels = [Panel(f"free body, {LAW_LABEL['fit' if law == 'rft' else law]}, {MEDIUM_LABEL[medium]}: speed vs f "
+                    f"(mean of {len(seeds)} seed{'s' if len(seeds) > 1 else ''})",
+                    "stride frequency f (Hz)", "average forward speed v_x (cm/s)",
+                    [Line(freqs, [100 * mean[law, medium, k, f] for f in freqs], style[k]) for k in (1.0, -1.0)])
+              for law, medium in runs]
+    return checks, cause, panels, F
 
 
 @case("li2013_robot", "RHex-class robot on poppy seeds: speed vs stride frequency and leg curvature (fig. S13)", CITE)
@@ -352,6 +548,12 @@ def run_robot(quick: bool) -> CaseResult:
             "against the measured speeds of fig. S13 (not in the text); mjrft can compare only with the fit's speeds, "
             "which carry the fit's own error against the measurement.")
 
+    # the free robot (the env as a user makes it)
+    free_checks, free_cause, free_panels, free = free_body(s)
+    checks += free_checks
+    if free_cause:
+        causes.append(free_cause)
+
     # figure
     style = {1.0: "C-leg (+1/R')", 0.0: "flat", -1.0: "reversed C-leg (-1/R')"}
     row = {"fit": "top", "generic": "middle", "depth_only": "bottom"}
@@ -366,6 +568,7 @@ def run_robot(quick: bool) -> CaseResult:
     panels.append(Panel("fit: fig. S14 mechanism", "stride frequency f (Hz)", "mean force (N)", [
         Line(freqs, [R["fit", k, f]["legs_fz"] for f in freqs], f"F_z legs, {style[k]}") for k in (1.0, -1.0)] + [
         Line(freqs, [-R["fit", k, f]["belly_fx"] for f in freqs], f"belly drag, {style[k]}") for k in (1.0, -1.0)]))
+    panels += free_panels
 
     f_dev = max(abs(r["f_real"] / key[2] - 1) for key, r in R.items())
     return CaseResult(
@@ -381,7 +584,11 @@ def run_robot(quick: bool) -> CaseResult:
                f"the generic profile x zeta = 0.248 N/cm^3 (rft), the depth-only law. Each trial starts on the "
                f"gait's pose (tripod A mid-stance), discards the first {SETTLE:g} s and averages the torso's speed over "
                f"{strides} strides; physics step {SAND_TIMESTEP * 1e3:g} ms (the sand env's), elements 5 mm (the "
-               f"model's)."),
+               f"model's). Free body: the same env as a user makes it (free joint, the env's start: every leg down, "
+               f"tripod B catching up half a turn; reset noise of seeds {', '.join(map(str, s['free_seeds']))}), C and "
+               f"reversed C-legs at f = {', '.join(f'{f:g}' for f in s['free_freqs'])} Hz for {EPISODE:g} s (one "
+               f"episode), on poppy LP (fig. S13's medium) and poppy CP (the env's default) under the medium's fit "
+               f"and on poppy LP under the depth-only law; speed along x after the first {SETTLE:g} s."),
         checks=checks, panels=panels, cause=" ".join(causes),
         notes=(f"Choices where the paper is silent: the servo-driven legs (kp 2 N m/rad, torque limit 0.3 N m, the "
                f"model's) follow the commanded rotation: realised stride frequency within {100 * f_dev:.1f} % of f in "
@@ -394,5 +601,8 @@ def run_robot(quick: bool) -> CaseResult:
                f"stance stays below 1 m/s at 5 Hz; the leg tips pass it (2 pi f x 4.1 cm = 1.29 m/s at 5 Hz), hence "
                f"the validity warnings of the fit's calibrated speed range below. Between |R'/r| = 0.92 and 1 the "
                f"speed changes steeply because the legs' arc angle 2 asin(R'/r) does (134 deg at 0.92, 180 deg at "
-               f"1: the tip turns 23 deg)."),
+               f"1: the tip turns 23 deg). Free body: Li's robot ran free on a 200 x 50 cm track; a trial stays on it "
+               f"when its path heading (the direction of the torso's displacement from the start) is within "
+               f"atan(25/200) = {math.degrees(track_heading_bound()):.1f} deg, mjrft's reading of a measurable run. "
+               f"Largest torso tilt of the free robot {math.degrees(max(r['tilt'] for r in free.values())):.0f} deg."),
     )
