@@ -215,7 +215,9 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
     largest heading (rad: the direction of the torso's displacement from its start, after the first second),
     the body's heading at the end (rad, unwrapped) and its mean rate over the second half (rad/s), and over the
     second half the two half-cycles' mean torso height (m) and mean vertical force on the six legs (N; the
-    half-cycles of the gait's phase, ``floor(2 (phase + f t))`` even, then odd: one tripod's stance each)."""
+    half-cycles of the gait's phase, ``floor(2 (phase + f t))`` even, then odd: one tripod's stance each), each
+    tripod's mean hip lag behind its command (rad) and the largest fraction of steps a hip servo spent at its
+    torque limit."""
     from mjrft.models.hexapod import LEG_NAMES, R_PRIME
 
     env = gymnasium.make("mjrft/HexapodSand-v0", medium=medium, law=law, curvature=curvature / R_PRIME["rhex"],
@@ -239,7 +241,8 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
 
     u.terrain.step = step
     x0, y0 = float(d.qpos[0]), float(d.qpos[1])
-    tilt, path, yaws = 0.0, 0.0, []
+    tilt, path, yaws, lags, saturated = 0.0, 0.0, [], [], []
+    limit = m.actuator_forcerange[:, 1]
     for i in range(n_total):
         if i == n_settle:
             xs, ts = float(d.qpos[0]), float(d.time)
@@ -252,13 +255,19 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
         yaws.append(_yaw(d.qpos[3:7]))
         if i >= n_settle:
             path = max(path, abs(math.atan2(float(d.qpos[1]) - y0, float(d.qpos[0]) - x0)))
+        if d.time >= seconds / 2:
+            lag = u._target - d.qpos[u._hip_qadr]
+            lags.append((lag[list(u.TRIPOD_A_IDX)].mean(), lag[list(u.TRIPOD_B_IDX)].mean()))
+            saturated.append(np.abs(d.actuator_force) >= limit)
     yaws = np.unwrap(yaws)
     h = np.array(half_rows)
     halves = [h[h[:, 0] == k] for k in (0, 1)]
     out = {"speed": (float(d.qpos[0]) - xs) / (float(d.time) - ts), "tilt": tilt, "path_heading": path,
            "heading": float(yaws[-1]), "yaw_rate": float(yaws[-1] - yaws[len(yaws) // 2]) / (seconds / 2),
            "height_halves": tuple(float(x[:, 1].mean()) for x in halves),
-           "legs_fz_halves": tuple(float(x[:, 2].mean()) for x in halves)}
+           "legs_fz_halves": tuple(float(x[:, 2].mean()) for x in halves),
+           "tripod_lag": tuple(float(x) for x in np.mean(lags, axis=0)),
+           "saturated": float(np.mean(saturated, axis=0).max())}
     env.close()
     return out
 
@@ -397,6 +406,9 @@ def free_body(s: dict) -> tuple[list, str, list, dict]:
             "which has two legs on one side of the body; the unequal tripods turn the robot steadily. The worst, "
             f"{LAW_LABEL['fit' if law == 'rft' else law]} on {MEDIUM_LABEL[medium]} with {k:+g}/R' legs at {f:g} Hz: "
             f"{_bounce(worst)}; the reversed C-legs at the same f: {_bounce(F[law, medium, -k, f, seeds[0]])}. "
+            f"Not the drive: the two tripods lag their commanded rotation by "
+            f"{math.degrees(worst['tripod_lag'][0]):.1f} and {math.degrees(worst['tripod_lag'][1]):.1f} deg, and "
+            f"the hip servos spend {100 * worst['saturated']:.0f} % of the steps at their torque limit. "
             f"Started with the tripods swapped (phase 0.5) the same robot turns at "
             f"{math.degrees(mirror['yaw_rate']):+.1f} deg/s: the side it turns to is set by the start, not by a bias "
             "of the model"]
