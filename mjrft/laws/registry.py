@@ -5,12 +5,15 @@ medium's parameter vector it reads that hold grain stresses, the function that w
 that vector, whether it is dry (takes the inertial regime) or saturated (water at least up to the sand surface),
 and the ranges its source calibrated. From the table come :data:`LAW_IDS`, :data:`DRY_LAWS`, :data:`STRESS_SLOTS`,
 the compiled dispatch (:func:`mjrft.laws.dispatch.element_stress`, generated from the entries and compiled by
-numba), the parameter vector's law constants (:func:`fill_params`, called by :meth:`mjrft.media.Medium.params`)
-and the validity checks (:mod:`mjrft.laws.validity`).
+numba), the parameter vector's law constants (:func:`fill_params`, called by :meth:`mjrft.media.Medium.params`),
+the validity checks (:mod:`mjrft.laws.validity`) and the laws of the JAX path (:data:`mjrft.mjx.laws.LAWS` and
+:data:`mjrft.mjx.laws.UNSUPPORTED`, from each entry's ``jax`` or ``no_jax``).
 
 Adding a law: write its module (a compiled ``*_stress(depth, nx, ny, nz, mx, my, mz, speed, p)`` returning the
 stress in Pa on one element, m the unit motion direction, speed in m/s, p the parameter vector; its constants
-in slots from ``mjrft.media.P_FIRST_FREE`` on, after the laws' below) and append its entry here with the next id.
+in slots from ``mjrft.media.P_FIRST_FREE`` on, after the laws' below) and append its entry here with the next id;
+with a JAX twin (a function ``f(depth, n, m, p)`` in :mod:`mjrft.mjx.laws`) the entry names it in ``jax``,
+without one it says in ``no_jax`` why mjrft.mjx refuses the law.
 """
 
 from __future__ import annotations
@@ -38,7 +41,9 @@ class Law:
     factors and the water's constants are not among them. ``params``: ``f(medium, p)`` writing the law's own
     constants into the parameter vector ``p`` (None: it reads only the medium's). ``dry``: the inertial regime
     (:mod:`mjrft.laws.inertial`) applies to it. ``saturated``: the water table is at least at the sand surface
-    (buoyancy applies without a water layer). ``ranges``: what its source calibrated (:mod:`mjrft.laws.validity`)."""
+    (buoyancy applies without a water layer). ``ranges``: what its source calibrated (:mod:`mjrft.laws.validity`).
+    ``jax``: the name of its JAX twin in :mod:`mjrft.mjx.laws`; without one (None) ``no_jax`` says why the JAX path
+    refuses the law."""
 
     name: str
     id: int
@@ -48,22 +53,29 @@ class Law:
     dry: bool = False
     saturated: bool = False
     ranges: tuple[Range, ...] = ()
+    jax: str | None = None
+    no_jax: str = ""
 
 
 _LI_SLOTS = (*range(P_COEFF, P_COEFF + 9), P_ZETA)  # Li's nine Fourier coefficients and the scaling factor zeta
 
 LAWS: tuple[Law, ...] = (
-    Law("rft", 0, rft_stress, _LI_SLOTS, dry=True, ranges=LI_RANGES),
-    Law("rft3d", 1, rft3d_stress, (P_XI,), dry=True, ranges=RFT3D_RANGES),
-    Law("depth_only", 2, depth_only_stress, (P_AZ_DOWN, P_AZ_UP, P_AX_DRAG), dry=True, ranges=LI_RANGES),
-    Law("wet", 3, wet_stress, _LI_SLOTS, wet_params, saturated=True, ranges=WET_RANGES),
-    Law("water", 4, water_stress, (), wet_params, saturated=True),  # the free-water layer above the sand
+    Law("rft", 0, rft_stress, _LI_SLOTS, dry=True, ranges=LI_RANGES, jax="rft"),
+    Law("rft3d", 1, rft3d_stress, (P_XI,), dry=True, ranges=RFT3D_RANGES, jax="rft3d"),
+    Law("depth_only", 2, depth_only_stress, (P_AZ_DOWN, P_AZ_UP, P_AX_DRAG), dry=True, ranges=LI_RANGES,
+        jax="depth_only"),
+    Law("wet", 3, wet_stress, _LI_SLOTS, wet_params, saturated=True, ranges=WET_RANGES,
+        no_jax="the saturated-sand law's rate dependence is not ported to JAX"),
+    Law("water", 4, water_stress, (), wet_params, saturated=True,  # the free-water layer above the sand
+        no_jax="open water regions are not ported to JAX"),
     Law("hybrid", 5, hybrid_stress, (P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PERP_H, P_HYB_PAR_H), hybrid_params,
-        ranges=HYBRID_RANGES),
+        ranges=HYBRID_RANGES, no_jax="the curved-leg hybrid law's bar lookup is not ported to JAX"),
 )
 _BY_NAME = {law.name: law for law in LAWS}
 if sorted(law.id for law in LAWS) != list(range(len(LAWS))) or len(_BY_NAME) != len(LAWS):
     raise RuntimeError("mjrft.laws.registry.LAWS: law names must be unique and ids 0, 1, 2, ... without gaps")
+if any((law.jax is None) == (not law.no_jax) for law in LAWS):
+    raise RuntimeError("mjrft.laws.registry.LAWS: each law names its JAX twin (jax) or says why it has none (no_jax)")
 
 #: law name -> kernel id
 LAW_IDS: dict[str, int] = {law.name: law.id for law in LAWS}

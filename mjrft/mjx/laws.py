@@ -9,8 +9,9 @@ their numba twins line for line (the same smoothing constants, the same choices,
 float32 or float64 (whatever arrays they are given).
 
 Ported: ``rft`` (:func:`mjrft.laws.rft.rft_stress_batch`), ``rft3d`` (:func:`mjrft.laws.rft3d.rft3d_stress`)
-and ``depth_only`` (:func:`mjrft.laws.depth_only.depth_only_stress`). :data:`UNSUPPORTED` names the laws and
-terrain options that the JAX path refuses, with the reason.
+and ``depth_only`` (:func:`mjrft.laws.depth_only.depth_only_stress`). Which function is a law's twin, and why a
+law has none, the table of laws says (:data:`mjrft.laws.registry.LAWS`, each entry's ``jax`` and ``no_jax``):
+:data:`LAWS` and :data:`UNSUPPORTED` are built from it.
 """
 
 from __future__ import annotations
@@ -21,14 +22,8 @@ import jax.numpy as jnp
 
 from ..laws.common import INV_PLANE_FADE2, LEAD_EPS, PLANE_EPS, TINY
 from ..laws.depth_only import SIGN_EPS
+from ..laws.registry import LAWS as _TABLE
 from ..laws.rft3d import C1, C2, C3, TANGENT_EPS, VERTICAL_BAND
-
-#: what the JAX path does not model, and why (the error names the entry)
-UNSUPPORTED = {
-    "wet": "the saturated-sand law's rate dependence is not ported to JAX",
-    "water": "open water regions are not ported to JAX",
-    "hybrid": "the curved-leg hybrid law's bar lookup is not ported to JAX",
-}
 
 
 def _dot(a, b):
@@ -160,8 +155,14 @@ def depth_only(depth, n, m, p):
     return jnp.stack([fh * rx * k, fh * ry * k, fz * k], axis=-1)
 
 
-#: law name -> JAX stress function
-LAWS = {"rft": rft, "rft3d": rft3d, "depth_only": depth_only}
+_missing = [f"{law.name} ({law.jax})" for law in _TABLE if law.jax is not None and not callable(globals().get(law.jax))]
+if _missing:
+    raise RuntimeError(f"mjrft.laws.registry.LAWS names JAX twins that mjrft.mjx.laws does not define: "
+                       f"{', '.join(_missing)}")
+#: law name -> JAX stress function (the laws whose entry in the table names a twin)
+LAWS = {law.name: globals()[law.jax] for law in _TABLE if law.jax is not None}
+#: the laws the JAX path does not model, and why (the error names the entry)
+UNSUPPORTED = {law.name: law.no_jax for law in _TABLE if law.jax is None}
 
 
 def law_function(name: str):

@@ -3,6 +3,8 @@ dispatch, the parameter vector's law constants and the validity ranges."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -64,3 +66,20 @@ def test_validity_lookups_follow_the_table():
         assert (speed == [INERTIAL_SPEED]) == (law.dry and bool(law.ranges)), law.name
     assert dynamic_ranges("wet", inertial=True) == tuple(r for r in R.get_law("wet").ranges
                                                          if r.quantity in ("speed", "depth"))
+
+
+def test_jax_laws_come_from_the_table():
+    """mjrft.mjx's laws are the entries that name a JAX twin; the others are refused with the entry's reason."""
+    pytest.importorskip("jax", reason="mjrft.mjx needs the optional extra mjrft[mjx] (JAX)")
+    from mjrft.mjx import laws as J
+
+    assert list(J.LAWS) == ["rft", "rft3d", "depth_only"]
+    assert J.UNSUPPORTED == {law.name: law.no_jax for law in R.LAWS if law.jax is None} and len(J.UNSUPPORTED) == 3
+    for law in R.LAWS:
+        if law.jax is not None:
+            assert J.law_function(law.name) is getattr(J, law.jax), law.name
+        else:
+            why = re.escape(f"law '{law.name}' has no JAX version ({law.no_jax}); "
+                            "mjrft.mjx supports rft, rft3d, depth_only")
+            with pytest.raises(NotImplementedError, match=why):
+                J.law_function(law.name)
