@@ -19,6 +19,7 @@ import math
 from numba import njit
 
 from .implicit_step import HOLD_FRACTION, implicit_wrench
+from .laws.common import memory_motion, relax_memory
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
 from .laws.rft import rft_stress_batch
@@ -233,15 +234,8 @@ def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps, solid,
         if solid > 0.0:
             return solid_memory(u, i, vx, vy, vz, speed, dt_d * delta, delta, tau, solid, stick)
         if speed > 0.0:
-            a = math.exp(-speed * dt_d)
-            s = delta / speed
-            u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
-            u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
-            u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
-        mx = u[i, 0] + tau * vx
-        my = u[i, 1] + tau * vy
-        mz = u[i, 2] + tau * vz
-        ml = math.sqrt(mx * mx + my * my + mz * mz)
+            relax_memory(u, i, vx, vy, vz, speed, math.exp(-speed * dt_d), delta)
+        mx, my, mz, ml = memory_motion(u, i, vx, vy, vz, tau)
         return mx, my, mz, ml, min(1.0, ml * inv_d)
     return vx, vy, vz, speed, (min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0)
 

@@ -1,4 +1,5 @@
-"""Small compiled helpers shared by the force laws (no MuJoCo here).
+"""Small compiled helpers shared by the force laws, and the rest memory's update shared by the kernel and the
+solidify option (no MuJoCo here).
 
 Leading-surface rule, smoothed: an element counts with weight
 ``clip(0.5 + (n . v_hat) / (2 LEAD_EPS), 0, 1)``, i.e. fully when its outward normal faces the motion
@@ -69,3 +70,23 @@ def smooth_sign(x, eps):
     if x <= -eps:
         return -1.0
     return x / eps
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def relax_memory(u, i, vx, vy, vz, speed, a, delta):
+    """The rest memory's flowing update of element ``i`` (docs/numerics.md, "Rest regularisation"; ``speed = |v|
+    > 0``): ``u <- delta v_hat + (u - delta v_hat) a``, ``a = exp(-|v| dt / delta)`` computed by the caller
+    (:func:`mjrft.kernel._rest_memory`, :func:`mjrft.laws.solidify.solid_memory`)."""
+    s = delta / speed
+    u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
+    u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
+    u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def memory_motion(u, i, vx, vy, vz, tau):
+    """The regularised motion the law sees from element ``i``'s memory: ``m = u + tau v`` and ``|m|``."""
+    mx = u[i, 0] + tau * vx
+    my = u[i, 1] + tau * vy
+    mz = u[i, 2] + tau * vz
+    return mx, my, mz, math.sqrt(mx * mx + my * my + mz * mz)

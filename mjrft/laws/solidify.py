@@ -44,6 +44,8 @@ import math
 
 from numba import njit
 
+from .common import memory_motion, relax_memory
+
 #: speed (m/s) below which an element counts as at rest: the rest memory's resting drift bound
 #: (docs/numerics.md, "Rest": a placed body holds with drift < 1 mm/s); a documented choice for every scene
 STICK_SPEED = 1e-3
@@ -85,15 +87,8 @@ def solid_memory(u, i, vx, vy, vz, speed, dt, delta, tau, factor, stick):
             uz *= s
         u[i, 0], u[i, 1], u[i, 2] = ux, uy, uz
     elif speed > 0.0:
-        a = math.exp(-speed * dt / delta)
-        s = delta / speed
-        u[i, 0] = s * vx + (u[i, 0] - s * vx) * a
-        u[i, 1] = s * vy + (u[i, 1] - s * vy) * a
-        u[i, 2] = s * vz + (u[i, 2] - s * vz) * a
-    mx = u[i, 0] + tau * vx
-    my = u[i, 1] + tau * vy
-    mz = u[i, 2] + tau * vz
-    ml = math.sqrt(mx * mx + my * my + mz * mz)
+        relax_memory(u, i, vx, vy, vz, speed, math.exp(-speed * dt / delta), delta)
+    mx, my, mz, ml = memory_motion(u, i, vx, vy, vz, tau)
     # above 1 only as far as the memory itself is (the damping term tau v never lifts a flowing element above the law)
     ul = math.sqrt(u[i, 0] * u[i, 0] + u[i, 1] * u[i, 1] + u[i, 2] * u[i, 2])
     mob = min(factor, ml / delta, max(1.0, ul / delta))
