@@ -340,32 +340,10 @@ def _stable_dts(jac, minv_jac, rows, stiff, inert, use_inert, delta, tau, vertic
 
 
 @njit(cache=True, error_model="numpy")
-def _stable_timesteps(f_jac, f_solve, m_addr, d_addr, bodies, stiff, inert, use_inert, delta, tau, vertical, jac,
-                      minv_jac, rows, out):
-    """:meth:`GranularTerrain.stable_timestep` in one compiled call: each buried body's CoM jacobian
-    (``mj_jacBodyCom``) stacked in ``jac``, one ``mj_solveM`` of all rows, then :func:`_stable_dts`."""
-    nv = jac.shape[1]
-    n = 0
-    for i in range(bodies.shape[0]):
-        b = bodies[i]
-        if stiff[b, 0] > 0 or (use_inert and inert[b, 0] > 0):
-            at = jac.ctypes.data + 6 * n * nv * 8
-            call_mj_arrays(f_jac, m_addr, d_addr, at, at + 3 * nv * 8, b)
-            rows[n] = b
-            n += 1
-    if n == 0:
-        return
-    call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, 6 * n)
-    _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, vertical, out)
-
-
-@njit(cache=True, error_model="numpy")
-def _stable_timestep_pair(f_jac, f_solve, m_addr, d_addr, bodies, stiff, dstiff, inert, use_inert, delta, tau, jac,
-                          minv_jac, rows, out):
-    """The smallest stable timestep over ``bodies`` of the springs (``stiff``, with ``use_inert`` the inertial
-    dampers ``inert``) and of the depth stiffness (``dstiff``), as (springs, depth): :func:`_stable_timesteps`
-    of both parts from one set of jacobians (each body's rows are the same in both, so the limits are equal to
-    two separate calls'). ``out`` (nbody) is scratch."""
+def _buried_jacobians(f_jac, f_solve, m_addr, d_addr, bodies, stiff, dstiff, inert, use_inert, jac, minv_jac, rows):
+    """Stack the CoM jacobian (``mj_jacBodyCom``) of each body of ``bodies`` with moments in ``stiff`` or ``dstiff``
+    (with ``use_inert``, or inertial dampers in ``inert``) in ``jac``, its id in ``rows``, and solve all rows with
+    ``M^-1`` in one ``mj_solveM`` into ``minv_jac``; returns how many bodies (their rows ``jac[:6 n]``)."""
     nv = jac.shape[1]
     n = 0
     for i in range(bodies.shape[0]):
@@ -375,20 +353,49 @@ def _stable_timestep_pair(f_jac, f_solve, m_addr, d_addr, bodies, stiff, dstiff,
             call_mj_arrays(f_jac, m_addr, d_addr, at, at + 3 * nv * 8, b)
             rows[n] = b
             n += 1
+    if n > 0:
+        call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, 6 * n)
+    return n
+
+
+@njit(cache=True, error_model="numpy")
+def _stable_timesteps(f_jac, f_solve, m_addr, d_addr, bodies, stiff, inert, use_inert, delta, tau, vertical, jac,
+                      minv_jac, rows, out):
+    """:meth:`GranularTerrain.stable_timestep` in one compiled call: each buried body's CoM jacobian
+    (``mj_jacBodyCom``) stacked in ``jac``, one ``mj_solveM`` of all rows (:func:`_buried_jacobians`), then
+    :func:`_stable_dts`."""
+    n = _buried_jacobians(f_jac, f_solve, m_addr, d_addr, bodies, stiff, stiff, inert, use_inert, jac, minv_jac, rows)
+    if n == 0:
+        return
+    _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, vertical, out)
+
+
+@njit(cache=True, error_model="numpy")
+def _smallest_of(out, rows):
+    """The smallest ``out[b]`` over the bodies ``b`` in ``rows`` (inf if none)."""
+    least = np.inf
+    for i in range(rows.shape[0]):
+        least = min(least, out[rows[i]])
+    return least
+
+
+@njit(cache=True, error_model="numpy")
+def _stable_timestep_pair(f_jac, f_solve, m_addr, d_addr, bodies, stiff, dstiff, inert, use_inert, delta, tau, jac,
+                          minv_jac, rows, out):
+    """The smallest stable timestep over ``bodies`` of the springs (``stiff``, with ``use_inert`` the inertial
+    dampers ``inert``) and of the depth stiffness (``dstiff``), as (springs, depth): :func:`_stable_timesteps`
+    of both parts from one set of jacobians (each body's rows are the same in both, so the limits are equal to
+    two separate calls'). ``out`` (nbody) is scratch."""
+    n = _buried_jacobians(f_jac, f_solve, m_addr, d_addr, bodies, stiff, dstiff, inert, use_inert, jac, minv_jac,
+                          rows)
     if n == 0:
         return np.inf, np.inf
-    call_mj_arrays(f_solve, m_addr, d_addr, minv_jac.ctypes.data, jac.ctypes.data, 6 * n)
     out[:] = np.inf
     _stable_dts(jac, minv_jac, rows[:n], stiff, inert, use_inert, delta, tau, False, out)
-    springs = np.inf
-    for i in range(n):
-        springs = min(springs, out[rows[i]])
+    springs = _smallest_of(out, rows[:n])
     out[:] = np.inf
     _stable_dts(jac, minv_jac, rows[:n], dstiff, inert, False, delta, tau, True, out)
-    depth = np.inf
-    for i in range(n):
-        depth = min(depth, out[rows[i]])
-    return springs, depth
+    return springs, _smallest_of(out, rows[:n])
 
 
 def spring(lam: float, lam_c: float, yield_displacement: float, damping_time: float) -> tuple[float, float]:
