@@ -69,9 +69,9 @@ import math
 import mujoco
 import numpy as np
 
-from mjrft.geometry.curved_leg import curved_leg_boxes, curved_leg_xml
+from mjrft.geometry.curved_leg import curved_leg_xml
 
-from .hexapod import CLEARANCE, LEG_NAMES, TRIPOD_A, TRIPOD_B
+from .hexapod import CLEARANCE, LEG_NAMES, TRIPOD_A, TRIPOD_B, lowest_leg_point
 from .scene import ROBOT_CONTACT, assemble, box_inertia, fmt, look_at, pop_scene_options, reject_unknown
 
 BODY = (0.10, 0.045, 0.015)  # m: length (paper), width and thickness (the small hexapod's choice)
@@ -132,17 +132,7 @@ def dynaroach_ctrl(model: mujoco.MjModel, t: float, freq: float, offsets: np.nda
 
 def _lowest_tip(curvature: float, n_segments: int) -> float:
     """Lowest point of a leg (with its thickness) below its hip at swing 0, lift 0 (hanging straight down)."""
-    zmin = 0.0
-    for b in curved_leg_boxes(LEG_CHORD, curvature, LEG_WIDTH, LEG_THICKNESS, n_segments):
-        R = np.zeros(9)
-        mujoco.mju_quat2Mat(R, np.asarray(b["quat"], float))
-        R = R.reshape(3, 3)
-        for sx in (-1, 1):
-            for sy in (-1, 1):
-                for sz in (-1, 1):
-                    corner = b["pos"] + R @ (np.array([sx, sy, sz]) * b["size"])
-                    zmin = min(zmin, corner[2])
-    return zmin
+    return lowest_leg_point(LEG_CHORD, curvature, LEG_WIDTH, LEG_THICKNESS, n_segments)
 
 
 def dynaroach_xml(sand: bool = True, **kw) -> str:

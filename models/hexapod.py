@@ -145,7 +145,10 @@ def _hip_positions(v: HexapodVariant) -> dict[str, tuple[float, float, float]]:
     return {name: (xs[name[1]], y if name[0] == "l" else -y, z) for name in LEG_NAMES}
 
 
-def _lowest_leg_point(chord, curvature, width, thickness, n_segments) -> float:
+def lowest_leg_point(chord, curvature, width, thickness, n_segments) -> float:
+    """Height (m, <= 0) of the lowest point of a curved leg's boxes (:func:`mjrft.geometry.curved_leg_boxes`, with
+    their thickness) below its hip, the leg hanging straight down; the boxes turn about y only, so their corners'
+    y does not change their height."""
     zmin = 0.0
     for b in curved_leg_boxes(chord, curvature, width, thickness, n_segments):
         R = np.zeros(9)
@@ -183,7 +186,7 @@ def _leg_kind(k: float) -> str:
 
 def _build(v, variant, curvature, n_segments, opts, torso_inertia, kp, kv, torque_limit, planar=False) -> str:
     k = curvature
-    leg_z_min = _lowest_leg_point(v.leg_chord, k, v.leg_width, v.leg_thickness, n_segments)
+    leg_z_min = lowest_leg_point(v.leg_chord, k, v.leg_width, v.leg_thickness, n_segments)
     lowest = min(-v.body_height / 2.0, -v.body_height / 2.0 + v.hip_height + leg_z_min)  # torso frame
     z0 = -lowest + CLEARANCE + opts.surface
     torso_mass = v.total_mass - 6 * v.leg_mass
