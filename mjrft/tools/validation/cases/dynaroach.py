@@ -233,6 +233,31 @@ def _tripod_offsets(model, tripod_a) -> np.ndarray:
     return off
 
 
+def _tripod_walk(data, terrain, ctrl, n, nw, legs, tri_a, freq, out):
+    """Run a gait for ``n`` terrain steps (``ctrl(t)``: the actuator targets at time t) and, after each step from
+    step ``nw`` on, record in ``out`` the deepest element of the ``legs`` (``depth``, m), the fastest downward
+    buried one (``vpen``, m/s) and the peak vertical force on tripod A's elements ``tri_a`` (``lift``, N), then
+    yield that step's force on tripod A (N) for the caller's own measures. At the end ``out`` gets the mean
+    forward ``speed`` (m/s) over the recorded steps and the ``stride`` (m) at ``freq`` Hz."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the speed-range warning of the regime-off law is expected here
+        for s in range(n):
+            data.ctrl[:] = ctrl(data.time)
+            terrain.step(data, 1)
+            if s == nw:
+                x0, t0 = data.qpos[0], data.time
+            if s >= nw:
+                bur = legs & (terrain.depth > 0)
+                if bur.any():
+                    out["depth"] = max(out["depth"], float(terrain.depth[bur].max()))
+                    out["vpen"] = max(out["vpen"], float((-terrain.vel[bur, 2]).max()))
+                fa = float(terrain.force[tri_a, 2].sum())
+                out["lift"] = max(out["lift"], fa)
+                yield fa
+    out["speed"] = (data.qpos[0] - x0) / (data.time - t0)
+    out["stride"] = out["speed"] / freq
+
+
 def robot_run(freq: float, inertial: bool, seconds: float, warm: float, resolution: float = 0.005) -> dict:
     """The small hexapod's tripod at ``freq`` Hz for ``seconds`` (the first ``warm`` s not averaged); returns
     speed (m/s), stride (m), deepest leg element (m), fastest downward buried leg element (m/s), peak tripod
@@ -253,24 +278,9 @@ def robot_run(freq: float, inertial: bool, seconds: float, warm: float, resoluti
     heights = []
     stance = 0
     mg = float(model.body_subtreemass[model.body("torso").id]) * G
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the speed-range warning of the regime-off law is expected here
-        for s in range(n):
-            data.ctrl[:] = 2 * math.pi * freq * data.time + off
-            terrain.step(data, 1)
-            if s == nw:
-                x0, t0 = data.qpos[0], data.time
-            if s >= nw:
-                bur = legs & (terrain.depth > 0)
-                if bur.any():
-                    out["depth"] = max(out["depth"], float(terrain.depth[bur].max()))
-                    out["vpen"] = max(out["vpen"], float((-terrain.vel[bur, 2]).max()))
-                fa = float(terrain.force[tri_a, 2].sum())
-                out["lift"] = max(out["lift"], fa)
-                stance += fa > 0.02 * mg
-                heights.append(data.qpos[2])
-    out["speed"] = (data.qpos[0] - x0) / (data.time - t0)
-    out["stride"] = out["speed"] / freq
+    for fa in _tripod_walk(data, terrain, lambda t: 2 * math.pi * freq * t + off, n, nw, legs, tri_a, freq, out):
+        stance += fa > 0.02 * mg
+        heights.append(data.qpos[2])
     out["height"] = float(np.mean(heights))
     out["duty"] = stance / max(1, n - nw)
     return out
@@ -444,37 +454,23 @@ def legs_run(freq: float, inertial: bool, seconds: float, warm: float, resolutio
     n, nw = int(round(seconds / model.opt.timestep)), int(round(warm / model.opt.timestep))
     out = {"depth": 0.0, "lift": 0.0, "vpen": 0.0}
     heights, belly, stance, down, touch, in_pro = [], [], 0, False, 0, 0
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # the speed-range warning of the regime-off law is expected here
-        for s in range(n):
-            data.ctrl[:] = dynaroach_ctrl(model, data.time, freq, off, **gait)
-            terrain.step(data, 1)
-            if s == nw:
-                x0, t0 = data.qpos[0], data.time
-            if s >= nw:
-                bur = legs & (terrain.depth > 0)
-                if bur.any():
-                    out["depth"] = max(out["depth"], float(terrain.depth[bur].max()))
-                    out["vpen"] = max(out["vpen"], float((-terrain.vel[bur, 2]).max()))
-                fa = float(terrain.force[tri_a, 2].sum())
-                out["lift"] = max(out["lift"], fa)
-                stance += fa > 0.02 * mg
-                heights.append(data.qpos[2])
-                belly.append(float(terrain.force[torso, 2].sum()) / mg)
-                fz_legs += float(terrain.force[legs, 2].sum())
-                for k, el in leg_of.items():
-                    fx = float(terrain.force[el, 0].sum())
-                    if data.qvel[swing_dof[k]] < 0:  # the tip moving forward: protraction
-                        fx_pro += fx
-                    else:
-                        fx_ret += fx
-                on = float(terrain.force[lf, 2].sum()) > 0.02 * mg / 3
-                if on and not down:
-                    touch += 1
-                    in_pro += data.qvel[swing_lf] < 0  # positive swing turns the tip backward
-                down = on
-    out["speed"] = (data.qpos[0] - x0) / (data.time - t0)
-    out["stride"] = out["speed"] / freq
+    for fa in _tripod_walk(data, terrain, lambda t: dynaroach_ctrl(model, t, freq, off, **gait), n, nw, legs, tri_a,
+                           freq, out):
+        stance += fa > 0.02 * mg
+        heights.append(data.qpos[2])
+        belly.append(float(terrain.force[torso, 2].sum()) / mg)
+        fz_legs += float(terrain.force[legs, 2].sum())
+        for k, el in leg_of.items():
+            fx = float(terrain.force[el, 0].sum())
+            if data.qvel[swing_dof[k]] < 0:  # the tip moving forward: protraction
+                fx_pro += fx
+            else:
+                fx_ret += fx
+        on = float(terrain.force[lf, 2].sum()) > 0.02 * mg / 3
+        if on and not down:
+            touch += 1
+            in_pro += data.qvel[swing_lf] < 0  # positive swing turns the tip backward
+        down = on
     out["height"] = float(np.mean(heights))
     out["bounce"] = float(np.percentile(heights, 95) - np.percentile(heights, 5))
     out["belly"] = float(np.mean(belly))
