@@ -80,6 +80,7 @@ EPISODE = 10.0  # s: a free-body trial, the length of one episode of the env at 
 UPSIDE_DOWN = math.pi / 2  # torso tilt (rad) at which its up axis passes the horizontal
 FREE_MEDIA = ("poppy_lp", "poppy_cp")  # fig. S13's medium and the env's default
 MEDIUM_LABEL = {"poppy_lp": "poppy LP", "poppy_cp": "poppy CP"}
+TURNING = math.radians(1.0)  # rad/s: a free robot whose heading changes faster over an episode's second half turns
 
 
 def _settings(quick: bool) -> dict:
@@ -392,18 +393,32 @@ def free_body(s: dict) -> tuple[list, str, list, dict]:
     # the measured cause: which trials left the straight path, their bounce, the mirrored start and the numerics
     bound = track_heading_bound()
     turned = sorted({key[:4] for key, r in F.items() if r["path_heading"] > bound})
+    rate = {key: max(abs(F[key + (sd,)]["yaw_rate"]) for sd in seeds) for key in turned}
+    turning = [key for key in turned if rate[key] > TURNING]
+    angled = [key for key in turned if rate[key] <= TURNING]
+
+    def names(keys):
+        return "; ".join(f"{LAW_LABEL['fit' if lw == 'rft' else lw]} on {MEDIUM_LABEL[md]}, {kk:+g}/R' at {ff:g} Hz"
+                         for lw, md, kk, ff in keys)
+
     cause = ""
-    if turned:
-        law, medium, k, f = max(turned, key=lambda key: abs(F[key + (seeds[0],)]["yaw_rate"]))
+    parts = []
+    if angled:
+        parts.append(
+            f"Free body, straight but at an angle ({names(angled)}): heading rate below {math.degrees(TURNING):g} deg/s "
+            "over the second half, end headings "
+            + ", ".join(f"{math.degrees(F[key + (seeds[0],)]['heading']):+.0f} deg" for key in angled)
+            + ": the env's start (every leg down, tripod B catching up half a turn at full speed) yaws the body in "
+            "the first second and the gait keeps that heading. ")
+    if turning:
+        law, medium, k, f = max(turning, key=lambda key: rate[key])
         worst = F[law, medium, k, f, seeds[0]]
         mirror = free_trial(k, f, medium, law, seeds[0], phase=0.5)
-        parts = [
-            "Free body: the robots that leave a straight path ("
-            + "; ".join(f"{LAW_LABEL['fit' if lw == 'rft' else lw]} on {MEDIUM_LABEL[md]}, {kk:+g}/R' at {ff:g} Hz"
-                        for lw, md, kk, ff in turned)
-            + ") settle into a period-2 bounce: in the second half of the episode the torso rides higher after one "
-            "tripod's stance than after the other's and the legs' load alternates between the two tripods, each of "
-            "which has two legs on one side of the body; the unequal tripods turn the robot steadily. The worst, "
+        parts.append(
+            f"Free body, turning ({names(turning)}): the robot settles into a period-2 bounce: in the second half "
+            "of the episode the torso rides higher after one tripod's stance than after the other's and the legs' "
+            "load alternates between the two tripods, each of which has two legs on one side of the body; the "
+            "unequal tripods turn the robot steadily. The worst, "
             f"{LAW_LABEL['fit' if law == 'rft' else law]} on {MEDIUM_LABEL[medium]} with {k:+g}/R' legs at {f:g} Hz: "
             f"{_bounce(worst)}; the reversed C-legs at the same f: {_bounce(F[law, medium, -k, f, seeds[0]])}. "
             f"Not the drive: the two tripods lag their commanded rotation by "
@@ -411,8 +426,8 @@ def free_body(s: dict) -> tuple[list, str, list, dict]:
             f"the hip servos spend {100 * worst['saturated']:.0f} % of the steps at their torque limit. "
             f"Started with the tripods swapped (phase 0.5) the same robot turns at "
             f"{math.degrees(mirror['yaw_rate']):+.1f} deg/s: the side it turns to is set by the start, not by a bias "
-            "of the model"]
-        split = [key for key in turned if len({np.sign(F[key + (sd,)]["heading"]) for sd in seeds}) > 1]
+            "of the model")
+        split = [key for key in turning if len({np.sign(F[key + (sd,)]["heading"]) for sd in seeds}) > 1]
         if split:
             lw, md, kk, ff = split[0]
             parts.append(f"; the reset noise alone picks either side (headings at the end "
@@ -424,7 +439,9 @@ def free_body(s: dict) -> tuple[list, str, list, dict]:
             parts.append(f". Not numerical: at half the timestep it turns at {math.degrees(half['yaw_rate']):+.1f} "
                          f"deg/s and with the accurate preset's 4x elements at {math.degrees(fine['yaw_rate']):+.1f} "
                          f"deg/s (against {math.degrees(worst['yaw_rate']):+.1f})")
-        parts.append(". Li's simulation held the body planar (no roll or yaw; the planar trials above do not turn); "
+        parts.append(". ")
+    if turned:
+        parts.append("Li's simulation held the body planar (no roll or yaw; the planar trials above do not turn); "
                      "the real robot's heading on the track is not reported. Speed along x counts a turning robot's "
                      "path only in part.")
         cause = "".join(parts)
