@@ -7,7 +7,7 @@
 
 Command line (the same)::
 
-    mjrft sweep --env mjrft/HexapodSand-v0 --gait tripod --grid "f=1,2,3" --grid "curvature=-48.78,0,48.78" \\
+    mjrft sweep --env mjrft/HexapodSand-v0 --gait tripod --grid "f=1,2,2.5" --grid "curvature=-48.78,0,48.78" \\
         --seconds 2 --out runs/hex_grid --workers 4
     mjrft sweep --rig leg --grid "shape=c,flat,reversed_c" --grid "omega=0.2,2" --out runs/legs
     mjrft sweep ... --address ray://head-node:10001        # the same grid as Ray tasks on a cluster

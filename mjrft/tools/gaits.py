@@ -53,7 +53,9 @@ Choices where the papers are silent
   ``phase`` is not 0) catches up to its phase at full speed; :func:`tripod_angles` gives the gait's pose
   at any time, to start a robot on it instead (as Li 2013's simulation started its trials, each at a
   different phase).
-  A spec whose stance or swing speed exceeds the env's ``max_hip_speed`` is rejected.
+  A spec whose stance or swing speed exceeds the env's ``max_hip_speed`` is rejected; one that needs all
+  of it warns (``GaitWarning``): with no speed to spare the tripods never reach their phases from the
+  env's start and walk in step.
 * **rect** (robophysics thesis, section 2.3.3 and fig. 9). The foot centre moves relative to the hip
   on a rectangle ``length`` x ``height`` whose bottom edge is ``depth`` below the hip, centred under
   the hip. The foot centre is the centre of the sole (the model's ``<side>_sole`` site): the thesis
@@ -253,6 +255,12 @@ def _build_tripod(env, p: dict) -> Callable[[float], np.ndarray]:
         raise ValueError(f"gait 'tripod' f={f:g}, duty={duty:g}, sweep={sweep:g} needs a hip speed of "
                          f"{need:.2f} rad/s (stance {stance_speed:.2f}, swing {swing_speed:.2f}), above the env's "
                          f"max_hip_speed {ms:.2f} rad/s; lower f, or move duty toward sweep / (2 pi)")
+    if need >= ms * (1.0 - 1e-9) and (p["phase"] % 1.0 or offset % 1.0):
+        warnings.warn(f"gait 'tripod' f={f:g} needs a hip speed of {need:.2f} rad/s, all of the env's max_hip_speed "
+                      f"{ms:.2f} rad/s: from the env's start (every leg down) the tripods never catch up to their "
+                      f"phases and stay in step with each other; make the env with max_hip_speed above {need:.2f} "
+                      f"rad/s, or lower f", GaitWarning, stacklevel=4)
+
     def act(t: float) -> np.ndarray:
         ref = tripod_angles(env, t + dt, f, duty, sweep, offset, p["phase"])
         err = ref - env._target

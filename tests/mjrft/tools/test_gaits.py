@@ -214,3 +214,29 @@ def test_shift_walk_runs_on_the_humanoid():
     u, terminated, info = run(env, make_gait("shift:start=0.2", env), 1.0)
     assert info["sinkage"].min() > 0  # both feet in the sand, CoM moving over the right foot
     env.close()
+
+
+def test_tripod_that_needs_all_the_hip_speed_warns_and_walks_in_step():
+    """At 3 Hz the tripod's stance needs 6 pi rad/s, the env's default max_hip_speed: tripod B never catches up its
+    half cycle from the env's start (measured: the tripods stay in step), so the gait warns; with speed to spare
+    (2.5 Hz, or max_hip_speed = 12 pi) it does not, and the tripods are half a turn apart."""
+    def tripod_gap(f, **kw):
+        env = gymnasium.make("mjrft/HexapodSand-v0", **kw)
+        u = env.unwrapped
+        obs, _ = env.reset(seed=0)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            gait = make_gait(f"tripod:f={f:g}", env)
+        for _ in range(100):
+            action, _ = gait.predict(obs)
+            obs, *_ = env.step(action)
+        q = u.data.qpos[u._hip_qadr]
+        gap = (q[list(u.TRIPOD_B_IDX)].mean() - q[list(u.TRIPOD_A_IDX)].mean()) / (2 * math.pi)
+        env.close()
+        return gap, [w for w in caught if issubclass(w.category, GaitWarning)]
+
+    gap, warned = tripod_gap(3.0)
+    assert abs(gap) < 0.01 and len(warned) == 1 and "max_hip_speed above 18.85" in str(warned[0].message)
+    for f, kw in ((2.5, {}), (3.0, {"max_hip_speed": 12 * math.pi})):
+        gap, warned = tripod_gap(f, **kw)
+        assert abs(gap - 0.5) < 0.01 and not warned
