@@ -99,15 +99,12 @@ class HexapodSand(GranularMujocoEnv):
 
     The free body rocks about its roll axis and can turn. Measured with ``tripod`` at 1-5 Hz (10 s,
     ``seed=0``, ``max_hip_speed=12 pi``; ``python benchmarks/free_tripod.py``, output in
-    ``benchmarks/results/free_tripod.txt``): with C-legs the body rolls +-8-12 deg on poppy_lp and +-12-21 deg on poppy_cp, with
-    reversed C-legs less; the largest torso tilt is 27 deg. The heading stays within 10 deg at 1-3 Hz
-    on both media. With C-legs at 4-5 Hz on poppy_cp (and 5 Hz on poppy_lp) the robot turns steadily
-    after the start (88 deg in 10 s at 4 Hz, several turns at 5 Hz on poppy_cp; 25 deg at 5 Hz on
-    poppy_lp): the belly, which carries 40-60 % of the weight, supplies most of the turning moment
-    (-1.8 mN m against -0.5 mN m from the six legs at 5 Hz on poppy_cp). The model, coupler and gait are
-    mirror-symmetric: a start with tripod B leading gives the mirror path
-    (``tests/models/test_hexapod_symmetry.py``). Held in the sagittal plane (``planar=True``, as in Li
-    2013's simulation) the body walks straight.
+    ``benchmarks/results/free_tripod.txt``): the largest torso tilt is 27 deg and the heading stays within
+    10 deg at 1-3 Hz on both media. With C-legs at 5 Hz (and 4 Hz on poppy_cp) the body settles into a
+    period-2 bounce, one tripod carrying more than the other, and turns steadily; the side is set by the
+    start (the model, coupler and gait are mirror-symmetric: ``tests/models/test_hexapod_symmetry.py``).
+    The measured cause is in the ``li2013_robot`` validation case. Held in the sagittal plane
+    (``planar=True``, as in Li 2013's simulation) the body walks straight.
     """
 
     base_model = "hexapod"
