@@ -104,6 +104,9 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
     #: per-robot defaults of the common keyword arguments (the robot's class docstring lists them)
     defaults: dict = {}
+    #: the robot's own (timestep, frame_skip) on sand when neither preset, timestep nor frame_skip is given
+    #: (None: the model's timestep and :data:`mjrft.tools.presets.FRAME_SKIP`)
+    sand_step: tuple[float, int] | None = None
 
     def __init__(self, xml: str, *, sand: bool = True, healthy_z_range=(0.0, 1.0), max_tilt: float = 1.0,
                  medium=None, law=None, resolution=None,
@@ -124,7 +127,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         # the simulation settings, each checked once (rigid envs too): a preset fills what was left as None
         # (mjrft.tools.presets); explicit keyword arguments win
         sim = resolve_preset(preset, medium=medium, law=law, resolution=resolution, timestep=timestep,
-                             frame_skip=frame_skip)
+                             frame_skip=frame_skip, own_step=self.sand_step if sand else None)
         self._timestep, frame_skip = sim.timestep, sim.frame_skip
         for name, val in (("forward_reward_weight", forward_reward_weight),
                           ("energy_cost_weight", energy_cost_weight), ("ctrl_cost_weight", ctrl_cost_weight),

@@ -114,6 +114,7 @@ class HexapodSand(GranularMujocoEnv):
     default_camera_config = {"trackbodyid": 1, "distance": 0.6, "elevation": -20.0}
 
     defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.1, "healthy_z_range": (-0.05, 0.5), "max_tilt": 1.2}
+    sand_step = (SAND_TIMESTEP, SAND_FRAME_SKIP)
 
     def __init__(self, sand: bool = True, *, variant: str = "rhex", curvature: float | None = None,
                  max_hip_speed: float = 6 * np.pi, max_lag: float = 1.0, planar: bool = False, **kwargs):
@@ -127,8 +128,6 @@ class HexapodSand(GranularMujocoEnv):
         self._max_lag = check_positive("max_lag", max_lag)
         self.planar = bool(planar)
         env_kw, model_kw = split_env_kwargs(kwargs)
-        if sand and all(env_kw.get(key) is None for key in ("preset", "timestep", "frame_skip")):
-            env_kw.update(timestep=SAND_TIMESTEP, frame_skip=SAND_FRAME_SKIP)
         randomization = TerrainRandomization.from_value(env_kw.get("terrain_randomization"))
         if sand and randomization is not None and randomization.roughness > 0:
             model_kw.setdefault("surface_grid", DEFAULT_SURFACE_GRID)  # a height-field surface to carry it

@@ -99,13 +99,17 @@ def check_frame_skip(frame_skip) -> int:
 
 
 def resolve(preset: str | None, *, medium=None, law=None, resolution=None, timestep=None,
-            frame_skip=None) -> EnvSettings:
+            frame_skip=None, own_step: tuple[float, int] | None = None) -> EnvSettings:
     """The :class:`EnvSettings` of keyword arguments where those left as None come from ``preset`` (None: nothing
-    filled; ``frame_skip`` then defaults to :data:`FRAME_SKIP`); explicit values win. Each value is checked here,
-    naming the bad value and the valid choices (rigid environments too, where medium and law go unused).
+    filled; ``frame_skip`` then defaults to :data:`FRAME_SKIP`); explicit values win. ``own_step``: the robot's own
+    ``(timestep, frame_skip)``, used when neither ``preset``, ``timestep`` nor ``frame_skip`` is given. Each value
+    is checked here, naming the bad value and the valid choices (rigid environments too, where medium and law go
+    unused).
 
     The preset's ``resolution_scale`` applies only when ``resolution`` is None.
     """
+    if own_step is not None and preset is None and timestep is None and frame_skip is None:
+        timestep, frame_skip = own_step
     p = get_preset(preset) if preset is not None else {}
     law = law if law is not None else p.get("law")
     timestep = timestep if timestep is not None else p.get("timestep")

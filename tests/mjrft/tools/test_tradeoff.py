@@ -239,6 +239,15 @@ def test_get_preset_and_resolve():
     assert presets.resolve(None) == presets.EnvSettings(medium=None, law=None, resolution=None, resolution_scale=1.0,
                                                         timestep=None, frame_skip=presets.FRAME_SKIP)
     assert presets.resolve("fast", resolution=0.01).resolution_scale == 1.0
+    # a robot's own step only when neither preset, timestep nor frame_skip is given (then each is checked)
+    own = (0.0005, 20)
+    assert (presets.resolve(None, own_step=own).timestep, presets.resolve(None, own_step=own).frame_skip) == own
+    for kw, step in (({"preset": "fast"}, (0.001, 10)), ({"timestep": 0.002}, (0.002, presets.FRAME_SKIP)),
+                     ({"frame_skip": 5}, (None, 5))):
+        got = presets.resolve(kw.pop("preset", None), own_step=own, **kw)
+        assert (got.timestep, got.frame_skip) == step
+    with pytest.raises(ValueError, match="frame_skip must be an integer >= 1"):
+        presets.resolve(None, own_step=(0.0005, 0))
     assert presets.resolve(None, medium="poppy_lp").medium is MEDIA["poppy_lp"]  # looked up once, here
     for bad, match in (({"medium": "mud"}, "unknown medium 'mud'; valid choices: "),
                        ({"law": "fluid"}, "unknown law 'fluid'; valid choices: "),
