@@ -358,6 +358,11 @@ def free_order_check(medium: str, freqs, seeds, v: dict, qualitative: bool) -> C
             f"{'/'.join(f'{x:.2f}' for x in r)} ({f:g} Hz)" for f, r in ratios.items()) + f" (seeds {', '.join(map(str, seeds))})")
 
 
+def _free_label(law: str) -> str:
+    """The report's name of a free trial's law (``rft`` under the medium's fit, or ``depth_only``)."""
+    return LAW_LABEL["fit" if law == "rft" else law]
+
+
 def _bounce(r: dict) -> str:
     """A free trial's second half: the two half-cycles' torso heights and legs' loads, and the heading rate."""
     z, fz = r["height_halves"], r["legs_fz_halves"]
@@ -365,32 +370,11 @@ def _bounce(r: dict) -> str:
             f"half-cycles, heading {math.degrees(r['yaw_rate']):+.1f} deg/s")
 
 
-def free_body(s: dict) -> tuple[list, str, list, dict]:
-    """The free-body trials: ``mjrft/HexapodSand-v0`` as a user makes it, C and reversed C-legs, on poppy LP and CP
-    under the medium's fit and on poppy LP under the depth-only law. Returns the checks, the measured cause of
-    their failures, the figure's panels and the trials."""
-    freqs, seeds = s["free_freqs"], s["free_seeds"]
-    runs = [("rft", medium) for medium in FREE_MEDIA] + [("depth_only", published(PAPER, "medium").value)]
-    F = {(law, medium, k, f, sd): free_trial(k, f, medium, law, sd)
-         for law, medium in runs for k in (1.0, -1.0) for f in freqs for sd in seeds}
-    checks = []
-    for medium in FREE_MEDIA:
-        v = {key[2:]: r["speed"] for key, r in F.items() if key[:2] == ("rft", medium)}
-        checks.append(free_order_check(medium, freqs, seeds, v, qualitative=medium == published(PAPER, "medium").value))
-    checks.append(upright_check("free body, medium's fit (rft), poppy LP and CP",
-                                max(r["tilt"] for key, r in F.items() if key[0] == "rft")))
-    for law, medium in runs:
-        label = f"free body, {LAW_LABEL['fit' if law == 'rft' else law]}, {MEDIUM_LABEL[medium]}"
-        checks.append(track_check(label, {key[2:]: r["path_heading"] for key, r in F.items() if key[:2] == (law, medium)}))
-    lp = published(PAPER, "medium").value
-    mean = {key: float(np.mean([F[key + (sd,)]["speed"] for sd in seeds])) for key in {k[:4] for k in F}}
-    checks.append(similar_speeds_check(
-        "free body, depth-only, poppy LP", freqs, {f: mean["depth_only", lp, 1.0, f] for f in freqs},
-        {f: mean["depth_only", lp, -1.0, f] for f in freqs},
-        {f: max(F["depth_only", lp, k, f, sd]["tilt"] for k in (1.0, -1.0) for sd in seeds) for f in freqs},
-        fit={f: mean["rft", lp, 1.0, f] / mean["rft", lp, -1.0, f] for f in freqs}, qualitative=False))
-
-    # the measured cause: which trials left the straight path, their bounce, the mirrored start and the numerics
+def free_body_cause(F: dict, seeds, numerics: bool) -> str:
+    """The measured cause of free trials ``F`` ({(law, medium, curvature, f, seed): :func:`free_trial`}) that left
+    the straight path ("" when none did): those that run straight at the angle their start gave them, and those
+    that turn, with the worst one's bounce, drive, the same trial with the tripods swapped and (``numerics``) at
+    half the timestep and with 4x the elements."""
     bound = track_heading_bound()
     turned = sorted({key[:4] for key, r in F.items() if r["path_heading"] > bound})
     rate = {key: max(abs(F[key + (sd,)]["yaw_rate"]) for sd in seeds) for key in turned}
@@ -398,7 +382,7 @@ def free_body(s: dict) -> tuple[list, str, list, dict]:
     angled = [key for key in turned if rate[key] <= TURNING]
 
     def names(keys):
-        return "; ".join(f"{LAW_LABEL['fit' if lw == 'rft' else lw]} on {MEDIUM_LABEL[md]}, {kk:+g}/R' at {ff:g} Hz"
+        return "; ".join(f"{_free_label(lw)} on {MEDIUM_LABEL[md]}, {kk:+g}/R' at {ff:g} Hz"
                          for lw, md, kk, ff in keys)
 
     cause = ""
@@ -419,7 +403,7 @@ def free_body(s: dict) -> tuple[list, str, list, dict]:
             "of the episode the torso rides higher after one tripod's stance than after the other's and the legs' "
             "load alternates between the two tripods, each of which has two legs on one side of the body; the "
             "unequal tripods turn the robot steadily. The worst, "
-            f"{LAW_LABEL['fit' if law == 'rft' else law]} on {MEDIUM_LABEL[medium]} with {k:+g}/R' legs at {f:g} Hz: "
+            f"{_free_label(law)} on {MEDIUM_LABEL[medium]} with {k:+g}/R' legs at {f:g} Hz: "
             f"{_bounce(worst)}; the reversed C-legs at the same f: {_bounce(F[law, medium, -k, f, seeds[0]])}. "
             f"Not the drive: the two tripods lag their commanded rotation by "
             f"{math.degrees(worst['tripod_lag'][0]):.1f} and {math.degrees(worst['tripod_lag'][1]):.1f} deg, and "
@@ -433,7 +417,7 @@ def free_body(s: dict) -> tuple[list, str, list, dict]:
             parts.append(f"; the reset noise alone picks either side (headings at the end "
                          + ", ".join(f"{math.degrees(F[split[0] + (sd,)]['heading']):+.0f} deg (seed {sd})" for sd in seeds)
                          + f" for {kk:+g}/R' at {ff:g} Hz on {MEDIUM_LABEL[md]})")
-        if s["numerics"]:
+        if numerics:
             half = free_trial(k, f, medium, law, seeds[0], timestep=SAND_TIMESTEP / 2, frame_skip=40)
             fine = free_trial(k, f, medium, law, seeds[0], preset="accurate")
             parts.append(f". Not numerical: at half the timestep it turns at {math.degrees(half['yaw_rate']):+.1f} "
@@ -445,9 +429,38 @@ def free_body(s: dict) -> tuple[list, str, list, dict]:
                      "the real robot's heading on the track is not reported. Speed along x counts a turning robot's "
                      "path only in part.")
         cause = "".join(parts)
+    return cause
+
+
+def free_body(s: dict) -> tuple[list, str, list, dict]:
+    """The free-body trials: ``mjrft/HexapodSand-v0`` as a user makes it, C and reversed C-legs, on poppy LP and CP
+    under the medium's fit and on poppy LP under the depth-only law. Returns the checks, the measured cause of
+    their failures, the figure's panels and the trials."""
+    freqs, seeds = s["free_freqs"], s["free_seeds"]
+    runs = [("rft", medium) for medium in FREE_MEDIA] + [("depth_only", published(PAPER, "medium").value)]
+    F = {(law, medium, k, f, sd): free_trial(k, f, medium, law, sd)
+         for law, medium in runs for k in (1.0, -1.0) for f in freqs for sd in seeds}
+    checks = []
+    for medium in FREE_MEDIA:
+        v = {key[2:]: r["speed"] for key, r in F.items() if key[:2] == ("rft", medium)}
+        checks.append(free_order_check(medium, freqs, seeds, v, qualitative=medium == published(PAPER, "medium").value))
+    checks.append(upright_check("free body, medium's fit (rft), poppy LP and CP",
+                                max(r["tilt"] for key, r in F.items() if key[0] == "rft")))
+    for law, medium in runs:
+        label = f"free body, {_free_label(law)}, {MEDIUM_LABEL[medium]}"
+        checks.append(track_check(label, {key[2:]: r["path_heading"] for key, r in F.items() if key[:2] == (law, medium)}))
+    lp = published(PAPER, "medium").value
+    mean = {key: float(np.mean([F[key + (sd,)]["speed"] for sd in seeds])) for key in {k[:4] for k in F}}
+    checks.append(similar_speeds_check(
+        "free body, depth-only, poppy LP", freqs, {f: mean["depth_only", lp, 1.0, f] for f in freqs},
+        {f: mean["depth_only", lp, -1.0, f] for f in freqs},
+        {f: max(F["depth_only", lp, k, f, sd]["tilt"] for k in (1.0, -1.0) for sd in seeds) for f in freqs},
+        fit={f: mean["rft", lp, 1.0, f] / mean["rft", lp, -1.0, f] for f in freqs}, qualitative=False))
+
+    cause = free_body_cause(F, seeds, s["numerics"])
 
     style = {1.0: "C-leg (+1/R')", -1.0: "reversed C-leg (-1/R')"}
-    panels = [Panel(f"free body, {LAW_LABEL['fit' if law == 'rft' else law]}, {MEDIUM_LABEL[medium]}: speed vs f "
+    panels = [Panel(f"free body, {_free_label(law)}, {MEDIUM_LABEL[medium]}: speed vs f "
                     f"(mean of {len(seeds)} seed{'s' if len(seeds) > 1 else ''})",
                     "stride frequency f (Hz)", "average forward speed v_x (cm/s)",
                     [Line(freqs, [100 * mean[law, medium, k, f] for f in freqs], style[k]) for k in (1.0, -1.0)])
