@@ -13,41 +13,27 @@ Each preset sets:
   keep the control period ``timestep x frame_skip`` at 10 ms, so a policy sees the same task under
   every preset.
 
-How they were chosen (``mjrft bench`` / ``python benchmarks/trade_study.py``, :mod:`mjrft.tools.tradeoff`; the
-committed run is ``benchmarks/results/trade_study.md``). Cost is the wall time per simulated second
-relative to the bare MuJoCo model (robots: their rigid-ground twin with the same controller); errors are
-against the reference (1/4 of the model's resolution, 0.5 ms, the medium's own fit), RMS and peak of the
-net granular force, final position of the torso / pelvis:
+How they were chosen: by the trade study (``mjrft bench`` / ``python benchmarks/trade_study.py``,
+:mod:`mjrft.tools.tradeoff`), which measures the cost (wall time per simulated second relative to the rigid-ground
+twin with the same controller) and the error (RMS and peak of the net granular force, final torso / pelvis
+position, against the reference: 1/4 of the model's resolution, 0.5 ms, the medium's own fit) of configurations
+around the default. Its committed run is ``benchmarks/results/trade_study.md``; the measured numbers of each preset
+are in docs/speed-accuracy.md, their one page.
 
-========  =====  ======  ===========  ==================================================================
-preset    scale  law     dt x skip    measured: planar hexapod tripod 2 s | humanoid on one foot 2.5 s
-========  =====  ======  ===========  ==================================================================
-fast      4      rft     1 ms x 10    0.94x, RMS 11.4 %, peak 3.2 %, 12.2 mm | 0.92x, 0.94 %, 0.41 %, 2.7 mm
-default   1      rft     1 ms x 10    1.76x, RMS 7.1 %, peak 2.9 %, 2.7 mm | 2.07x, 0.84 %, 0.20 %, 0.08 mm
-accurate  0.5    rft     0.5 ms x 20  9.93x, RMS 0.68 %, peak 0.11 %, 0.36 mm | 11.2x, 0.03 %, 0.00 %, 0.02 mm
-========  =====  ======  ===========  ==================================================================
-
-(Rigs, same order: plate 3.62x / 6.77x / 23.6x, C-leg 4.50x / 40.6x / 193x against a bare rig of a few
-microseconds per step, force errors <= 0.74 %; ``accurate`` is their reference.)
+========  =====  ======  ===========
+preset    scale  law     dt x skip
+========  =====  ======  ===========
+fast      4      rft     1 ms x 10
+default   1      rft     1 ms x 10
+accurate  0.5    rft     0.5 ms x 20
+========  =====  ======  ===========
 
 The rules (:func:`mjrft.tools.tradeoff.recommend_presets`; candidates use ``rft``, a 10 ms control period and
 warn no more than the default; cost is the geometric mean over the scenarios that choose presets, errors
-the worst case): *fast* is the cheapest with RMS force error <= 20 % and peak <= 10 % (4x coarser: worst
-11.4 % RMS, on the hexapod); *accurate* the cheapest non-reference configuration with RMS and peak force
-errors <= 1 % and <= 1/4 of the default's, and final position <= 1 mm, judged on the scenarios whose
-reference is converged (all four: the planar hexapod's two finest resolutions differ by 0.67 % RMS force
-and 0.43 mm). The small hexapod at 10 Hz is reported but takes no part (its 1 ms default is already 22 %
-from its 0.5 ms reference: fast gaits need a finer timestep). The timestep, not the elements, limits the
-robots. What else the study showed:
-
-* 2 ms steps are cheap (hexapod 0.77x, humanoid 0.97x) but give 31 % RMS force error on the hexapod and
-  stability warnings on the humanoid, so no preset uses them;
-* Li's fit of the medium (``rft``) is the reference law and costs no more than the others: ``depth_only``
-  is 1.2-2x its cost with 26-72 % RMS force error, ``rft_generic`` (Li's scaling routine) 0.9-1.2x
-  with 1.2-13.5 %, ``rft3d`` 1.7-4.2x with 2-37 %;
-* flat feet need few elements (a fully buried flat face is integrated exactly by one element at its
-  centroid: stress is linear in depth): the humanoid at 8 cm (76 elements) is within 0.94 % RMS force;
-* frame skip only changes the per-call overhead and the control signal.
+the worst case): *fast* is the cheapest with RMS force error <= 20 % and peak <= 10 %; *accurate* the cheapest
+non-reference configuration with RMS and peak force errors <= 1 % and <= 1/4 of the default's, and final
+position <= 1 mm, judged on the scenarios whose reference is converged. The small hexapod at 10 Hz is reported
+but takes no part (fast gaits need a finer timestep than its 1 ms default).
 
 The biped is not one of the study's scenarios; its presets use the same scales.
 """
