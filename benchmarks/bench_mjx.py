@@ -10,11 +10,11 @@ turn behind) from the hexapod's initial pose, perturbed per world. For each numb
 * ``memory``: XLA's memory analysis of the compiled call (arguments + outputs + temporaries, MiB); on a GPU also
   the device's peak bytes in use.
 
-Scenes: ``sand``: ``mjrft.mjx.Sand`` on the hexapod's granular bed (1,408 elements, Li RFT with the rest memory;
+Scenes: ``sand``: ``mjrft.mjx.Sand`` on the hexapod's granular bed (every element of the default robot, Li RFT with the rest memory;
 the bed's rigid bottom, 30 cm down, without contacts as in :class:`mjrft.envs.hexapod_mjx.HexapodSandMJX`);
 ``rigid``: the same robot on ``hexapod_rigid`` (MJX's collision and constraint solver on a rigid plane);
-``sand-cull``: ``sand`` with ``Sand(cull=K)`` (``--cull``, default 704: half the elements; the tripod at 1 to 5 Hz
-buries at most 603).
+``sand-cull``: ``sand`` with ``Sand(cull=K)`` (``--cull``, default 704: above the most elements the tripod at 1 to 5
+Hz buries, ``benchmarks/results/buried_elements.txt``).
 ``--cpu-path`` also measures mjrft's CPU path on this machine: the numba kernel through
 ``GranularTerrain.step``, one process per core (``os.cpu_count()``), each stepping its own hexapod with the same
 gait; its steps/s is the sum over the processes.
