@@ -8,9 +8,10 @@ into MuJoCo; the env then ends the episode with ``info["diverged"]``, counted he
 Episodes end by falls (``terminated``), divergences or the 1000-step time limit (``truncated``) and
 are reset; all three are counted, as are stability warnings (once per body and env).
 
-``--steps`` counts physics steps (1 ms each) by default: 1,000,000 physics steps = 100,000 env
-steps at the default ``frame_skip`` of 10. ``--unit env`` counts env steps instead (1e6 env steps
-is 1e7 physics steps: about an hour per environment on a shared 2-core machine).
+``--steps`` counts physics steps by default (each env's own: 0.5 ms x ``frame_skip`` 20 for the sand
+hexapod, 1 ms x 10 for the others): 1,000,000 physics steps = 50,000-100,000 env steps. ``--unit env`` counts
+env steps instead (1e6 env steps is 1-2e7 physics steps: about 20 minutes to an hour per environment on a
+shared 2-core machine).
 
     python benchmarks/soak.py                         # 1e6 physics steps in each environment
     python benchmarks/soak.py --steps 100000          # a quicker 1e5
@@ -120,7 +121,7 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=1_000_000, help="steps per environment (default 1e6)")
     ap.add_argument("--unit", choices=("physics", "env"), default="physics",
-                    help="what --steps counts: physics steps (1 ms, default) or env steps (frame_skip physics steps)")
+                    help="what --steps counts: physics steps (the env's own, default) or env steps (frame_skip physics steps)")
     ap.add_argument("--envs", nargs="+", default=list(ENV_IDS), help="environment ids")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--json", help="also write the results to this JSON file")
