@@ -26,6 +26,7 @@ import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
@@ -429,6 +430,10 @@ def tradeoff(out: Path = IMG / "speed_accuracy.png") -> Path:
                 lines.append(f"{scenario}: {r['config']}: cost {cost:.2f}x bare, RMS force error {err:.2f} %")
         ax.set_xscale("log")
         ax.set_yscale("log")
+        costs = [float(r["cost_ratio"]) for r in mine]
+        ax.set_xticks([t for t in (0.5, 1, 2, 5, 10, 20, 50, 100) if min(costs) / 1.5 <= t <= 1.5 * max(costs)])
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))  # 1, 2, 5, 10: labels that never overlap
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_xlabel("cost per simulated second (x the same robot on rigid ground)")
         ax.set_ylabel("RMS net granular force error (%)")
         ax.set_title(title, fontsize=10)
