@@ -165,3 +165,48 @@ def test_h1_shifts_its_weight_from_foot_to_foot_on_sand():
     assert abs(load.mean() - 1.0) < 0.05  # the grains carry it throughout (measured 0.9999)
     assert feet[:, 0].min() < 0.3 and feet[:, 1].min() < 0.3  # each foot under 30 % at times (measured 3 %, 2 %)
     assert feet[:, 0].max() > 0.7 and feet[:, 1].max() > 0.7
+
+
+def walk(m, d, ctl, terrain, steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Hold the pose 1 s, then ``Controller.walk`` for ``steps`` steps and 1 s standing; the pelvis' start
+    position, per step each foot's vertical granular force over the weight and the pelvis' tilt from the vertical
+    (rad). Stops at a tilt over 1 rad."""
+    ids = [m.body(f).id for f in h1.FEET]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", TerrainStabilityWarning)
+        warnings.simplefilter("ignore", ValidityRangeWarning)
+        run(m, d, ctl, terrain, 1.0)
+        start, t0 = d.qpos[:3].copy(), d.time
+        n = int(round((steps * sum(h1.WALK_PHASES) + 1.0) / m.opt.timestep))
+        feet, tilt = np.full((n, 2), np.nan), np.full(n, np.nan)
+        for i in range(n):
+            ctl.walk(d, d.time - t0, steps=steps, length=0.05)
+            terrain.step(d)  # raises NonFiniteError on a non-finite state or force
+            feet[i] = terrain.wrench[ids, 2] / weight(m)
+            tilt[i] = np.arccos(np.clip(d.xmat[1][8], -1.0, 1.0))
+            if tilt[i] > 1.0:
+                break
+    return start, feet, tilt
+
+
+@pytest.mark.slow
+def test_h1_walks_two_steps_forward_on_sand():
+    """The quasi-static walk: two steps of 5 cm (each foot unloaded and lifted in turn), then standing."""
+    m, d, ctl, terrain = h1_on()
+    start, feet, tilt = walk(m, d, ctl, terrain, steps=2)
+    assert np.all(np.isfinite(d.qpos)) and np.all(np.isfinite(d.qvel)) and np.isfinite(tilt).all()
+    assert np.all(feet.min(0) < 0.02)  # each foot carries nothing at times (measured -0.83, -0.22: pulled down)
+    assert d.qpos[0] - start[0] > 0.07 and abs(d.qpos[1] - start[1]) < 0.05  # measured 0.101 m, -0.030 m
+    assert tilt.max() < 0.25  # from the vertical, the 0.069 rad lean included (measured 0.177)
+    assert abs(h1.pelvis_pitch(d) - ctl.lean) < 0.03 and abs(h1.pelvis_roll(d)) < 0.03  # measured 0.010, 0.005
+    assert np.all(np.abs(feet[-1] - 0.5) < 0.1)  # standing on both (measured 0.52 / 0.48)
+
+
+@pytest.mark.slow
+def test_h1_walk_without_the_hip_roll_shift_tips_over():
+    """Control: the same walk with the hip rolls not turned towards the stance foot (``walk_roll = 0``) falls
+    sideways once the first foot lifts."""
+    m, d, ctl, terrain = h1_on()
+    ctl.walk_roll = 0.0
+    start, feet, tilt = walk(m, d, ctl, terrain, steps=2)
+    assert np.nanmax(tilt) > 1.0 and d.qpos[1] - start[1] > 0.5  # measured 2.5 s into the walk, 0.79 m to its left
