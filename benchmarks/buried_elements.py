@@ -28,14 +28,12 @@ def most_buried(f: float, seconds: float = 6.0) -> tuple[int, int]:
     u = env.unwrapped
     obs, _ = env.reset(seed=0)
     gait = make_gait(f"tripod:f={f:g}", env)
-    terrain, inner, most = u.terrain, u.terrain.step, [0]
+    terrain, most = u.terrain, [0]
 
-    def step(data, n=1):  # one physics step at a time, so every step is counted
-        for _ in range(n):
-            inner(data, 1)
-            most[0] = max(most[0], int(np.count_nonzero(terrain.depth > 0)))
+    def count(data):  # after every physics step, so every step is counted
+        most[0] = max(most[0], int(np.count_nonzero(terrain.depth > 0)))
 
-    terrain.step = step
+    u.each_physics_step(count)
     for _ in range(int(round(seconds / u.dt))):
         action, _ = gait.predict(obs)
         obs, *_ = env.step(action)

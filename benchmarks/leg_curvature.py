@@ -36,20 +36,17 @@ def run(curvature_rp: float, f: float = 2.0, seconds: float = 3.0, medium: str =
     m = u.model
     ids = {"A": [m.body(f"leg_{n}").id for n in TRIPOD_A], "B": [m.body(f"leg_{n}").id for n in TRIPOD_B]}
     rec = {k: [] for k in ("A", "B", "belly", "z", "legs_x", "belly_x")}
-    step_once = u.terrain.step
 
-    def step(data, n=1):
-        for _ in range(n):
-            step_once(data, 1)
-            w = u.terrain.wrench
-            rec["A"].append(w[ids["A"], 2].sum())
-            rec["B"].append(w[ids["B"], 2].sum())
-            rec["belly"].append(w[u._torso_id, 2])
-            rec["legs_x"].append(w[ids["A"] + ids["B"], 0].sum())
-            rec["belly_x"].append(w[u._torso_id, 0])
-            rec["z"].append(data.xpos[u._torso_id, 2])
+    def record(data):  # after every physics step
+        w = u.terrain.wrench
+        rec["A"].append(w[ids["A"], 2].sum())
+        rec["B"].append(w[ids["B"], 2].sum())
+        rec["belly"].append(w[u._torso_id, 2])
+        rec["legs_x"].append(w[ids["A"] + ids["B"], 0].sum())
+        rec["belly_x"].append(w[u._torso_id, 0])
+        rec["z"].append(data.xpos[u._torso_id, 2])
 
-    u.terrain.step = step
+    u.each_physics_step(record)
     gait = make_gait(f"tripod:f={f:g}", env)
     obs, _ = env.reset(seed=0)
     x0 = float(u.data.qpos[0])

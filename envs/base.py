@@ -248,6 +248,22 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
             self.diverged = str(exc)
 
     # ------------------------------------------------------------------ measurements
+    def each_physics_step(self, fn) -> None:
+        """From now on call ``fn(data)`` after every physics step of the env's steps: the terrain then steps one
+        physics step per call (the same steps), so ``terrain.wrench`` in ``fn`` is that step's own. For
+        measurements averaged over every physics step; a rigid env has no terrain and refuses it."""
+        if self.terrain is None:
+            raise ValueError(f"each_physics_step needs the granular terrain; {type(self).__name__} with sand=False "
+                             "has none (step the rigid env and read data after each env step instead)")
+        inner = self.terrain.step
+
+        def step(data, n=1):
+            for _ in range(n):
+                inner(data, 1)
+                fn(data)
+
+        self.terrain.step = step
+
     def torso_height(self) -> float:
         return float(self.data.xpos[self._torso_id, 2])
 

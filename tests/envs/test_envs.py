@@ -239,3 +239,27 @@ def test_humanoid_stands_on_wide_feet():
     # the feet carry the weight through the grains
     total_fz = info["granular_force"][:, 2].sum()
     assert total_fz == pytest.approx(50 * 9.81, rel=0.2)
+
+
+def test_each_physics_step_calls_after_every_physics_step_and_changes_no_step():
+    """``each_physics_step(fn)``: fn sees every physics step (frame_skip per env step, time advancing by the timestep,
+    the step's own wrench) and the trajectory is the one without it; a rigid env, which has no terrain, refuses it."""
+    runs = {}
+    for hooked in (False, True):
+        env = gymnasium.make("mjrft/HexapodSand-v0")
+        u = env.unwrapped
+        env.reset(seed=0)
+        seen = []
+        if hooked:
+            u.each_physics_step(lambda data: seen.append((data.time, u.terrain.wrench[u._torso_id, 2])))
+        for _ in range(3):
+            env.step(np.full(6, 0.5, dtype=np.float32))
+        runs[hooked] = (u.data.qpos.copy(), seen, u.frame_skip, u.model.opt.timestep)
+        env.close()
+    qpos, seen, frame_skip, dt = runs[True]
+    assert np.array_equal(qpos, runs[False][0])
+    assert len(seen) == 3 * frame_skip and np.allclose(np.diff([t for t, _ in seen]), dt)
+    assert all(np.isfinite(fz) for _, fz in seen)
+    rigid = gymnasium.make("mjrft/HexapodRigid-v0").unwrapped
+    with pytest.raises(ValueError, match="each_physics_step needs the granular terrain"):
+        rigid.each_physics_step(print)

@@ -162,17 +162,14 @@ def trial(curvature: float, f: float, law: str, strides: int, phase: float = 0.0
     legs = [m.body(f"leg_{n}").id for n in LEG_NAMES]
     torso = u._torso_id
     forces = []
-    inner = u.terrain.step
     measuring = [False]
 
-    def step(data, n=1):  # one terrain call per physics step, so the forces are averaged over every step
-        for _ in range(n):
-            inner(data, 1)
-            if measuring[0]:
-                w = u.terrain.wrench
-                forces.append((w[legs, 2].sum(), w[torso, 2], w[torso, 0]))
+    def measure(data):  # after every physics step, so the forces are averaged over every step
+        if measuring[0]:
+            w = u.terrain.wrench
+            forces.append((w[legs, 2].sum(), w[torso, 2], w[torso, 0]))
 
-    u.terrain.step = step
+    u.each_physics_step(measure)
     n_settle = int(round(SETTLE / u.dt))
     n_total = n_settle + int(round(strides / f / u.dt))
     tilt_all = tilt_win = 0.0
@@ -230,17 +227,14 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
     legs = [m.body(f"leg_{n}").id for n in LEG_NAMES]
     n_settle, n_total = int(round(SETTLE / u.dt)), int(round(seconds / u.dt))
     half_rows = []  # (half-cycle parity, torso z, legs' Fz) at every physics step of the second half
-    inner = u.terrain.step
 
-    def step(data, n=1):
-        for _ in range(n):
-            inner(data, 1)
-            if data.time >= seconds / 2:
-                w = u.terrain.wrench
-                half = int(math.floor(2 * (phase + f * data.time))) % 2
-                half_rows.append((half, data.xpos[u._torso_id, 2], w[legs, 2].sum()))
+    def measure(data):
+        if data.time >= seconds / 2:
+            w = u.terrain.wrench
+            half = int(math.floor(2 * (phase + f * data.time))) % 2
+            half_rows.append((half, data.xpos[u._torso_id, 2], w[legs, 2].sum()))
 
-    u.terrain.step = step
+    u.each_physics_step(measure)
     x0, y0 = float(d.qpos[0]), float(d.qpos[1])
     tilt, path, yaws, lags, saturated = 0.0, 0.0, [], [], []
     limit = m.actuator_forcerange[:, 1]
