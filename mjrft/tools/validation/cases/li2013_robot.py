@@ -81,6 +81,7 @@ UPSIDE_DOWN = math.pi / 2  # torso tilt (rad) at which its up axis passes the ho
 FREE_MEDIA = ("poppy_lp", "poppy_cp")  # fig. S13's medium and the env's default
 MEDIUM_LABEL = {"poppy_lp": "poppy LP", "poppy_cp": "poppy CP"}
 TURNING = math.radians(1.0)  # rad/s: a free robot whose heading changes faster over an episode's second half turns
+BOUNCE = 0.1  # a torso whose mean heights on alternate half-cycles differ by more than this fraction bounces (period 2)
 
 
 def _settings(quick: bool) -> dict:
@@ -357,11 +358,22 @@ def _free_label(law: str) -> str:
     return LAW_LABEL["fit" if law == "rft" else law]
 
 
-def _bounce(r: dict) -> str:
-    """A free trial's second half: the two half-cycles' torso heights and legs' loads, and the heading rate."""
+def _halves(r: dict) -> str:
+    """A free trial's second half: the two half-cycles' torso heights and legs' loads."""
     z, fz = r["height_halves"], r["legs_fz_halves"]
-    return (f"torso {1e3 * z[0]:.1f} / {1e3 * z[1]:.1f} mm and legs {fz[0]:.2f} / {fz[1]:.2f} N on alternate "
-            f"half-cycles, heading {math.degrees(r['yaw_rate']):+.1f} deg/s")
+    return f"torso {1e3 * z[0]:.1f} / {1e3 * z[1]:.1f} mm and legs {fz[0]:.2f} / {fz[1]:.2f} N on alternate half-cycles"
+
+
+def _bounce(r: dict) -> str:
+    """:func:`_halves` and the heading rate."""
+    return f"{_halves(r)}, heading {math.degrees(r['yaw_rate']):+.1f} deg/s"
+
+
+def bounces(r: dict) -> bool:
+    """Whether a trial's torso rides at two heights on alternate half-cycles: they differ by more than
+    :data:`BOUNCE` of their mean."""
+    z = r["height_halves"]
+    return abs(z[0] - z[1]) > BOUNCE * 0.5 * abs(z[0] + z[1])
 
 
 def free_body_cause(F: dict, seeds, numerics: bool) -> str:
@@ -392,6 +404,7 @@ def free_body_cause(F: dict, seeds, numerics: bool) -> str:
         law, medium, k, f = max(turning, key=lambda key: rate[key])
         worst = F[law, medium, k, f, seeds[0]]
         mirror = free_trial(k, f, medium, law, seeds[0], phase=0.5)
+        held = {kk: free_trial(kk, f, medium, law, seeds[0], planar=True) for kk in (k, -k)}
         parts.append(
             f"Free body, turning ({names(turning)}): the robot settles into a period-2 bounce: in the second half "
             "of the episode the torso rides higher after one tripod's stance than after the other's and the legs' "
@@ -404,7 +417,12 @@ def free_body_cause(F: dict, seeds, numerics: bool) -> str:
             f"the hip servos spend {100 * worst['saturated']:.0f} % of the steps at their torque limit. "
             f"Started with the tripods swapped (phase 0.5) the same robot turns at "
             f"{math.degrees(mirror['yaw_rate']):+.1f} deg/s: the side it turns to is set by the start, not by a bias "
-            "of the model")
+            f"of the model. Held in the sagittal plane (the same env, start and gait with `planar=True`) it "
+            f"{'bounces too' if bounces(held[k]) else 'does not bounce'} ({_halves(held[k])}) and runs straight, "
+            f"{held[k]['speed']:.3f} m/s against the reversed C-legs' {held[-k]['speed']:.3f} m/s "
+            f"({_halves(held[-k])})"
+            + (": the bounce is in the sagittal motion, and the free body's roll and yaw turn its unequal tripods "
+               "into a turn" if bounces(held[k]) else ""))
         split = [key for key in turning if len({np.sign(F[key + (sd,)]["heading"]) for sd in seeds}) > 1]
         if split:
             lw, md, kk, ff = split[0]

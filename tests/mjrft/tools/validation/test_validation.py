@@ -734,6 +734,7 @@ def li2013_robot_outcomes(robot):
     assert len(track) == 3
     if not all(c.passed for c in track):
         assert "period-2 bounce" in robot.cause and "Started with the tripods swapped" in robot.cause
+        assert "Held in the sagittal plane" in robot.cause  # the same trial held planar: bounce, but no turn
     # speed vs f per law, speed vs curvature, the mechanism panel, the free robot's speed vs f per law and medium;
     # every speed finite and forward
     assert len(robot.panels) == 8
@@ -805,6 +806,14 @@ def li2013_robot_upright_rejects_a_robot_on_its_back():
         tilts[pitch] = tilt
     assert tilts[math.pi] > UPSIDE_DOWN and not li2013_robot.upright_check("on its back", tilts[math.pi]).passed
     assert li2013_robot.upright_check("upright", tilts[0.0]).passed
+
+
+def test_li2013_robot_bounce_reads_two_heights_apart():
+    """The period-2 bounce of the cause: torso heights on alternate half-cycles more than 10 % of their mean apart
+    (the C-legs' 30.3 / 20.7 mm at 5 Hz on poppy CP); the reversed C-legs' equal 17.9 / 17.9 mm do not bounce."""
+    assert li2013_robot.bounces({"height_halves": (0.0303, 0.0207)})
+    assert not li2013_robot.bounces({"height_halves": (0.0179, 0.0179)})
+    assert not li2013_robot.bounces({"height_halves": (0.0200, 0.0185)})  # 7.8 % apart
 
 
 @control("li2013_robot", "phase spread reads much less as ten times below")
