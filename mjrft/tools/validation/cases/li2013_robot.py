@@ -405,8 +405,13 @@ def free_body_cause(F: dict, seeds, numerics: bool) -> str:
         worst = F[law, medium, k, f, seeds[0]]
         mirror = free_trial(k, f, medium, law, seeds[0], phase=0.5)
         held = {kk: free_trial(kk, f, medium, law, seeds[0], planar=True) for kk in (k, -k)}
+        bouncing = [key for key in turning if bounces(F[key + (seeds[0],)])]
         parts.append(
-            f"Free body, turning ({names(turning)}): the robot settles into a period-2 bounce: in the second half "
+            f"Free body, turning ({names(turning)}): "
+            + ("each of these trials" if len(bouncing) == len(turning)
+               else f"{len(bouncing)} of these {len(turning)} trials")
+            + f" (seed {seeds[0]}) settles into a period-2 bounce (torso heights on alternate half-cycles "
+            f"more than {100 * BOUNCE:.0f} % of their mean apart): in the second half "
             "of the episode the torso rides higher after one tripod's stance than after the other's and the legs' "
             "load alternates between the two tripods, each of which has two legs on one side of the body; the "
             "unequal tripods turn the robot steadily. The worst, "
