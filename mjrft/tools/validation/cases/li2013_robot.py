@@ -208,7 +208,7 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
                phase: float = 0.0, **env_kw) -> dict:
     """One free-body trial: ``mjrft/HexapodSand-v0`` as a user makes it (free joint, the env's start and reset
     noise of ``seed``; ``env_kw`` passed on, e.g. ``timestep``), curvature in 1/R', the tripod at f (Hz) with tripod
-    A at ``phase`` cycles, ``seconds`` long.
+    A at ``phase`` cycles, ``seconds`` long (held planar with ``planar=True``: heading and path heading 0).
 
     Returns the average speed along x after the first second (m/s), the largest torso tilt (rad), the path's
     largest heading (rad: the direction of the torso's displacement from its start, after the first second),
@@ -236,6 +236,7 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
             half_rows.append((half, data.xpos[u._torso_id, 2], w[legs, 2].sum()))
 
     u.each_physics_step(measure)
+    planar = u.planar  # held in the x-z plane (qpos: x, z, pitch): no heading, no sideways path
     x0, y0 = float(d.qpos[0]), float(d.qpos[1])
     tilt, path, yaws, lags, saturated = 0.0, 0.0, [], [], []
     limit = m.actuator_forcerange[:, 1]
@@ -248,8 +249,8 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
             raise RuntimeError(f"li2013_robot free trial (1/r = {curvature:g}/R', f = {f:g} Hz, {medium}, {law}) "
                                f"diverged: {info['diverged']}")
         tilt = max(tilt, u.torso_tilt())
-        yaws.append(_yaw(d.qpos[3:7]))
-        if i >= n_settle:
+        yaws.append(0.0 if planar else _yaw(d.qpos[3:7]))
+        if i >= n_settle and not planar:
             path = max(path, abs(math.atan2(float(d.qpos[1]) - y0, float(d.qpos[0]) - x0)))
         if d.time >= seconds / 2:
             lag = u._target - d.qpos[u._hip_qadr]

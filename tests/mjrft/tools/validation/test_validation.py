@@ -816,6 +816,15 @@ def test_li2013_robot_bounce_reads_two_heights_apart():
     assert not li2013_robot.bounces({"height_halves": (0.0200, 0.0185)})  # 7.8 % apart
 
 
+def test_li2013_robot_c_legs_bounce_held_planar_at_5_hz():
+    """The bounce is in the sagittal motion (benchmarks/tripod_bounce.py): held planar, the C-leg robot at 5 Hz on
+    poppy CP rides at two heights (measured 31.3 / 21.5 mm) and runs faster than the reversed C-legs (0.687 vs
+    0.504 m/s over 3 s), which ride at one (17.9 / 17.9 mm)."""
+    c, rev = (li2013_robot.free_trial(k, 5.0, "poppy_cp", planar=True, seconds=3.0) for k in (1.0, -1.0))
+    assert li2013_robot.bounces(c) and not li2013_robot.bounces(rev)
+    assert c["speed"] > rev["speed"] and c["heading"] == c["path_heading"] == 0.0  # held planar: no heading
+
+
 @control("li2013_robot", "phase spread reads much less as ten times below")
 def li2013_robot_phase_spread_reads_much_less_as_ten_times_below():
     assert li2013_robot.phase_spread_check("x", {(1.0, 3.0): 0.0009}).passed
