@@ -6,7 +6,12 @@ kept state, each part is timed on its own, repeatedly, and its fastest call coun
 shorter than a scheduler slice, so on a loaded machine most calls run undisturbed; the parts are interleaved):
 
 * ``mj_step``: MuJoCo's own step of the sand model (its floor's contacts removed) at the run's internal timestep;
-* ``kernel``: ``mjrft.kernel.terrain_kernel`` alone (after ``mj_step1``), called from compiled code;
+* ``kernel``: ``mjrft.kernel.terrain_kernel`` alone (after ``mj_step1``), called from compiled code; split, on the same
+  state, into ``cull`` (the kernel with the surface and its top lowered 5 m: every cull group is skipped, what is
+  left is the per-group test and the per-body sums), ``+pass 1`` (the surface lowered 5 m, its top kept: the groups
+  within reach compute their elements' positions and depths and find none buried) and the buried elements' work
+  (``kernel`` less that: their velocity, rest memory, law, force and stiffness sums), given per buried element
+  (``ns/buried``);
 * ``implicit``: ``mjrft.implicit_step.implicit_wrench`` alone (0 when no body holds a spring below yield);
 * ``terrain.step``: ``GranularTerrain.step(data, frame_skip x k)``, what the wrapper calls per env step, per physics
   step: MuJoCo's step, the kernel, the implicit solve, the stability bookkeeping and the Python call;
@@ -36,6 +41,8 @@ from mjrft.implicit_step import implicit_wrench
 from mjrft.kernel import terrain_kernel
 
 ROBOTS = ("Hopper-v5", "Walker2d-v5", "HalfCheetah-v5")
+#: position of ``surface`` among terrain_kernel's arguments (``top`` follows it)
+SURFACE_ARG = terrain_kernel.py_func.__code__.co_varnames.index("surface")
 
 
 @njit(cache=True)
@@ -73,7 +80,8 @@ def robot_parts(gym_id: str, steps: int, reps: int) -> dict:
         rng = np.random.default_rng(0)
         acts = rng.uniform(env.action_space.low, env.action_space.high, size=(steps, *env.action_space.shape))
         env.reset(seed=0)
-        parts = {k: [] for k in ("mj_step", "kernel", "implicit", "terrain.step", "limits", "info", "cfrc")}
+        parts = {k: [] for k in ("mj_step", "kernel", "cull", "pass1", "implicit", "terrain.step", "limits", "info",
+                                 "cfrc")}
         buried, ks = [], []
         for i, a in enumerate(acts):
             _, _, terminated, truncated, info = env.step(a)
@@ -97,6 +105,11 @@ def robot_parts(gym_id: str, steps: int, reps: int) -> dict:
                 kargs = t._kernel_args(m.opt.timestep)
                 _kernel_loop(1, *kargs)
                 buried.append(int(np.count_nonzero(t.depth > 0)))
+                # the same call with the surface 5 m lower, its top kept (pass 1 only) or lowered too (culling only);
+                # the arguments after them, the elements' state, are the terrain's own arrays, restored below
+                at = SURFACE_ARG
+                no_buried = kargs[:at] + (kargs[at] - 5.0,) + kargs[at + 1:]
+                culled = kargs[:at] + (kargs[at] - 5.0, kargs[at + 1] - 5.0) + kargs[at + 2:]
                 iargs = (t._implicit_functions, m._address, d._address, d.qacc_smooth, t.body_ids, t.wrench, t._imp,
                          t._inert, t.inertial, m.opt.timestep, *t._implicit_scratch)
                 _implicit_loop(1, *iargs)
@@ -110,7 +123,11 @@ def robot_parts(gym_id: str, steps: int, reps: int) -> dict:
                     t.step(d, fs * k)
 
                 for _ in range(3):  # interleaved rounds
+                    restore()
                     parts["kernel"].append(fastest(lambda: _kernel_loop(5, *kargs), reps) / 5)
+                    parts["pass1"].append(fastest(lambda: _kernel_loop(5, *no_buried), reps) / 5)
+                    parts["cull"].append(fastest(lambda: _kernel_loop(5, *culled), reps) / 5)
+                    restore()
                     parts["implicit"].append(fastest(lambda: _implicit_loop(5, *iargs), reps) / 5)
                     parts["mj_step"].append(fastest(physics, reps) / (fs * k))
                     parts["terrain.step"].append(fastest(env_physics, reps) / (fs * k))
@@ -144,6 +161,14 @@ def main(argv=None) -> None:
         rest = r["terrain.step"] - r["kernel"] - r["implicit"] - r["mj_step"]
         print(f"{r['robot']:<15} {r['elements']:>8d} {r['buried']:>7.0f} {r['k']:>5.2f} {r['mj_step']:>8.1f} "
               f"{r['kernel']:>7.1f} {r['implicit']:>8.1f} {r['terrain.step']:>12.1f} {rest:>6.1f}")
+    print()
+    print("the kernel (us): culling only, + pass 1 (positions and depths of the groups within reach), the buried "
+          "elements' work")
+    print(f"{'robot':<15} {'kernel':>7} {'cull':>6} {'+pass 1':>8} {'buried':>7} {'buried work':>11} {'ns/buried':>9}")
+    for r in rows:
+        work = r["kernel"] - r["pass1"]
+        print(f"{r['robot']:<15} {r['kernel']:>7.1f} {r['cull']:>6.1f} {r['pass1'] - r['cull']:>8.1f} "
+              f"{r['buried']:>7.0f} {work:>11.1f} {1e3 * work / max(r['buried'], 1.0):>9.0f}")
     print()
     print("per env step (us): the wrapper's stable timesteps, info arrays and cfrc_ext, after its physics steps")
     print(f"{'robot':<15} {'physics steps':>13} {'limits':>7} {'info':>6} {'cfrc':>6}")
