@@ -396,7 +396,7 @@ class GranularTerrain:
         self._dstiff_max = np.zeros((model.nbody, 10))  # stability.track_depth_springs
         nb = len(self.body_ids) if self.implicit else 0  # the implicit step's scratch (implicit_step.implicit_wrench)
         self._implicit_scratch = (np.zeros((6 * nb, model.nv)), np.zeros((6 * nb, model.nv)), np.zeros((nb, 6, 6)),
-                                  np.zeros((6 * nb, 6 * nb)), np.zeros(6 * nb), np.zeros(nb, dtype=np.int64))
+                                  np.zeros((6 * nb, 6 * nb)), np.zeros(12 * nb + 6), np.zeros(nb, dtype=np.int64))
         self._implicit_functions = np.array(_IMPLICIT_FUNCTIONS if self.implicit else (0, 0, 0, 0), dtype=np.int64)
         self._inert = np.zeros((model.nbody, 10))  # moments of the inertial regime's dampers (kernel)
         self._inert_max = np.zeros((model.nbody, 10))  # ... of the step with the most of it (track_stiffness)

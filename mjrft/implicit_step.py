@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from .mujoco_c import call_mj, call_mj_arrays
@@ -26,7 +25,7 @@ HOLD_FRACTION = 0.9
 IMPLICIT_FUNCTIONS = ("mj_fwdActuation", "mj_fwdAcceleration", "mj_jacBodyCom", "mj_solveM")
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, bodies, wrench, imp, inert,
                     use_inert, dt, jac, minv_jac, blocks, a, rhs, rows):
     """Replace the explicit wrench of the buried bodies by the linearly implicit one (docs/numerics.md,
@@ -36,9 +35,14 @@ def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, b
     ``xfrc_applied``: MuJoCo's ``mj_fwdActuation`` and ``mj_fwdAcceleration`` give ``qacc_smooth`` (every force but the
     grains' and the constraints'), ``mj_jacBodyCom`` the buried bodies' 6 x nv CoM jacobians ``J`` (stacked),
     ``mj_solveM`` ``M^-1 J^T``. Scratch: ``jac``, ``minv_jac`` (6 nb x nv), ``blocks`` (nb, 6, 6), ``a``
-    (6 nb x 6 nb), ``rhs`` (6 nb), ``rows`` (nb), with nb the number of selected bodies. Returns -1, or the
-    first body whose implicit wrench is not finite (its ``wrench`` row is then left as it is)."""
+    (6 nb x 6 nb), ``rhs`` (12 nb + 6: the right-hand side, then room for a column of ``W`` and for ``dV_o``),
+    ``rows`` (nb), with nb the number of selected bodies; nothing is allocated, so the fused loop that calls it
+    compiles without numba's reference counting (:func:`mjrft.kernel.run_steps`). Returns -1, or the first body
+    whose implicit wrench is not finite (its ``wrench`` row is then left as it is)."""
     nv = jac.shape[1]
+    nb = bodies.shape[0]
+    w = rhs[6 * nb:12 * nb]
+    dv = rhs[12 * nb:12 * nb + 6]
     n = 0
     for i in range(bodies.shape[0]):
         b = bodies[i]
@@ -63,7 +67,6 @@ def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, b
             add_k6(g, inert[rows[i]], 1.0)
     # rhs = F - G dV_other, dV_other = dt J qacc_smooth
     for i in range(n):
-        dv = np.zeros(6)
         for r in range(6):
             acc = 0.0
             for k in range(nv):
@@ -76,7 +79,6 @@ def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, b
                 acc -= g[r, c] * dv[c]
             rhs[6 * i + r] = acc
     # a = I + dt G W, W = J M^-1 J^T (symmetric; W[p, q] = jac[p] . minv_jac[q])
-    w = np.empty(m6)
     for q in range(m6):
         for p in range(m6):
             acc = 0.0
@@ -102,7 +104,7 @@ def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, b
     return -1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _solve_in_place(a, x, n):
     """Solve ``a[:n, :n] y = x[:n]`` into ``x`` (Gaussian elimination with partial pivoting; ``a`` is
     overwritten). ``a = I + dt G W`` is a P-matrix here (G, W positive semi-definite), so no pivot is 0."""

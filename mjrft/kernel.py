@@ -533,7 +533,7 @@ def _with_water_damping(kk, cw, delta, tau):
 # helper takes a reference (an atomic increment and decrement) on each array it is given per call, which the
 # reference-count pruning does not remove around a loop; as helpers they cost 2-5 % of the kernel
 # (benchmarks/kernel_ab.py). The helpers above are the ones measured free of that cost.
-@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"}, _nrt=False)
 def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                    e_lpos, e_lnrm, e_area,
                    geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
@@ -785,7 +785,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     return OK, -1
 
 
-@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"}, _nrt=False)
 def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp,
                    pin, out_vel, out_nrm, inert, imp, dstiff, dt):
     """The batched elements' forces, wrench and stiffness moments (what the element loop does inline).
@@ -913,7 +913,7 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
     return OK, -1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def add_rows(target, rows, values, saved):
     """saved[rows] = target[rows]; target[rows] += values[rows]."""
     for k in range(rows.shape[0]):
@@ -923,7 +923,7 @@ def add_rows(target, rows, values, saved):
             target[b, j] += values[b, j]
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def restore_rows(target, rows, saved):
     """target[rows] = saved[rows]: exactly what other code had put there."""
     for k in range(rows.shape[0]):
@@ -936,8 +936,13 @@ def restore_rows(target, rows, saved):
 # Fused stepping: mj_step1 -> terrain_kernel -> mj_step2 in one compiled loop, calling MuJoCo's C
 # functions through their addresses (passed at run time, so the compiled code stays cacheable).
 # This removes the per-step Python overhead that would otherwise dominate small models.
+#
+# The loop and everything it calls per step (terrain_kernel, _scatter_batch, the stability tracking, the
+# implicit step) are compiled with _nrt=False: they allocate nothing, and without numba's reference counting
+# a call no longer takes and drops a reference (two atomic operations) on each of its ~50 arrays, nor each
+# inlined helper on its arrays per cull group (benchmarks/step_parts.py; results equal bit for bit).
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
               geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,

@@ -31,7 +31,7 @@ CHATTER_SLOT = HELD_STEPS + 1  # the slot of ``stiff_max`` (nbody, TRACK_SLOTS, 
 TRACK_SLOTS = HELD_STEPS + 2
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max):
     """After a step, per body, from this step's stiffness moments ``stiff`` (nbody, 10): ``stiff_max``
     (nbody, HELD_STEPS + 1, 10) keeps in ``[:, 0]`` the stiffest state held for HELD_STEPS consecutive
@@ -66,7 +66,7 @@ def track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max):
         damp_max[b] = max(damp_max[b], damp[b])
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def track_chatter(wrench, bodies, stiff_max):
     """After a step, per body ``b`` of ``bodies``, from its granular force ``wrench[b, :3]`` (as applied): count
     the consecutive steps on which the force's change reversed (``dF_k . dF_k-1 < -|dF_k| |dF_k-1| / 2``) with
@@ -121,7 +121,7 @@ def chatter_warning(body: str, time: float, dt: float, steps: int, change: float
         f"(docs/numerics.md, \"Chatter\"); {cure}")
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", _nrt=False)
 def track_depth_springs(dstiff, dstiff_max):
     """Per body, keep in ``dstiff_max`` (nbody, 10) the depth-stiffness moments ``dstiff`` of the step with the
     largest summed depth stiffness (since the coupler last cleared it)."""
