@@ -16,6 +16,9 @@ prints a hash of
 
 Equal hashes mean equal bits; each variant is compared with the first one run (``host`` by
 default), a ``portable+...`` variant with ``portable``. ``threads-2`` runs torch with 2 threads instead of the recipe's 1.
+A ``...-fresh`` variant compiles mjrft's kernels in the run itself (an empty numba cache, as on the first run after
+installing or changing mjrft) and is compared with its twin run from the cache (``host-fresh`` with ``host``,
+``generic-fresh`` with ``numba-generic``; the script runs each twin once beforehand so that its cache is filled).
 
     python benchmarks/reproducibility.py                 # every variant
     python benchmarks/reproducibility.py --variants host numba-haswell
@@ -29,6 +32,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 
 VARIANTS = {
     "host": {},
@@ -41,7 +45,11 @@ VARIANTS = {
     "portable": {"NUMBA_CPU_NAME": "generic", "ATEN_CPU_CAPABILITY": "default", "MKL_CBWR": "COMPATIBLE"},
     "portable+mkl-avx2": {"NUMBA_CPU_NAME": "generic", "ATEN_CPU_CAPABILITY": "default", "MKL_CBWR": "COMPATIBLE",
                           "MKL_ENABLE_INSTRUCTIONS": "AVX2"},
+    "host-fresh": {"MJRFT_CACHE_DIR": "(empty)"},
+    "generic-fresh": {"NUMBA_CPU_NAME": "generic", "MJRFT_CACHE_DIR": "(empty)"},
 }
+#: the variant a ``...-fresh`` variant is compared with: the same settings, compiled code from the cache
+CACHED_TWIN = {"host-fresh": "host", "generic-fresh": "numba-generic"}
 
 
 def _digest(*arrays) -> str:
@@ -113,7 +121,10 @@ def run_variant(extra: dict) -> dict:
     env = {**os.environ, **extra, "MJRFT_REPRO_CHILD": "1"}
     if "NUMBA_CPU_NAME" in extra:  # compiled for another CPU: keep the host's cache apart
         env["MJRFT_CACHE_DIR"] = os.path.join(os.path.expanduser("~"), ".cache", "mjrft-" + extra["NUMBA_CPU_NAME"])
-    out = subprocess.run([sys.executable, __file__], env=env, capture_output=True, text=True, check=True)
+    with tempfile.TemporaryDirectory() as empty:
+        if extra.get("MJRFT_CACHE_DIR") == "(empty)":
+            env["MJRFT_CACHE_DIR"] = empty
+        out = subprocess.run([sys.executable, __file__], env=env, capture_output=True, text=True, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -121,10 +132,13 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--variants", nargs="+", default=list(VARIANTS), choices=list(VARIANTS))
     args = ap.parse_args(argv)
+    for twin in {CACHED_TWIN[n] for n in args.variants if n in CACHED_TWIN}:  # fill the twins' caches
+        run_variant(VARIANTS[twin])
     rows = {name: run_variant(VARIANTS[name]) for name in args.variants}
     print(f"{'variant':<18} {'against':<9} {'physics':<8} {'update':<8} {'ppo':<8} {'torch':<8} settings")
     for name, r in rows.items():
         against = "portable" if name.startswith("portable+") and "portable" in rows else next(iter(rows))
+        against = CACHED_TWIN[name] if CACHED_TWIN.get(name) in rows else against
         ref = rows[against]
         same = ["same" if r[k] == ref[k] else "DIFFERS" for k in ("physics", "update", "ppo")]
         settings = " ".join(f"{k}={v}" for k, v in VARIANTS[name].items()) or "(none)"
