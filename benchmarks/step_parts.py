@@ -109,7 +109,7 @@ def robot_parts(gym_id: str, steps: int, reps: int) -> dict:
                 # the arguments after them, the elements' state, are the terrain's own arrays, restored below
                 at = SURFACE_ARG
                 no_buried = kargs[:at] + (kargs[at] - 5.0,) + kargs[at + 1:]
-                culled = kargs[:at] + (kargs[at] - 5.0, kargs[at + 1] - 5.0) + kargs[at + 2:]
+                culled = no_buried[:at + 1] + (kargs[at + 1] - 5.0,) + kargs[at + 2:]
                 iargs = (t._implicit_functions, m._address, d._address, d.qacc_smooth, t.body_ids, t.wrench, t._imp,
                          t._inert, t.inertial, m.opt.timestep, *t._implicit_scratch)
                 _implicit_loop(1, *iargs)

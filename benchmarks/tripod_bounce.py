@@ -49,8 +49,7 @@ def main(argv=None) -> None:
                     with warnings.catch_warnings():
                         warnings.simplefilter("ignore")
                         r = li2013_robot.free_trial(k, f, medium, planar=planar)
-                    held = "planar" if planar else "free"
-                    print(f"| {medium} | {legs} | {f:g} | {held} | {_row(r, planar)} |", flush=True)
+                    print(f"| {medium} | {legs} | {f:g} | {_row(r, planar)} |", flush=True)
     v = VARIANTS["rhex"]
     print()
     print(f"the drive: 5 Hz on poppy_cp, hip servos kp {v.kp:g} N m/rad, kv {v.kv:g} N m s/rad, torque limit "
@@ -66,16 +65,16 @@ def main(argv=None) -> None:
                                                 torque_limit=v.torque_limit * scale, timestep=DRIVE_TIMESTEP,
                                                 frame_skip=round(0.01 / DRIVE_TIMESTEP))
                 lag = r["tripod_lag"]
-                print(f"| {legs} | {scale:g} | {'planar' if planar else 'free'} | {_row(r, planar)} | "
+                print(f"| {legs} | {scale:g} | {_row(r, planar)} | "
                       f"{math.degrees(lag[0]):.1f} / {math.degrees(lag[1]):.1f} |", flush=True)
 
 
 def _row(r: dict, planar: bool) -> str:
-    """Torso heights, bounce, heading rate ("none" held planar: it cannot turn) and speed columns of a run."""
+    """Held, torso heights, bounce, heading rate ("none" held planar: it cannot turn) and speed columns of a run."""
     z = r["height_halves"]
     heading = "none" if planar else f"{math.degrees(r['yaw_rate']):+.1f}"
-    return (f"{1e3 * z[0]:.1f} / {1e3 * z[1]:.1f} | {'yes' if li2013_robot.bounces(r) else 'no'} | {heading} | "
-            f"{r['speed']:.3f}")
+    return (f"{'planar' if planar else 'free'} | {1e3 * z[0]:.1f} / {1e3 * z[1]:.1f} | "
+            f"{'yes' if li2013_robot.bounces(r) else 'no'} | {heading} | {r['speed']:.3f}")
 
 
 if __name__ == "__main__":

@@ -44,7 +44,7 @@ def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, b
     w = rhs[6 * nb:12 * nb]
     dv = rhs[12 * nb:12 * nb + 6]
     n = 0
-    for i in range(bodies.shape[0]):
+    for i in range(nb):
         b = bodies[i]
         if imp[b, 0] > 0 or (use_inert and inert[b, 0] > 0):
             rows[n] = b
