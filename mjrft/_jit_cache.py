@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import types
 from pathlib import Path
 
 import numba
@@ -38,3 +39,81 @@ def configure() -> str:
 
 
 CACHE_DIR = configure()
+
+
+#: modules holding mjrft's compiled functions (each compiled function the terrain can call is in one of them)
+COMPILED_MODULES = ("mjrft.laws.common", "mjrft.laws.depth_only", "mjrft.laws.rft", "mjrft.laws.rft3d",
+                    "mjrft.laws.hybrid", "mjrft.laws.wet", "mjrft.laws.inertial", "mjrft.laws.solidify",
+                    "mjrft.laws.dispatch", "mjrft.laws.validity", "mjrft.stability", "mjrft.implicit_step",
+                    "mjrft.kernel", "mjrft.batch")
+
+_loaded = None  # how many cached overloads load_cached_callees_first loaded (None: not run yet)
+
+
+def callees_first(functions) -> list:
+    """``functions`` (numba dispatchers) and every dispatcher their code names, directly or through those,
+    ordered so that each comes after every dispatcher it calls."""
+    from numba.core.registry import CPUDispatcher
+
+    order, seen = [], set()
+
+    def visit(f):
+        if id(f) in seen:
+            return
+        seen.add(id(f))
+        names = f.py_func.__code__.co_names
+        for name in names:
+            found = f.py_func.__globals__.get(name)
+            if isinstance(found, types.ModuleType):  # module.function
+                for callee in (getattr(found, attr, None) for attr in names):
+                    if isinstance(callee, CPUDispatcher):
+                        visit(callee)
+            elif isinstance(found, CPUDispatcher):
+                visit(found)
+        order.append(f)
+
+    for f in functions:
+        visit(f)
+    return order
+
+
+def load_cached_callees_first() -> int:
+    """Load every overload of mjrft's compiled functions that numba's cache holds, callees before callers, once
+    per process; returns how many were loaded.
+
+    Why: numba links a copy of each compiled callee into its caller, and the process resolves the caller's call
+    to whichever definition of the callee it loaded first. A process that compiles the kernels compiles (and so
+    loads) each callee before its caller and runs the callees' own code; a process that loads a caller from the
+    cache before its callee would run the caller's copy, which the optimiser may have compiled with other fused
+    multiply-adds, so its physics could differ in the last bits from the compiling process's (and depend on
+    which function it called first). Loading callees first makes every process run the same code. Uses numba's
+    cache index (a private interface): where it is missing the loading is skipped, and
+    tests/mjrft/test_jit_cache.py, which compares processes that call different kernels first, fails."""
+    global _loaded
+    if _loaded is not None:
+        return 0
+    _loaded = 0
+    import importlib
+
+    from numba.core.registry import CPUDispatcher
+
+    roots = []
+    for module in COMPILED_MODULES:
+        roots += [f for f in vars(importlib.import_module(module)).values() if isinstance(f, CPUDispatcher)]
+    for f in callees_first(roots):
+        cache = getattr(f, "_cache", None)
+        try:
+            codegen = f.targetctx.codegen()
+            keys = list(cache._cache_file._load_index())
+        except AttributeError:  # a function without a disk cache, or another numba
+            continue
+        for key in keys:
+            if key == cache._index_key(key[0], codegen):  # this process's target and this source
+                f.compile(key[0])
+                _loaded += 1
+    return _loaded
+
+
+def loaded_count() -> int:
+    """How many cached overloads :func:`load_cached_callees_first` loaded in this process (0 before it ran)."""
+    return _loaded or 0

@@ -34,6 +34,7 @@ import mujoco
 import numpy as np
 
 from . import kernel
+from ._jit_cache import load_cached_callees_first
 from .elements import build_elements, check_element_count
 from .errors import (NonFiniteError, SandContactWarning, TerrainStabilityWarning, ValidityRangeWarning, check_finite,
                      check_positive, unknown)
@@ -328,6 +329,7 @@ class GranularTerrain:
                              buoyancy=buoyancy, drag_coefficient=drag_coefficient, water_density=water_density,
                              inertial=inertial, inertial_drag=inertial_drag, stacklevel=3)
         self._settings = s  # what set_medium / set_regions change
+        load_cached_callees_first()  # every process then runs the same compiled code (see its docstring)
         self.stress_scale = 1.0  # factor on every granular stress (set_medium)
         self.medium, self.law = s.medium, s.law
         self.floor = s.floor  # geom id of the floor that became the surface
