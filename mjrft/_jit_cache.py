@@ -77,9 +77,9 @@ def callees_first(functions) -> list:
     return order
 
 
-def load_cached_callees_first() -> int:
+def load_cached_callees_first() -> None:
     """Load every overload of mjrft's compiled functions that numba's cache holds, callees before callers, once
-    per process; returns how many were loaded.
+    per process (:func:`loaded_count` says how many).
 
     Why: numba links a copy of each compiled callee into its caller, and the process resolves the caller's call
     to whichever definition of the callee it loaded first. A process that compiles the kernels compiles (and so
@@ -91,7 +91,7 @@ def load_cached_callees_first() -> int:
     tests/mjrft/test_jit_cache.py, which compares processes that call different kernels first, fails."""
     global _loaded
     if _loaded is not None:
-        return 0
+        return
     _loaded = 0
     import importlib
 
@@ -111,7 +111,6 @@ def load_cached_callees_first() -> int:
             if key == cache._index_key(key[0], codegen):  # this process's target and this source
                 f.compile(key[0])
                 _loaded += 1
-    return _loaded
 
 
 def loaded_count() -> int:
