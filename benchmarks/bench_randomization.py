@@ -8,8 +8,8 @@ across stress scales.
    own overhead; the other rows change the terrain and with it the work (height-field lookups, several regions).
    Also the time of one ``reset()`` per variant.
 2. Stress scales: the same gait for ``--seconds`` at each fixed ``stress_scale``; the smallest
-   ``terrain.min_stable_timestep`` over the run and the number of ``TerrainStabilityWarning``s (the env's
-   step is 1 ms).
+   ``terrain.min_stable_timestep`` over the run and the number of ``TerrainStabilityWarning``s (at the env's
+   own physics step, printed).
 
 3. ``--plain N``: only the env without the option, N repeats, each repeat's CPU time per step (us) on one line:
    runs on any revision of mjrft (it uses no randomisation), to set the working tree against the code before
@@ -100,7 +100,9 @@ def step_costs(steps, repeats) -> None:
 
 
 def stability(seconds) -> None:
-    print(f"\nstress_scale vs the stability check, tripod:f=2 for {seconds:g} s on poppy_cp (env step 1 ms)")
+    step_ms = 1e3 * make({})[0].unwrapped.model.opt.timestep
+    print(f"\nstress_scale vs the stability check, tripod:f=2 for {seconds:g} s on poppy_cp "
+          f"(physics step {step_ms:g} ms)")
     print(f"{'stress_scale':>12s} {'min stable dt ms':>17s} {'5th pct ms':>11s} {'warnings':>9s}")
     for scale in (0.5, 1.0, 1.3, 1.5, 2.0, 3.0, 5.0):
         env, gait = make({"terrain_randomization": {"stress_scale": scale}})
