@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import threading
 import types
 from pathlib import Path
 
@@ -48,6 +49,7 @@ COMPILED_MODULES = ("mjrft.laws.common", "mjrft.laws.depth_only", "mjrft.laws.rf
                     "mjrft.kernel", "mjrft.batch")
 
 _loaded = None  # how many cached overloads load_cached_callees_first loaded (None: not run yet)
+_loading = threading.Lock()
 
 
 def callees_first(functions) -> list:
@@ -89,9 +91,13 @@ def load_cached_callees_first() -> None:
     which function it called first). Loading callees first makes every process run the same code. Uses numba's
     cache index (a private interface): where it is missing the loading is skipped, and
     tests/mjrft/test_jit_cache.py, which compares processes that call different kernels first, fails."""
+    with _loading:  # a second thread building a terrain waits until the loading is done
+        if _loaded is None:
+            _load_callees_first()
+
+
+def _load_callees_first() -> None:
     global _loaded
-    if _loaded is not None:
-        return
     _loaded = 0
     import importlib
 
