@@ -21,13 +21,20 @@ from pathlib import Path
 import numba
 
 
+ROOT = Path(__file__).resolve().parent
+
+
+def _sources():
+    """(path relative to the package, its bytes) of every source file of mjrft."""
+    for path in sorted(ROOT.rglob("*.py")):
+        yield path.relative_to(ROOT), path.read_bytes()
+
+
 def configure() -> str:
-    root = Path(__file__).resolve().parent
     h = hashlib.sha1(numba.__version__.encode())
-    for path in sorted(root.rglob("*.py")):
-        text = path.read_bytes()
-        if b"numba" in text or path.relative_to(root).as_posix() in ("media.py", "laws/registry.py"):
-            h.update(str(path.relative_to(root)).encode())
+    for rel, text in _sources():
+        if b"numba" in text or rel.as_posix() in ("media.py", "laws/registry.py"):
+            h.update(str(rel).encode())
             h.update(text)
     base = Path(os.environ.get("MJRFT_CACHE_DIR", Path.home() / ".cache" / "mjrft"))
     folder = base / f"numba-{h.hexdigest()[:16]}"
@@ -42,11 +49,11 @@ def configure() -> str:
 CACHE_DIR = configure()
 
 
-#: modules holding mjrft's compiled functions (each compiled function the terrain can call is in one of them)
-COMPILED_MODULES = ("mjrft.laws.common", "mjrft.laws.depth_only", "mjrft.laws.rft", "mjrft.laws.rft3d",
-                    "mjrft.laws.hybrid", "mjrft.laws.wet", "mjrft.laws.inertial", "mjrft.laws.solidify",
-                    "mjrft.laws.dispatch", "mjrft.laws.validity", "mjrft.stability", "mjrft.implicit_step",
-                    "mjrft.kernel", "mjrft.batch")
+
+def compiled_modules() -> list[str]:
+    """The modules of mjrft that compile functions with numba (their source calls ``njit``)."""
+    return ["mjrft." + rel.with_suffix("").as_posix().replace("/", ".") for rel, text in _sources()
+            if b"njit(" in text and rel.name != "__init__.py"]
 
 _loaded = None  # how many cached overloads load_cached_callees_first loaded (None: not run yet)
 _loading = threading.Lock()
@@ -104,7 +111,7 @@ def _load_callees_first() -> None:
     from numba.core.registry import CPUDispatcher
 
     roots = []
-    for module in COMPILED_MODULES:
+    for module in compiled_modules():
         roots += [f for f in vars(importlib.import_module(module)).values() if isinstance(f, CPUDispatcher)]
     for f in callees_first(roots):
         cache = getattr(f, "_cache", None)
