@@ -472,21 +472,43 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
     elements ``scr_i[0, nbat:nlist]`` through the rest memory into the law's batch, without the region and
     water branches of the general pass (about 9% of the kernel's time; tested equal to it). ``rot``, ``com``,
     ``spin``, ``lin``: body ``b``'s rotation and velocity (see :func:`_normal_velocity`). Returns (status, new
-    batch size)."""
+    batch size).
+
+    In three loops: the velocities (their speeds kept in ``scr_f[10]``), the rest memory's relaxation factors
+    ``exp(-|v| dt / delta)`` (in ``scr_f[9]``), then the memory and the gathering. A call to ``exp`` inside the
+    element loop makes the compiler save and restore the loop's registers around it on every element; in a
+    loop of its own it costs the kernel less (``python benchmarks/kernel_ab.py REV`` against the one-loop
+    form), with the same results bit for bit. (Rows 9 and 10 from ``nbat`` on are free: the gathering writes only rows 0-8, at slots no later than
+    the one it reads, and the law writes rows 9-11 after the element loop.)"""
     for q in range(nbat, nlist):
         i = scr_i[0, q]
         nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
         if not _isfinite3(vx, vy, vz):
             return BAD_STATE, nbat
+        scr_f[10, q] = math.sqrt(vx * vx + vy * vy + vz * vz)
+    relax = delta > 0.0 and solid <= 0.0  # the rest memory without the solidify option
+    if relax:
+        for q in range(nbat, nlist):
+            scr_f[9, q] = math.exp(-scr_f[10, q] * dt_d)
+    for q in range(nbat, nlist):
+        i = scr_i[0, q]
         if nreg > 1:
             out_region[i] = breg
         if e_area[i] <= 0.0:
             _clear(u, out_force, i)
             continue
-        speed = math.sqrt(vx * vx + vy * vy + vz * vz)
-        mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps,
-                                           solid, stick)
-        nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, out_depth[i])
+        vx, vy, vz = out_vel[i, 0], out_vel[i, 1], out_vel[i, 2]
+        speed = scr_f[10, q]
+        if relax:  # _rest_memory with the factor computed above
+            if speed > 0.0:
+                relax_memory(u, i, vx, vy, vz, speed, scr_f[9, q], delta)
+            mx, my, mz, ml = memory_motion(u, i, vx, vy, vz, tau)
+            mob = min(1.0, ml * inv_d)
+        else:
+            mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps,
+                                               solid, stick)
+        nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2], mx, my, mz,
+                       ml, mob, out_depth[i])
     return OK, nbat
 
 
