@@ -222,19 +222,20 @@ def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps, solid, stick):
+def _rest_memory(u, i, vx, vy, vz, speed, relax, dt_d, inv_d, delta, tau, v_eps, solid, stick):
     """Advance element ``i``'s rest memory ``u[i]`` by ``dt`` (``dt_d`` = dt / delta, ``inv_d`` = 1 / delta,
     hoisted out of the element loop) at velocity ``v`` and return the regularised motion (mx, my, mz, |m|,
     mobilisation) that the law sees (docs/numerics.md, "Rest regularisation"): with ``delta > 0``
     ``u <- delta v_hat + (u - delta v_hat) exp(-|v| dt / delta)``, ``m = u + tau v``, mobilisation
     ``min(1, |m| / delta)``; in the viscous mode ``m = v``, ``min(1, |v| / v_eps)``. ``solid > 0``: the
     solidify option's memory instead (:func:`mjrft.laws.solidify.solid_memory`, static yield factor ``solid``,
-    at rest below the speed ``stick``)."""
+    at rest below the speed ``stick``). ``relax``: the factor ``exp(-|v| dt / delta)``, computed by the caller
+    (read only with ``delta > 0``, ``solid <= 0`` and ``|v| > 0``: see :func:`_dry_pass` on why)."""
     if delta > 0.0:
         if solid > 0.0:
             return solid_memory(u, i, vx, vy, vz, speed, dt_d * delta, delta, tau, solid, stick)
         if speed > 0.0:
-            relax_memory(u, i, vx, vy, vz, speed, math.exp(-speed * dt_d), delta)
+            relax_memory(u, i, vx, vy, vz, speed, relax, delta)
         mx, my, mz, ml = memory_motion(u, i, vx, vy, vz, tau)
         return mx, my, mz, ml, min(1.0, ml * inv_d)
     return vx, vy, vz, speed, (min(1.0, speed / v_eps) if v_eps > 0.0 else 1.0)
@@ -475,19 +476,19 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
     batch size).
 
     In three loops: the velocities (their speeds kept in ``scr_f[10]``), the rest memory's relaxation factors
-    ``exp(-|v| dt / delta)`` (in ``scr_f[9]``), then the memory and the gathering. A call to ``exp`` inside the
-    element loop makes the compiler save and restore the loop's registers around it on every element; in a
-    loop of its own it costs the kernel less (``python benchmarks/kernel_ab.py REV`` against the one-loop
-    form), with the same results bit for bit. (Rows 9 and 10 from ``nbat`` on are free: the gathering writes only rows 0-8, at slots no later than
-    the one it reads, and the law writes rows 9-11 after the element loop.)"""
+    ``exp(-|v| dt / delta)`` (in ``scr_f[9]``, where :func:`_rest_memory` reads them), then the memory and the
+    gathering. A call to ``exp`` inside the element loop makes the compiler save and restore the loop's
+    registers around it on every element; in a loop of its own it costs the kernel less (``python
+    benchmarks/kernel_ab.py REV`` against the one-loop form), with the same results bit for bit. (Rows 9 and 10
+    from ``nbat`` on are free: the gathering writes only rows 0-8, at slots no later than the one it reads, and
+    the law writes rows 9-11 after the element loop.)"""
     for q in range(nbat, nlist):
         i = scr_i[0, q]
         nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
         if not _isfinite3(vx, vy, vz):
             return BAD_STATE, nbat
         scr_f[10, q] = math.sqrt(vx * vx + vy * vy + vz * vz)
-    relax = delta > 0.0 and solid <= 0.0  # the rest memory without the solidify option
-    if relax:
+    if delta > 0.0 and solid <= 0.0:  # the factors that _rest_memory reads
         for q in range(nbat, nlist):
             scr_f[9, q] = math.exp(-scr_f[10, q] * dt_d)
     for q in range(nbat, nlist):
@@ -497,16 +498,8 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
         if e_area[i] <= 0.0:
             _clear(u, out_force, i)
             continue
-        vx, vy, vz = out_vel[i, 0], out_vel[i, 1], out_vel[i, 2]
-        speed = scr_f[10, q]
-        if relax:  # _rest_memory with the factor computed above
-            if speed > 0.0:
-                relax_memory(u, i, vx, vy, vz, speed, scr_f[9, q], delta)
-            mx, my, mz, ml = memory_motion(u, i, vx, vy, vz, tau)
-            mob = min(1.0, ml * inv_d)
-        else:
-            mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps,
-                                               solid, stick)
+        mx, my, mz, ml, mob = _rest_memory(u, i, out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], scr_f[10, q],
+                                           scr_f[9, q], dt_d, inv_d, delta, tau, v_eps, solid, stick)
         nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2], mx, my, mz,
                        ml, mob, out_depth[i])
     return OK, nbat
@@ -739,7 +732,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 u[i, 2] = 0.0
                 mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0
             else:
-                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, dt_d, inv_d, delta, tau, v_eps,
+                relax = math.exp(-speed * dt_d) if delta > 0.0 and solid <= 0.0 and speed > 0.0 else 1.0
+                mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, relax, dt_d, inv_d, delta, tau, v_eps,
                                                    solid, stick)
             if single and reg == breg:
                 # gathered; force, wrench and stiffness after the loop (_scatter_batch)
