@@ -61,7 +61,7 @@ def scene(kind: str, cull=None):
         sand = rmjx.Sand(model, cull=cull)
         return sand.put_model(), sand.step, sand.init(), model
     model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod_rigid"))
-    return mjx.put_model(model), (lambda m, d, s: (mjx.step(m, d), s)), jnp.zeros(()), model
+    return mjx.put_model(model), (lambda m, d, s: (rmjx.step(m, d), s)), jnp.zeros(()), model
 
 
 def batched_call(kind: str, worlds: int, steps: int, cull=None):

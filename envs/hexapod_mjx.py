@@ -22,9 +22,11 @@ Differences from the CPU env, each by design:
   the reward terms, ``diverged``); per-leg ``sinkage`` and ``granular_force`` are in
   ``state.pipeline_state.sand``.
 
-The physics is MJX's (the same model, integrator and timestep): trajectories agree with MuJoCo's C
-pipeline to rounding at first and then drift apart as any two chaotic simulations do; the granular wrench
-on a given state equals the CPU kernel's (``tests/mjrft/mjx/test_mjx.py``).
+The physics is MJX's (the same model, integrator and timestep) with the integrator stage as MuJoCo's C library
+integrates a clamped servo (:mod:`mjrft.mjx.integrator`): in float64 a trajectory follows the CPU env's to rounding
+(``tests/envs/test_mjx_env.py``, ``benchmarks/mjx_backends.py``); in float32 the two agree to rounding at first and
+then drift apart as any two chaotic simulations do. The granular wrench on a given state equals the CPU kernel's
+(``tests/mjrft/mjx/test_mjx.py``).
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ from mujoco import mjx
 
 from mjrft.coupler import STRESS_SLOTS
 from mjrft.mjx import Sand, SandState
+from mjrft.mjx import step as rigid_step
 
 from .hexapod import HexapodSand
 from .randomization import TerrainRandomization
@@ -192,7 +195,7 @@ class HexapodSandMJX(Env):
         def physics(_, carry):
             d, sand = carry
             if self.sand is None:
-                return mjx.step(self.mx, d), sand
+                return rigid_step(self.mx, d), sand
             return self.sand.step(self.mx, d, sand)
 
         d, sand = jax.lax.fori_loop(0, self.frame_skip, physics, (d, sand))

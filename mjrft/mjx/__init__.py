@@ -5,7 +5,9 @@
 >>> mx, step = sand.put_model(), jax.jit(sand.step)   # step(mx, d, state) -> (d, state)
 
 :mod:`mjrft.mjx.terrain` (:class:`Sand`, :class:`SandState`), :mod:`mjrft.mjx.laws` (the JAX force laws) and
-:mod:`mjrft.mjx.compare` (checking a JAX terrain against the CPU path on recorded states).
+:mod:`mjrft.mjx.compare` (checking a JAX terrain against the CPU path on recorded states) and
+:mod:`mjrft.mjx.integrator` (:func:`step`: MJX's step as MuJoCo's C library integrates clamped servos, the rigid
+twin of ``Sand.step``).
 Needs the optional extra ``mjrft[mjx]`` (JAX and ``mujoco-mjx``); the rest of mjrft does not import it.
 The GPU guide is docs/gpu.md.
 """
@@ -18,7 +20,8 @@ except ImportError as exc:  # say which extra brings it
                       f"{exc}") from exc
 
 from . import compare  # noqa: E402
+from .integrator import integrate, step  # noqa: E402
 from .laws import LAWS, UNSUPPORTED  # noqa: E402
 from .terrain import Sand, SandState, resting_load  # noqa: E402
 
-__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "compare", "resting_load"]
+__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "compare", "integrate", "resting_load", "step"]

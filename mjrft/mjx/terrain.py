@@ -12,7 +12,8 @@ arrays and evaluates the granular wrench of one world as a pure function of an `
 * :meth:`Sand.step` ``(m, d, state) -> (d, state)``: one physics step with the wrench computed from the
   state at the start of the step and applied through ``xfrc_applied`` (MJX's ``fwd_position`` and
   ``fwd_velocity``, the wrench, then ``fwd_actuation``, ``fwd_acceleration``, the constraint solver and
-  the model's integrator: the order of ``mj_step1`` / wrench / ``mj_step2`` of the CPU path).
+  the model's integrator as MuJoCo's C library integrates (:func:`mjrft.mjx.integrator.integrate`): the order
+  of ``mj_step1`` / wrench / ``mj_step2`` of the CPU path).
 
 Implicit step (a terrain built with ``implicit=True``, as :class:`~mjrft.GranularTerrain`'s; docs/numerics.md,
 "Implicit step"): :meth:`Sand.step` applies the linearly implicit wrench instead, which keeps the
@@ -61,6 +62,7 @@ from ..coupler import STRESS_SLOTS, GranularTerrain
 from ..errors import NonFiniteError, check_positive
 from ..implicit_step import HOLD_FRACTION
 from ..media import get_medium
+from .integrator import integrate
 from .laws import law_function
 
 HIGHEST = jax.lax.Precision.HIGHEST  # f32 sums in full precision (GPUs default to TF32 for f32 matmuls)
@@ -369,14 +371,7 @@ class Sand:
         else:
             d = mjx.solve(m, d)
             d = mjx.sensor_acc(m, d)
-        integrator = m.opt.integrator
-        if integrator == mjx.IntegratorType.EULER:
-            d = mjx.euler(m, d)
-        elif integrator == mjx.IntegratorType.IMPLICITFAST:
-            d = mjx.implicit(m, d)
-        else:
-            raise NotImplementedError(f"integrator {mjx.IntegratorType(integrator).name}: mjrft.mjx steps Euler and "
-                                      "implicitfast models (RK4 would evaluate the memory four times per step)")
+        d = integrate(m, d)
         return d.replace(xfrc_applied=xfrc), state
 
     def _implicit_stage(self, m, d, state: SandState, dt):
