@@ -8,6 +8,7 @@ about :data:`AUTO_ELEMENTS` elements; the errors name what the model has when no
 from __future__ import annotations
 
 import math
+import warnings
 
 import mujoco
 import numpy as np
@@ -33,6 +34,7 @@ _SUPPORTED_GEOMS = {
 #: wide, and its force error is 4.9 % at 3,000 (4.3 % at 4,000, 1.8 % at 8,000 = 24 mm elements): a light robot
 #: on large geoms needs an explicit finer ``resolution``.
 AUTO_ELEMENTS = 3000
+UNBOUNDED_SIZE = 1e6  # m: an element size far above any robot (auto_resolution's floor of elements)
 AUTO_MIN_RESOLUTION = 0.005
 
 
@@ -134,7 +136,7 @@ def _check_selection(bodies, geoms) -> None:
 
 
 def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS,
-                    finest: float = AUTO_MIN_RESOLUTION) -> float:
+                    finest: float = AUTO_MIN_RESOLUTION, stacklevel: int = 2) -> float:
     """The element size of ``resolution="auto"`` for these geoms: ``sqrt(area / target)`` for their total
     surface area, not finer than ``finest``, then coarsened until the elements :func:`~mjrft.geometry.discretize_geom`
     makes of them are at most 10 % more than ``target``: first by :func:`~mjrft.geometry.estimate_elements`
@@ -142,7 +144,9 @@ def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS
     each face, ring and cap up to whole elements: ~10 % more than the area estimate at a few thousand elements),
     counted from its cells without building the elements (:func:`~mjrft.geometry.geom_element_count`). The
     count before :func:`~mjrft.geometry.exposed_elements` drops the faces hidden inside neighbouring geoms, so
-    a terrain's ``n_elements`` is at most ``1.1 target`` (or fewer, at ``finest``)."""
+    a terrain's ``n_elements`` is at most ``1.1 target`` (or fewer, at ``finest``), unless the geoms' meshes alone
+    give more at any size: then they are the budget, with a warning (``stacklevel`` as :func:`warnings.warn` counts
+    from here)."""
     from .geometry.discretize import _mesh_arrays, surface_area
     area = 0.0
     for g in geom_ids:
@@ -151,15 +155,27 @@ def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS
             area += surface_area(int(model.geom_type[g]), None, *_mesh_arrays(model, int(model.geom_dataid[g])))
         else:
             area += surface_area(int(model.geom_type[g]), model.geom_size[g])
+    # no element size gives fewer than the count at a size far above the robot: a mesh keeps one element per
+    # direction bin of its faces' normals however large the size; when that floor exceeds the target, it is the budget
+    least = sum(geom_element_count(model, g, UNBOUNDED_SIZE) for g in geom_ids)
+    budget = max(target, least)
     res = max(float(finest), math.sqrt(area / target))
     for _ in range(8):
         n = estimate_elements(model, geom_ids, res)
-        if n <= 1.1 * target:
+        if n <= 1.1 * budget:
             break
-        res *= math.sqrt(n / target)
+        res *= math.sqrt(n / budget)
     for _ in range(8):
         n = sum(geom_element_count(model, g, res) for g in geom_ids)
-        if n <= 1.1 * target:
+        if n <= 1.1 * budget:
             break
-        res *= math.sqrt(n / target)
+        res *= math.sqrt(n / budget)
+    if budget > target:
+        n = sum(geom_element_count(model, g, res) for g in geom_ids)
+        warnings.warn(f"mjrft: resolution='auto' cannot keep these geoms to about {target} elements: at any element "
+                      f"size they give at least {least} (a mesh keeps one element per direction bin of its faces' "
+                      f"normals, however large the size); using {res:.3g} m, which gives {n}. Pass resolution= (m) to "
+                      "choose the size yourself, or select fewer geoms (geoms=[...], bodies=[...])", UserWarning,
+                      stacklevel=stacklevel)
     return res
+

@@ -125,9 +125,11 @@ def _resolve_surface(model: mujoco.MjModel, cfg: dict, floor, surface, geom_ids)
     return floor_id, check_finite("surface", surface), hfield, hf_z, hf_frame, tuple(notes)
 
 
-def _resolve_resolution(model: mujoco.MjModel, cfg: dict, resolution, scale, geom_ids) -> tuple[float, bool]:
+def _resolve_resolution(model: mujoco.MjModel, cfg: dict, resolution, scale, geom_ids,
+                        stacklevel: int) -> tuple[float, bool]:
     """(element size in m, whether it was chosen by ``"auto"``): the ``resolution`` argument as given, else
-    ``scale`` times the model's own (its ``mjrft:resolution``, a length or ``"auto"``; default ``"auto"``)."""
+    ``scale`` times the model's own (its ``mjrft:resolution``, a length or ``"auto"``; default ``"auto"``).
+    ``stacklevel``: as :func:`warnings.warn` counts from here, for ``"auto"``'s warning."""
     scale = check_positive("resolution_scale", scale)
     if resolution is not None and scale != 1.0:
         raise ValueError(f"resolution={resolution!r} and resolution_scale={scale!r} both set the element size; pass "
@@ -136,7 +138,7 @@ def _resolve_resolution(model: mujoco.MjModel, cfg: dict, resolution, scale, geo
         resolution = cfg.get("resolution", DEFAULTS["resolution"])
     auto = isinstance(resolution, str) and resolution.strip().lower() == "auto"
     if auto:
-        resolution = auto_resolution(model, geom_ids)
+        resolution = auto_resolution(model, geom_ids, stacklevel=stacklevel + 1)
     elif isinstance(resolution, str):
         raise ValueError(f"resolution must be a length in m or 'auto', got {resolution!r}")
     resolution = check_positive("resolution", resolution)
@@ -175,7 +177,8 @@ def resolve_settings(model: mujoco.MjModel, *, medium=None, law=None, bodies=Non
     if not geom_ids:
         raise _nothing_selected(model, pick("bodies", bodies), pick("geoms", geoms))
     floor_id, surface, hfield, hf_z, hf_frame, floor_warnings = _resolve_surface(model, cfg, floor, surface, geom_ids)
-    resolution, resolution_auto = _resolve_resolution(model, cfg, resolution, resolution_scale, geom_ids)
+    resolution, resolution_auto = _resolve_resolution(model, cfg, resolution, resolution_scale, geom_ids,
+                                                      stacklevel=stacklevel + 1)
     yield_displacement = check_positive("yield_displacement", pick("yield_displacement", yield_displacement),
                                         allow_zero=True)
     v_eps = check_positive("v_eps", pick("v_eps", v_eps), allow_zero=True)

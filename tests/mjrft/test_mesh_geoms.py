@@ -144,3 +144,23 @@ def test_an_inside_out_mesh_is_refused_with_the_reason():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         assert mjrft.GranularTerrain(m, "poppy_cp", bodies=["cup"], floor="floor", resolution=RES).n_elements > 0
+
+
+def test_auto_resolution_takes_the_meshes_floor_of_elements_as_its_budget_and_says_so():
+    """A mesh keeps one element per direction bin of its faces' normals however large the element size (this box
+    mesh: 12). With a budget below that floor, resolution='auto' coarsens only until it reaches the floor, and warns,
+    instead of enlarging the size sixteen-fold far past the robot (the check fails for a loop that coarsens towards
+    the budget: from 12 elements at a budget of 3 it doubles the size each time, to kilometres). Control: a budget
+    the mesh can meet gives no warning and at most 10 % more elements."""
+    from mjrft.selection import auto_resolution
+
+    m = scene()
+    mesh = [m.geom("mesh").id]
+    with pytest.warns(UserWarning, match=r"cannot keep these geoms to about 3 elements: at any element size they "
+                                         r"give at least 12 .* which gives 1[23]\."):
+        res = auto_resolution(m, mesh, target=3)
+    assert res < 1.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = auto_resolution(m, mesh, target=40)
+    assert len(discretize_geom(m, mesh[0], res)) <= 44
