@@ -2,7 +2,8 @@
 (``surface="<hfield geom>"``), and the rigid contacts the terrain removes from the floor or warns about.
 
 :func:`_find_floor` picks the floor (a named geom, or ``"auto"``: the highest horizontal collision plane, box or
-hfield under the robot), :func:`_rigid_floors_left` names the other floors the robot can still stand on,
+hfield under the robot), :func:`_rigid_floors_left` names the other rigid geoms of the world the robot can still
+stand on (:func:`rigid_support_notes` does it for a surface given as a height),
 :func:`_remove_contacts` takes the chosen floor out of MuJoCo's collisions in the loaded model, and
 :func:`_hfield_surface` reads an hfield geom's world heights for the kernel (:func:`mjrft.kernel.surface_height`).
 """
@@ -87,9 +88,7 @@ def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object, li
     (:func:`_rigid_floors_left`)."""
     if isinstance(floor, (bool, np.bool_)) or not isinstance(floor, (str, int, np.integer)):
         raise ValueError(f"floor must be None, 'auto' or a geom name/id, got {floor!r}")
-    d = mujoco.MjData(model)
-    mujoco.mj_kinematics(model, d)
-    xy = d.geom_xpos[np.asarray(geom_ids, dtype=np.int64), :2].mean(axis=0)
+    d, xy = _initial_pose(model, geom_ids)
     world = [g for g in range(model.ngeom) if model.body_weldid[model.geom_bodyid[g]] == 0
              and int(model.geom_type[g]) in _FLOOR_TYPES]
     if isinstance(floor, str) and floor.strip().lower() == "auto":
@@ -130,36 +129,80 @@ def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object, li
     return g, float(top), notes
 
 
-def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g: int, top: float, world, xy, geom_ids) -> list[str]:
-    """The warnings for the collision floors other than ``g`` (whose top ``top`` is the sand surface) that the
-    robot can still stand on: every world plane, box or hfield with a horizontal top under ``xy`` that collides
-    with the selected geoms and whose top is at or above the surface, or below it by less than the robot's size
-    (the largest extent of the selected geoms' bounding box at the initial pose): a geom that sinks that deep
-    meets it."""
+def _initial_pose(model: mujoco.MjModel, geom_ids) -> tuple[mujoco.MjData, np.ndarray]:
+    """(data at the model's initial pose, kinematics only; the (x, y) centre of the selected geoms there)."""
+    d = mujoco.MjData(model)
+    mujoco.mj_kinematics(model, d)
+    return d, d.geom_xpos[np.asarray(geom_ids, dtype=np.int64), :2].mean(axis=0)
+
+
+def rigid_support_notes(model: mujoco.MjModel, top: float, geom_ids, skip=None) -> list[str]:
+    """The warnings of :func:`_rigid_floors_left` for a sand surface at height ``top`` that no floor geom gives
+    (``floor=None``; ``skip``: the hfield geom of a height-field surface)."""
+    d, xy = _initial_pose(model, geom_ids)
+    world = [g for g in range(model.ngeom) if model.body_weldid[model.geom_bodyid[g]] == 0
+             and int(model.geom_type[g]) in _FLOOR_TYPES]
+    return _rigid_floors_left(model, d, skip, float(top), world, xy, geom_ids)
+
+
+def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, world, xy, geom_ids) -> list[str]:
+    """The warnings for the rigid geoms of the world other than ``g`` (the floor whose top ``top`` is the sand
+    surface; None when the surface is a given height) that the robot can still stand on, among those that collide
+    with the selected geoms: every plane, box or hfield of ``world`` with a horizontal top under ``xy``, and every
+    other geom of the world but a plane or hfield (a cylinder, a sphere, a mesh, a tilted box) whose bounding box
+    overlaps the selected geoms' in (x, y); each when its top is at or above the surface, or, below a floor's surface,
+    below it by less than the robot's size (the largest extent of the selected geoms' bounding box at the initial
+    pose): a geom that sinks that deep meets it."""
     lo, hi = geom_world_boxes(model, d, geom_ids)
-    size = float((hi.max(axis=0) - lo.min(axis=0)).max())
-    chosen = _geom_label(model, g)
+    lo, hi = lo.min(axis=0), hi.max(axis=0)
+    size = float((hi - lo).max())
+    where = f"{top:.6g} m, " + ("the surface height" if g is None else f"the top of '{_geom_label(model, g)}'")
+    auto = ", or floor='auto'" if g is None else ""
     out = []
+    floors = set()
     for f in world:
         if f == g:
             continue
         t, why = _floor_top(model, d, f, xy)
         if why is not None or not _collides_with(model, f, geom_ids):
             continue
-        name, kind = _geom_label(model, f), _FLOOR_TYPES[int(model.geom_type[f])]
-        remove = f"model.geom_contype[{f}] = model.geom_conaffinity[{f}] = 0"
-        if t >= top - 1e-9:
-            out.append(f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a collision floor under the robot at or "
-                       f"above the sand surface ({top:.6g} m, the top of '{chosen}'): it keeps its rigid contacts, "
-                       f"so the robot stands on it and not on the sand; name it as the floor (floor='{name}') or "
-                       f"remove its contacts ({remove})")
-        elif top - t < size:
-            out.append(f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a collision floor {top - t:.4g} m below "
-                       f"the sand surface ({top:.6g} m, the top of '{chosen}'), less than the robot's size "
-                       f"({size:.4g} m): it keeps its rigid contacts, so a geom that sinks {top - t:.4g} m stands "
-                       f"on it; remove its contacts ({remove}) for deeper sand, or keep it as the bed's rigid "
-                       "bottom")
+        floors.add(f)
+        out += _support_note(model, f, _FLOOR_TYPES[int(model.geom_type[f])], "collision floor", t, top, where, size,
+                             auto)
+    skip = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
+    others = [f for f in range(model.ngeom) if f != g and f not in floors and int(model.geom_type[f]) not in skip
+              and model.body_weldid[model.geom_bodyid[f]] == 0 and _floor_top(model, d, f, xy)[1] is not None]
+    if others:
+        flo, fhi = geom_world_boxes(model, d, others)
+        for f, a, b in zip(others, flo, fhi):
+            if a[0] > hi[0] or b[0] < lo[0] or a[1] > hi[1] or b[1] < lo[1] or not _collides_with(model, f, geom_ids):
+                continue
+            kind = mujoco.mjtGeom(model.geom_type[f]).name[len("mjGEOM_"):].lower()
+            out += _support_note(model, f, kind, "rigid collision geom of the world", float(b[2]), top, where, size,
+                                 None)
     return out
+
+
+def _support_note(model, f: int, kind: str, what: str, t: float, top: float, where: str, size: float,
+                  auto) -> list[str]:
+    """The warning (a list of none or one) for the rigid geom ``f`` of type ``kind`` whose top is ``t`` under the
+    robot, against the sand surface ``top`` (``where``: how the surface was given) and the robot's ``size``;
+    ``auto``: None for a geom that cannot be the floor, else what follows ``floor='<name>'`` in the advice (not empty
+    for a surface given as a height, which is not warned about geoms below it)."""
+    name = _geom_label(model, f)
+    remove = f"model.geom_contype[{f}] = model.geom_conaffinity[{f}] = 0"
+    if t >= top - 1e-9:
+        name_it = "" if auto is None else f"name it as the floor (floor='{name}'{auto}) or "
+        return [f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a {what} under the robot at or above the sand "
+                f"surface ({where}): it keeps its rigid contacts, so the robot stands on it and not on the sand; "
+                f"{name_it}remove its contacts ({remove})"]
+    if top - t < size and not auto:  # a surface given as a height: a rigid bottom below it is the model's design
+        keep = "" if auto is None else ", or keep it as the bed's rigid bottom"
+        return [f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a {what} {top - t:.4g} m below the sand surface "
+                f"({where}), less than the robot's size ({size:.4g} m): it keeps its rigid contacts, "
+                f"so a geom that sinks {top - t:.4g} m stands on it; remove its contacts ({remove}) for deeper "
+                f"sand{keep}"]
+    return []
 
 
 def _remove_contacts(model: mujoco.MjModel, g: int) -> tuple[int, int]:

@@ -17,7 +17,7 @@ import mujoco
 import numpy as np
 
 from .errors import check_finite, check_positive
-from .floor import _find_floor, _hfield_surface
+from .floor import _find_floor, _hfield_surface, rigid_support_notes
 from .laws import law_id
 from .laws.inertial import INERTIAL_DRAG
 from .media import Medium, get_medium
@@ -75,7 +75,7 @@ class TerrainSettings:
     water_depth: float | None
     regions: list
     region_map: object
-    floor_warnings: tuple = ()  # the rigid floors the robot can still stand on (:func:`mjrft.floor._rigid_floors_left`)
+    floor_warnings: tuple = ()  # the rigid geoms the robot can still stand on (:func:`mjrft.floor._rigid_floors_left`)
 
 
 def check_custom_keys(cfg: dict, stacklevel: int = 3) -> None:
@@ -122,7 +122,10 @@ def _resolve_surface(model: mujoco.MjModel, cfg: dict, floor, surface, geom_ids)
         except ValueError:
             hfield, hf_z, hf_frame = _hfield_surface(model, surface)
             surface = float(hf_z.mean())
-    return floor_id, check_finite("surface", surface), hfield, hf_z, hf_frame, tuple(notes)
+    surface = check_finite("surface", surface)
+    if floor_id is None:  # a surface given as a height: the rigid floors are the model's own business, but named
+        notes = rigid_support_notes(model, surface, geom_ids, skip=hfield)
+    return floor_id, surface, hfield, hf_z, hf_frame, tuple(notes)
 
 
 def _resolve_resolution(model: mujoco.MjModel, cfg: dict, resolution, scale, geom_ids,

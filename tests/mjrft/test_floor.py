@@ -125,3 +125,37 @@ def test_the_robot_no_longer_stands_on_the_rigid_plane():
     weight = float(m.body_subtreemass[0]) * 9.81
     assert d.ncon == 0 and t.wrench[:, 2].sum() == pytest.approx(weight, rel=0.05)
     assert 0 < t.sinkage().max() < 0.05
+
+
+TARGET = '<geom name="target" type="cylinder" size="0.1 0.002" pos="{x} 0 {z}"/>'  # dm_control dog.xml's, flat
+
+
+def test_a_rigid_world_geom_that_is_not_a_floor_under_the_robot_is_named():
+    """dm_control's dog scene has a flat collision cylinder at the origin: under floor='auto' the robot rests on it
+    and not on the sand. Any rigid geom of the world under the robot (its bounding box within the selected geoms'
+    in x, y) that reaches the sand is named; controls: the same cylinder beside the robot, or deeper than the
+    robot's size, is not."""
+    m = model(PLANE + TARGET.format(x=0, z=0.002))
+    t, notes = terrain(m)
+    assert t.floor == gid(m, "floor") and m.geom_contype[gid(m, "target")] == 1
+    assert len(notes) == 1 and "geom 'target' (cylinder, top 0.004 m) is a rigid collision geom of the world under " \
+        "the robot at or above the sand surface (0 m, the top of 'floor')" in notes[0]
+    assert f"model.geom_contype[{gid(m, 'target')}] = model.geom_conaffinity[{gid(m, 'target')}] = 0" in notes[0]
+    assert not terrain(model(PLANE + TARGET.format(x=1, z=0.002)))[1]
+    assert not terrain(model(PLANE + TARGET.format(x=0, z=-0.5)))[1]
+    below = terrain(model(PLANE + TARGET.format(x=0, z=-0.05)))[1]
+    assert len(below) == 1 and "0.048 m below the sand surface" in below[0]
+
+
+def test_a_surface_given_as_a_height_names_a_collision_floor_left_at_it():
+    """floor=None (the default: the surface is a height, here 0, and the model's floors keep their contacts): a
+    collision plane at the surface carries the robot and the sand gives no force, so it is named with the cure.
+    Controls: a plane below the surface (the bed's rigid bottom by design) or one whose collision bits miss the
+    robot's is not named."""
+    m = model(PLANE)
+    t, notes = terrain(m, floor=None)
+    assert t.floor is None and m.geom_contype[gid(m, "floor")] == 1
+    assert len(notes) == 1 and "geom 'floor' (plane, top 0 m) is a collision floor under the robot at or above the " \
+        "sand surface (0 m, the surface height)" in notes[0] and "floor='floor', or floor='auto'" in notes[0]
+    assert not terrain(model(PLANE.replace('size=', 'pos="0 0 -0.05" size=')), floor=None)[1]
+    assert not terrain(model(PLANE.replace('size=', 'contype="2" conaffinity="2" size=')), floor=None)[1]
