@@ -39,8 +39,10 @@ AUTO_MIN_RESOLUTION = 0.005
 
 
 def _collides(model: mujoco.MjModel, g: int) -> bool:
-    """Whether geom ``g`` takes part in collisions (contype or conaffinity non-zero): not visual-only."""
-    return bool(model.geom_contype[g] or model.geom_conaffinity[g])
+    """Whether geom ``g`` takes part in collisions: contype or conaffinity non-zero, or named in an explicit
+    ``<pair>`` (feet that meet the floor only through pairs, as MuJoCo Playground's Apollo); else visual-only."""
+    return bool(model.geom_contype[g] or model.geom_conaffinity[g]
+                or (model.npair and (np.any(model.pair_geom1 == g) or np.any(model.pair_geom2 == g))))
 
 
 def _geom_label(model: mujoco.MjModel, g: int) -> str:
@@ -120,8 +122,9 @@ def _nothing_selected(model: mujoco.MjModel, bodies, geoms) -> ValueError:
     geom_names = ", ".join(repr(mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g) or g) for g in shown)
     body_names = ", ".join(repr(b) for b in dict.fromkeys(body(g) for g in supported))
     return ValueError(f"no geoms selected for the granular terrain: by default only collision geoms (contype or "
-                      f"conaffinity non-zero) of the model's bodies feel the grains, and all {len(supported)} of its "
-                      f"{types} geoms are visual-only (contype = conaffinity = 0): {listing}; select them: "
+                      f"conaffinity non-zero, or in a <pair>) of the model's bodies feel the grains, and all "
+                      f"{len(supported)} of its {types} geoms are visual-only (contype = conaffinity = 0): {listing}; "
+                      "select them: "
                       f"bodies=[{body_names}] (a named body whose geoms are all visual-only gives them all) or "
                       f"geoms=[{geom_names}] (names or ids; a named geom is taken even when visual-only)")
 

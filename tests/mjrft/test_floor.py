@@ -159,3 +159,26 @@ def test_a_surface_given_as_a_height_names_a_collision_floor_left_at_it():
         "sand surface (0 m, the surface height)" in notes[0] and "floor='floor', or floor='auto'" in notes[0]
     assert not terrain(model(PLANE.replace('size=', 'pos="0 0 -0.05" size=')), floor=None)[1]
     assert not terrain(model(PLANE.replace('size=', 'contype="2" conaffinity="2" size=')), floor=None)[1]
+
+
+def test_geoms_that_meet_the_floor_only_through_pairs_are_selected_and_carry_the_robot():
+    """Feet with contype = conaffinity = 0 that touch the floor through explicit <pair>s (MuJoCo Playground's Apollo)
+    are collision geoms: selected by default, they stand in the sand (the pairs with the floor taken out of reach).
+    Control: without the pairs they are visual-only and left out, and the torso alone is selected."""
+    feet = ('<geom name="foot_a" type="box" pos="-0.1 0 -0.08" size="0.03 0.06 0.01" contype="0" conaffinity="0"/>'
+            '<geom name="foot_b" type="box" pos="0.1 0 -0.08" size="0.03 0.06 0.01" contype="0" conaffinity="0"/>')
+    pairs = '<contact><pair geom1="foot_a" geom2="floor"/><pair geom1="foot_b" geom2="floor"/></contact>'
+    robot = ROBOT.format(z=0.1).replace("</body>", feet + "</body>")
+    m = mujoco.MjModel.from_xml_string(f"<mujoco><worldbody>{PLANE}{robot}</worldbody>{pairs}</mujoco>")
+    t, notes = terrain(m)
+    assert sorted(m.geom(g).name for g in t.geom_ids) == ["foot_a", "foot_b", "torso"] and not notes
+    d = mujoco.MjData(m)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        t.step(d, 800)
+    soles = d.geom_xpos[[gid(m, "foot_a"), gid(m, "foot_b")], 2] - 0.01
+    weight = float(m.body_subtreemass[0]) * 9.81
+    assert d.ncon == 0 and t.wrench[:, 2].sum() == pytest.approx(weight, rel=0.05)
+    assert np.all(soles < 0.0) and d.qpos[2] - 0.05 > 0.0  # the soles in the sand carry it; the torso stays above
+    m = mujoco.MjModel.from_xml_string(f"<mujoco><worldbody>{PLANE}{robot}</worldbody></mujoco>")
+    assert [m.geom(g).name for g in terrain(m)[0].geom_ids] == ["torso"]
