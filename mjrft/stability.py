@@ -439,6 +439,7 @@ def stability_warning(body: str, time: float, dt: float, s0: float, damp: float,
         mode += f"; inertial-regime damping rate {lam_c:.3g} 1/s"
     return TerrainStabilityWarning(
         f"mjrft: timestep {dt:g} s exceeds the stability limit {max_stable_dt(K, c, 1.0):.3g} s of the "
-        f"granular stiffness on body '{body}' at t = {time:.4g} s ({what}, {mode}); reduce the timestep "
-        "or increase yield_displacement" + (" (the inertial regime's limit is dt < 2 / its rate)" if lam_c > 0
-                                             else ""))
+        f"granular stiffness on body '{body}' at t = {time:.4g} s ({what}, {mode}); reduce the timestep, "
+        "increase yield_displacement, or step the grains' springs implicitly (GranularTerrain(..., implicit=True), "
+        "stable at any timestep)" + (" (the inertial regime's explicit limit is dt < 2 / its rate)"
+                                     if lam_c > 0 else ""))
