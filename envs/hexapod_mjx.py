@@ -245,6 +245,25 @@ class HexapodSandMJX(Env):
         """Net granular force on each leg (N, world frame) applied by the last physics step."""
         return state.pipeline_state.sand.wrench[..., self._feet, :3]
 
+    def cpu_env(self, state: State):
+        """The CPU twin of one world: ``mjrft/HexapodSand-v0`` with this env's keyword arguments, put in ``state``'s
+        pose, velocity and servo targets, its sand's memory empty (as after a reset): stepped with the same actions,
+        the two backends' trajectories can be compared (``benchmarks/mjx_backends.py``)."""
+        import gymnasium
+
+        import mjrft.envs  # noqa: F401  (registers the ids)
+
+        env = gymnasium.make("mjrft/HexapodSand-v0", **self.cpu_kwargs)
+        env.reset(seed=0)
+        u = env.unwrapped
+        d = state.pipeline_state.data
+        u.set_state(np.asarray(d.qpos, dtype=np.float64), np.asarray(d.qvel, dtype=np.float64))
+        if u.terrain is not None:
+            u.terrain.reset()
+        u._target = np.asarray(state.pipeline_state.target, dtype=np.float64)
+        u.data.ctrl[:] = u._target
+        return env
+
 
 #: the metrics every step reports (Brax's ``State.metrics``)
 METRICS = ("x_velocity", "power", "cost_of_transport", "reward_forward", "reward_energy", "reward_ctrl",

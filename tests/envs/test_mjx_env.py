@@ -34,25 +34,12 @@ def mjx_env():
     return env, jax.jit(env.reset), jax.jit(env.step)
 
 
-def cpu_env_at(state):
-    """mjrft/HexapodSand-v0 put in the MJX env's state (pose, velocity, servo targets)."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        env = gymnasium.make("mjrft/HexapodSand-v0")
-    env.reset(seed=0)
-    u = env.unwrapped
-    d = state.pipeline_state.data
-    u.set_state(np.asarray(d.qpos, dtype=np.float64), np.asarray(d.qvel, dtype=np.float64))
-    u.terrain.reset()
-    u._target = np.asarray(state.pipeline_state.target, dtype=np.float64)
-    u.data.ctrl[:] = u._target
-    return env
-
-
 def test_env_matches_the_cpu_env_step_for_step(mjx_env):
     env, reset, step = mjx_env
     state = reset(jax.random.PRNGKey(3))
-    cpu = cpu_env_at(state)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        cpu = env.cpu_env(state)
     assert env.observation_size == cpu.observation_space.shape[0] and env.action_size == cpu.action_space.shape[0]
     np.testing.assert_allclose(np.asarray(state.obs), cpu.unwrapped._get_obs(), atol=1e-6)
     for k in range(30):
@@ -79,7 +66,7 @@ def test_env_follows_the_cpu_env_when_the_servos_clamp():
         env = HexapodSandMJX()
         step = jax.jit(env.step)
         state = jax.jit(env.reset)(jax.random.PRNGKey(3))
-        cpu = cpu_env_at(state)
+        cpu = env.cpu_env(state)
         signs = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
         clamped = []  # per physics step of the CPU env: how many servo forces sit at their clamp
         cpu.unwrapped.each_physics_step(lambda d: clamped.append(int(np.sum(np.abs(d.actuator_force) >= 0.3))))
