@@ -80,11 +80,7 @@ def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, b
             rhs[6 * i + r] = acc
     # a = I + dt G W, W = J M^-1 J^T (symmetric; W[p, q] = jac[p] . minv_jac[q])
     for q in range(m6):
-        for p in range(m6):
-            acc = 0.0
-            for k in range(nv):
-                acc += jac[p, k] * minv_jac[q, k]
-            w[p] = acc
+        _mobility_column(jac, minv_jac, q, m6, nv, w)
         for i in range(n):
             g = blocks[i]
             for r in range(6):
@@ -105,6 +101,30 @@ def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, b
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def _mobility_column(jac, minv_jac, q, m, nv, w):
+    """Column ``q`` of ``W = J M^-1 J^T`` into ``w[:m]``: ``w[p] = jac[p] . minv_jac[q]``, each a sum over ``k`` in
+    order. Four rows at a time: their four sums are independent, so the processor overlaps them instead of
+    waiting on one chain of additions (the same sums, term by term, as one row at a time)."""
+    p = 0
+    while p + 4 <= m:
+        a0 = a1 = a2 = a3 = 0.0
+        for k in range(nv):
+            c = minv_jac[q, k]
+            a0 += jac[p, k] * c
+            a1 += jac[p + 1, k] * c
+            a2 += jac[p + 2, k] * c
+            a3 += jac[p + 3, k] * c
+        w[p], w[p + 1], w[p + 2], w[p + 3] = a0, a1, a2, a3
+        p += 4
+    while p < m:
+        acc = 0.0
+        for k in range(nv):
+            acc += jac[p, k] * minv_jac[q, k]
+        w[p] = acc
+        p += 1
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def _solve_in_place(a, x, n):
     """Solve ``a[:n, :n] y = x[:n]`` into ``x`` (Gaussian elimination with partial pivoting; ``a`` is
     overwritten). ``a = I + dt G W`` is a P-matrix here (G, W positive semi-definite), so no pivot is 0."""
@@ -120,11 +140,13 @@ def _solve_in_place(a, x, n):
                 a[k, j], a[p, j] = a[p, j], a[k, j]
             x[k], x[p] = x[p], x[k]
         piv = a[k, k]
+        pivot_row = a[k, k + 1:n]  # rows as slices: loops from 0 over them vectorise (a range from k + 1 does not)
         for i in range(k + 1, n):
             f = a[i, k] / piv
             if f != 0.0:
-                for j in range(k + 1, n):
-                    a[i, j] -= f * a[k, j]
+                row = a[i, k + 1:n]
+                for j in range(n - k - 1):
+                    row[j] -= f * pivot_row[j]
                 x[i] -= f * x[k]
     for k in range(n - 1, -1, -1):
         acc = x[k]
