@@ -23,12 +23,12 @@ def unclamped_model(m, d):
     """``m`` with the velocity gain of every actuator whose force ``d.actuator_force`` is clamped by its
     ``forcerange`` set to zero (``gainprm[2]`` and ``biasprm[2]``): what MuJoCo's C library differentiates.
     Only the integrator reads it; the forces are those of ``d``."""
-    limited = np.asarray(m.actuator_forcelimited, dtype=bool)
-    if not limited.any():
+    limited = m.actuator_forcelimited
+    if isinstance(limited, np.ndarray) and not limited.any():  # (MJX keeps it as a host array: known at trace time)
         return m
     lo, hi = m.actuator_forcerange[:, 0], m.actuator_forcerange[:, 1]
     force = d.actuator_force
-    clamped = jnp.asarray(limited) & ((force <= lo) | (force >= hi))
+    clamped = jnp.asarray(limited, dtype=bool) & ((force <= lo) | (force >= hi))
     gain = jnp.asarray(m.actuator_gainprm)
     bias = jnp.asarray(m.actuator_biasprm)
     return m.replace(actuator_gainprm=gain.at[:, 2].set(jnp.where(clamped, 0.0, gain[:, 2])),
