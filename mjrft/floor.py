@@ -168,7 +168,7 @@ def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, w
             continue
         floors.add(f)
         out += _support_note(model, f, _FLOOR_TYPES[int(model.geom_type[f])], "collision floor", t, top, where, size,
-                             auto)
+                             auto, below=g is not None)
     skip = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
     others = [f for f in range(model.ngeom) if f != g and f not in floors and int(model.geom_type[f]) not in skip
               and model.body_weldid[model.geom_bodyid[f]] == 0 and _floor_top(model, d, f, xy)[1] is not None]
@@ -179,16 +179,17 @@ def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, w
                 continue
             kind = mujoco.mjtGeom(model.geom_type[f]).name[len("mjGEOM_"):].lower()
             out += _support_note(model, f, kind, "rigid collision geom of the world", float(b[2]), top, where, size,
-                                 None)
+                                 None, below=g is not None)
     return out
 
 
-def _support_note(model, f: int, kind: str, what: str, t: float, top: float, where: str, size: float,
-                  auto) -> list[str]:
+def _support_note(model, f: int, kind: str, what: str, t: float, top: float, where: str, size: float, auto,
+                  below: bool) -> list[str]:
     """The warning (a list of none or one) for the rigid geom ``f`` of type ``kind`` whose top is ``t`` under the
-    robot, against the sand surface ``top`` (``where``: how the surface was given) and the robot's ``size``;
-    ``auto``: None for a geom that cannot be the floor, else what follows ``floor='<name>'`` in the advice (not empty
-    for a surface given as a height, which is not warned about geoms below it)."""
+    robot, against the sand surface ``top`` (``where``: how the surface was given) and the robot's ``size``.
+    ``auto``: None for a geom that cannot be the floor, else what follows ``floor='<name>'`` in the advice;
+    ``below``: also warn about a geom below the surface by less than the robot's size (not for a surface given as
+    a height, where a rigid bottom below it is the model's design)."""
     name = _geom_label(model, f)
     remove = f"model.geom_contype[{f}] = model.geom_conaffinity[{f}] = 0"
     if t >= top - 1e-9:
@@ -196,7 +197,7 @@ def _support_note(model, f: int, kind: str, what: str, t: float, top: float, whe
         return [f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a {what} under the robot at or above the sand "
                 f"surface ({where}): it keeps its rigid contacts, so the robot stands on it and not on the sand; "
                 f"{name_it}remove its contacts ({remove})"]
-    if top - t < size and not auto:  # a surface given as a height: a rigid bottom below it is the model's design
+    if below and top - t < size:
         keep = "" if auto is None else ", or keep it as the bed's rigid bottom"
         return [f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a {what} {top - t:.4g} m below the sand surface "
                 f"({where}), less than the robot's size ({size:.4g} m): it keeps its rigid contacts, "
