@@ -159,6 +159,9 @@ def test_a_surface_given_as_a_height_names_a_collision_floor_left_at_it():
         "sand surface (0 m, the surface height)" in notes[0] and "floor='floor', or floor='auto'" in notes[0]
     assert not terrain(model(PLANE.replace('size=', 'pos="0 0 -0.05" size=')), floor=None)[1]
     assert not terrain(model(PLANE.replace('size=', 'contype="2" conaffinity="2" size=')), floor=None)[1]
+    assert not terrain(model(TARGET.format(x=0, z=-0.05)), floor=None)[1]  # nor any other rigid geom below it
+    above = terrain(model(TARGET.format(x=0, z=0.002)), floor=None)[1]  # a geom reaching above it is
+    assert len(above) == 1 and "'target' (cylinder, top 0.004 m) is a rigid collision geom" in above[0]
 
 
 def test_geoms_that_meet_the_floor_only_through_pairs_are_selected_and_carry_the_robot():
