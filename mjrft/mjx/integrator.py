@@ -37,8 +37,8 @@ def unclamped_model(m, d):
 
 def integrate(m, d):
     """The model's integrator on ``d`` after the forward stages (``qacc`` computed): ``mjx.euler``, or
-    ``mjx.implicit`` on :func:`unclamped_model` for ``implicitfast``. RK4 and the full ``implicit`` integrator
-    are refused: the granular step would evaluate the rest memory four times per RK4 step."""
+    ``mjx.implicit`` on :func:`unclamped_model` for ``implicitfast``. Refused: RK4 (the granular step would
+    evaluate the rest memory four times per step) and the full ``implicit`` integrator (MJX has none)."""
     integrator = m.opt.integrator
     if integrator == mjx.IntegratorType.EULER:
         return mjx.euler(m, d)
