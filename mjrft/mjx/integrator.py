@@ -6,8 +6,8 @@ and damping forces with respect to ``qvel``. An actuator whose force is clamped 
 force that does not change with the velocity, and MuJoCo's C library leaves it out of ``D``; MJX's JAX
 implementation (``mjx.implicit``, ``mujoco-mjx`` 3.17) keeps it. For a servo that saturates (the hexapod's
 hips at ±0.3 N m, every time a leg is commanded ahead of its lag limit) the two then integrate different
-dynamics: one 0.5 ms step of a hip under a clamped ``kv = 0.02`` with 1e-5 kg m^2 of armature moves it
-3 mrad apart. :func:`integrate` is MJX's integrator with MuJoCo's rule, so that :meth:`mjrft.mjx.Sand.step`
+dynamics: a hip under a clamped ``kv = 0.02`` with 1e-5 kg m^2 of armature ends milliradians apart after a
+single 0.5 ms step. :func:`integrate` is MJX's integrator with MuJoCo's rule, so that :meth:`mjrft.mjx.Sand.step`
 and the rigid twin (:func:`step`) follow the CPU path (``tests/mjrft/mjx/test_mjx.py`` steps a clamped servo
 against ``mujoco.mj_step``, and the MJX hexapod env against the CPU env).
 """
