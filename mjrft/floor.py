@@ -89,8 +89,7 @@ def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object, li
     if isinstance(floor, (bool, np.bool_)) or not isinstance(floor, (str, int, np.integer)):
         raise ValueError(f"floor must be None, 'auto' or a geom name/id, got {floor!r}")
     d, xy = _initial_pose(model, geom_ids)
-    world = [g for g in range(model.ngeom) if model.body_weldid[model.geom_bodyid[g]] == 0
-             and int(model.geom_type[g]) in _FLOOR_TYPES]
+    world = _world_floors(model)
     if isinstance(floor, str) and floor.strip().lower() == "auto":
         tops, rejected = [], []
         for g in world:
@@ -129,6 +128,12 @@ def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object, li
     return g, float(top), notes
 
 
+def _world_floors(model: mujoco.MjModel) -> list[int]:
+    """The planes, boxes and hfields fixed to the world: the floor candidates."""
+    return [g for g in range(model.ngeom) if model.body_weldid[model.geom_bodyid[g]] == 0
+            and int(model.geom_type[g]) in _FLOOR_TYPES]
+
+
 def _initial_pose(model: mujoco.MjModel, geom_ids) -> tuple[mujoco.MjData, np.ndarray]:
     """(data at the model's initial pose, kinematics only; the (x, y) centre of the selected geoms there)."""
     d = mujoco.MjData(model)
@@ -140,9 +145,7 @@ def rigid_support_notes(model: mujoco.MjModel, top: float, geom_ids, skip=None) 
     """The warnings of :func:`_rigid_floors_left` for a sand surface at height ``top`` that no floor geom gives
     (``floor=None``; ``skip``: the hfield geom of a height-field surface)."""
     d, xy = _initial_pose(model, geom_ids)
-    world = [g for g in range(model.ngeom) if model.body_weldid[model.geom_bodyid[g]] == 0
-             and int(model.geom_type[g]) in _FLOOR_TYPES]
-    return _rigid_floors_left(model, d, skip, float(top), world, xy, geom_ids)
+    return _rigid_floors_left(model, d, skip, float(top), _world_floors(model), xy, geom_ids)
 
 
 def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, world, xy, geom_ids) -> list[str]:
@@ -159,19 +162,21 @@ def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, w
     where = f"{top:.6g} m, " + ("the surface height" if g is None else f"the top of '{_geom_label(model, g)}'")
     auto = ", or floor='auto'" if g is None else ""
     out = []
-    floors = set()
+    floors = set()  # the horizontal floors under xy, judged by their top here whether they collide or not
     for f in world:
         if f == g:
             continue
         t, why = _floor_top(model, d, f, xy)
-        if why is not None or not _collides_with(model, f, geom_ids):
+        if why is not None:
             continue
         floors.add(f)
+        if not _collides_with(model, f, geom_ids):
+            continue
         out += _support_note(model, f, _FLOOR_TYPES[int(model.geom_type[f])], "collision floor", t, top, where, size,
                              auto, below=g is not None)
     skip = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
     others = [f for f in range(model.ngeom) if f != g and f not in floors and int(model.geom_type[f]) not in skip
-              and model.body_weldid[model.geom_bodyid[f]] == 0 and _floor_top(model, d, f, xy)[1] is not None]
+              and model.body_weldid[model.geom_bodyid[f]] == 0]
     if others:
         flo, fhi = geom_world_boxes(model, d, others)
         for f, a, b in zip(others, flo, fhi):

@@ -181,4 +181,3 @@ def auto_resolution(model: mujoco.MjModel, geom_ids, target: int = AUTO_ELEMENTS
                       "choose the size yourself, or select fewer geoms (geoms=[...], bodies=[...])", UserWarning,
                       stacklevel=stacklevel)
     return res
-
