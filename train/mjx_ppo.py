@@ -26,6 +26,7 @@ Recipe keys (:data:`RECIPE_KEYS`): ``env_kwargs`` (of the env), ``num_timesteps`
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import functools
 import json
@@ -267,6 +268,42 @@ def load_policy(path) -> MjxPolicy:
 
 
 # ---------------------------------------------------------------------- training
+def device_put_replicated(x, devices):
+    """A copy of each leaf of ``x`` per device, stacked on a new leading axis sharded over ``devices``.
+
+    The public-API form of ``jax.device_put_replicated`` under ``jax.pmap``'s shard_map implementation (the
+    default since jax 0.8); jax 0.10 removed the function itself."""
+    import jax
+
+    devices = list(devices)
+    mesh = jax.sharding.Mesh(np.array(devices), ("devices",))
+    sharding = jax.sharding.NamedSharding(mesh, jax.sharding.PartitionSpec("devices"))
+
+    def put(leaf):
+        leaf = jax.numpy.asarray(leaf)
+        return jax.device_put(jax.numpy.broadcast_to(leaf[None], (len(devices),) + leaf.shape), sharding)
+
+    return jax.tree_util.tree_map(put, x)
+
+
+@contextlib.contextmanager
+def _replicated_put(jax_module=None):
+    """Provide ``jax.device_put_replicated`` (:func:`device_put_replicated`) while Brax's PPO runs, where jax no
+    longer has it: Brax 0.14.2's ``ppo.train`` replicates its training state with it, and jax 0.10 removed it
+    (jax 0.11 is the one that GPU machines with Python 3.12 carry). Under a jax that has it, nothing changes."""
+    if jax_module is None:
+        import jax as jax_module
+
+    if hasattr(jax_module, "device_put_replicated"):
+        yield
+        return
+    jax_module.device_put_replicated = device_put_replicated
+    try:
+        yield
+    finally:
+        del jax_module.device_put_replicated
+
+
 def train_recipe(cfg: dict, out, *, report=print) -> dict:
     """Train with the checked recipe ``cfg`` (:func:`check_recipe`) into the run folder ``out``; returns the
     summary written into ``policy.json``."""
@@ -315,10 +352,11 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
             save_policy(out, params, meta(step, complete=False))
 
         ppo_kw = {"num_evals": 2, **cfg["ppo"]}
-        make_policy, params, metrics = ppo.train(
-            environment=env, num_timesteps=cfg["num_timesteps"], num_envs=cfg["num_envs"],
-            episode_length=cfg["episode_length"], seed=cfg["seed"], network_factory=factory,
-            progress_fn=progress, policy_params_fn=checkpoint, **ppo_kw)
+        with _replicated_put():
+            make_policy, params, metrics = ppo.train(
+                environment=env, num_timesteps=cfg["num_timesteps"], num_envs=cfg["num_envs"],
+                episode_length=cfg["episode_length"], seed=cfg["seed"], network_factory=factory,
+                progress_fn=progress, policy_params_fn=checkpoint, **ppo_kw)
     del make_policy
     summary = {**meta(cfg["num_timesteps"], complete=True),
                "final": {k: float(v) for k, v in metrics.items() if np.ndim(v) == 0}}

@@ -201,3 +201,24 @@ def test_named_recipe_is_valid():
     assert cfg["num_envs"] >= 1024 and cfg["ppo"]["normalize_observations"] is True
     with pytest.raises(ValueError, match="unknown MJX training recipe"):
         mjx_ppo.load_recipe("hexapod-sandy")
+
+
+def test_replicated_put_stands_in_only_where_jax_lacks_it():
+    """Brax 0.14.2's PPO calls jax.device_put_replicated, which jax 0.10 removed: train-mjx provides it for the
+    call (the GPU machines' jax 0.11), and leaves a jax that has its own alone."""
+    import types
+
+    import jax
+
+    lacking = types.SimpleNamespace()
+    tree = {"w": np.arange(6.0, dtype=np.float32).reshape(2, 3), "b": np.float32(1.5)}
+    with mjx_ppo._replicated_put(lacking):
+        out = lacking.device_put_replicated(tree, jax.local_devices()[:1])
+        assert out["w"].shape == (1, 2, 3) and out["b"].shape == (1,)
+        np.testing.assert_array_equal(np.asarray(out["w"][0]), tree["w"])
+        total = jax.pmap(lambda t: t["w"].sum() + t["b"])(out)  # what Brax does with the replicated state
+        assert float(total[0]) == 16.5
+    assert not hasattr(lacking, "device_put_replicated")
+    own = types.SimpleNamespace(device_put_replicated="jax's own")
+    with mjx_ppo._replicated_put(own):
+        assert own.device_put_replicated == "jax's own"
