@@ -33,6 +33,7 @@ import json
 import math
 import os
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -294,7 +295,10 @@ def _replicated_put(jax_module=None):
     if jax_module is None:
         import jax as jax_module
 
-    if hasattr(jax_module, "device_put_replicated"):
+    with warnings.catch_warnings():  # jax 0.8-0.9 warn on the lookup: Brax's call warns once more by itself
+        warnings.simplefilter("ignore", DeprecationWarning)
+        has_own = hasattr(jax_module, "device_put_replicated")
+    if has_own:
         yield
         return
     jax_module.device_put_replicated = device_put_replicated
