@@ -7,7 +7,10 @@
 * ``policy.npz`` (the observation normaliser and the policy and value networks' weights, plain arrays,
   loaded with ``allow_pickle=False``) and ``policy.json`` (the networks' layout, the recipe, the env's
   keyword arguments, the training summary): no pickled code, so a shared run folder is safe to load;
-* ``progress.csv``: steps, wall time, mean episode return, speed and length of each evaluation.
+* ``progress.csv``: steps, wall time, mean episode return, speed and length of each evaluation;
+* ``checkpoints/<steps>/``: the policy of each evaluation (``policy.npz`` and ``policy.json``, steps in 11
+  digits), each a run folder that ``mjrft eval --policy`` runs, so that any point of the learning curve can be
+  evaluated on the CPU env.
 
 The policy files are rewritten (whole, then renamed into place) at each evaluation with ``"complete": false``
 and at the end with ``"complete": true``, so an interrupted run keeps the policy of its last evaluation.
@@ -51,6 +54,7 @@ PPO_RESERVED = ("environment", "num_timesteps", "num_envs", "episode_length", "s
                 "progress_fn", "policy_params_fn", "wrap_env", "wrap_env_fn", "eval_env", "randomization_fn",
                 "save_checkpoint_path", "restore_checkpoint_path", "restore_params", "vision")
 POLICY_FILE, META_FILE, PROGRESS_FILE = "policy.npz", "policy.json", "progress.csv"
+CHECKPOINTS = "checkpoints"  # a run folder's checkpoints/<steps>/: the policy of each evaluation, a run folder itself
 FORMAT = "mjrft-brax-ppo/1"
 
 
@@ -354,6 +358,7 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
 
         def checkpoint(step, make_policy, params):  # at each evaluation: an interrupted run keeps its last policy
             save_policy(out, params, meta(step, complete=False))
+            save_policy(out / CHECKPOINTS / f"{int(step):011d}", params, meta(step, complete=False))
 
         ppo_kw = {"num_evals": 2, **cfg["ppo"]}
         with _replicated_put():

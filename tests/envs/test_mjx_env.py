@@ -141,7 +141,7 @@ def trained(tmp_path_factory):
 
 
 def test_recipe_trains_and_writes_pickle_free_files(trained):
-    assert sorted(p.name for p in trained.iterdir()) == ["policy.json", "policy.npz", "progress.csv"]
+    assert sorted(p.name for p in trained.iterdir()) == ["checkpoints", "policy.json", "policy.npz", "progress.csv"]
     meta = json.loads((trained / "policy.json").read_text())
     assert meta["format"] == mjx_ppo.FORMAT and meta["env_id"] == "mjrft/HexapodSand-v0"
     assert meta["recipe"]["num_timesteps"] == 400 and meta["observation_size"] == 35 and meta["complete"] is True
@@ -152,6 +152,18 @@ def test_recipe_trains_and_writes_pickle_free_files(trained):
     policy = mjx_ppo.load_policy(trained)
     a = policy(np.zeros(35))
     assert a.shape == (6,) and np.all(np.abs(a) <= 1.0)
+
+
+def test_each_evaluation_keeps_its_policy_as_a_run_folder(trained):
+    steps = [int(line.split(",")[0]) for line in (trained / "progress.csv").read_text().splitlines()[1:]]
+    folders = sorted((trained / mjx_ppo.CHECKPOINTS).iterdir())
+    assert [f.name for f in folders] == [f"{n:011d}" for n in steps] == ["00000000000", "00000000400"]
+    first, last = (mjx_ppo.load_policy(f) for f in folders)
+    assert first.meta["num_timesteps"] == 0 and first.meta["complete"] is False
+    with np.load(folders[-1] / "policy.npz") as a, np.load(trained / "policy.npz") as b:  # the last one is final
+        assert a.files == b.files and all(np.array_equal(a[k], b[k]) for k in a.files)
+    obs = np.linspace(-1.0, 1.0, 35)
+    assert not np.allclose(first(obs), last(obs))  # 400 steps of training changed the policy
 
 
 def test_eval_runs_the_policy_on_both_backends(trained, capsys):
