@@ -21,6 +21,8 @@ gait; its steps/s is the sum over the processes.
 
     python benchmarks/bench_mjx.py                                  # CPU JAX: 1..64 worlds, writes results
     python benchmarks/bench_mjx.py --worlds 1024 2048 4096 8192 16384 --steps 1000 --cpu-path   # on a GPU
+    python benchmarks/bench_mjx.py --worlds 1024 2048 4096 8192 16384 --rigid-worlds 1024 4096 16384 \
+        --steps 200 --repeats 2 --cpu-path      # the run of results/bench_mjx_gpu.txt (docs/gpu.md)
 
 Writes ``benchmarks/results/bench_mjx_<platform>.txt`` (and ``.json``) unless ``--out`` says otherwise. On a GPU the
 script leaves XLA's memory preallocation at ``XLA_PYTHON_CLIENT_MEM_FRACTION`` = 0.6 unless it is set (see
