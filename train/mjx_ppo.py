@@ -427,7 +427,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--config", default="hexapod-sand",
                         help=f"named MJX recipe ({', '.join(named_recipes()) or 'none'}) or a .yaml / .json file")
     parser.add_argument("--out", default="runs/hexapod-sand-mjx", help="run folder (policy.npz, policy.json, "
-                                                                         "progress.csv)")
+                                                                         "progress.csv, checkpoints/)")
     parser.add_argument("--timesteps", type=float, default=None, help="override num_timesteps (e.g. 2e7)")
     parser.add_argument("--num-envs", type=int, default=None, help="override num_envs (worlds per batch)")
     parser.add_argument("--seed", type=int, default=None, help="override seed")
