@@ -295,7 +295,7 @@ def device_put_replicated(x, devices):
 def _replicated_put(jax_module=None):
     """Provide ``jax.device_put_replicated`` (:func:`device_put_replicated`) while Brax's PPO runs, where jax no
     longer has it: Brax 0.14.2's ``ppo.train`` replicates its training state with it, and jax 0.10 removed it
-    (jax 0.11 is the one that GPU machines with Python 3.12 carry). Under a jax that has it, nothing changes."""
+    (the ``mjx`` extra pins jax 0.11 on Python 3.12+). Under a jax that has it, nothing changes."""
     if jax_module is None:
         import jax as jax_module
 
@@ -357,8 +357,9 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
                     "device": str(jax.devices()[0]), "jax": jax.__version__}
 
         def checkpoint(step, make_policy, params):  # at each evaluation: an interrupted run keeps its last policy
-            save_policy(out, params, meta(step, complete=False))
-            save_policy(out / CHECKPOINTS / f"{int(step):011d}", params, meta(step, complete=False))
+            now = meta(step, complete=False)
+            save_policy(out, params, now)
+            save_policy(out / CHECKPOINTS / f"{int(step):011d}", params, now)
 
         ppo_kw = {"num_evals": 2, **cfg["ppo"]}
         with _replicated_put():
