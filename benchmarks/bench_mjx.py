@@ -135,25 +135,34 @@ def measure(kind: str, worlds: int, steps: int, repeats: int, cull=None) -> dict
             "torso_z_mean": float(np.mean(np.asarray(d.qpos)[:, 2]))}
 
 
-def _cpu_worker(seconds: float, queue, warm_up: bool = False) -> None:
-    """Step the tripod on the numba path for ``seconds`` of wall time and put its steps/s on ``queue``; with
-    ``warm_up``, walk 1 s of simulated time instead (compiling and caching every kernel the gait reaches)."""
+def _numba_hexapod():
+    """(model, terrain, data, tripod phase offsets) of the hexapod on the numba path."""
     import mujoco
     import numpy as np
 
     import mjrft
 
     model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod"))
-    terrain = mjrft.GranularTerrain(model)
-    data = mujoco.MjData(model)
-    off = np.array(OFFSETS)
+    return model, mjrft.GranularTerrain(model), mujoco.MjData(model), np.array(OFFSETS)
+
+
+def _cpu_warm_up() -> None:
+    """Walk 1 s of simulated tripod on the numba path, compiling and caching every kernel the gait reaches."""
+    import numpy as np
+
+    model, terrain, data, off = _numba_hexapod()
+    while data.time < 1.0:
+        data.ctrl[:] = 2 * np.pi * 2.0 * data.time + off
+        terrain.step(data, 10)
+
+
+def _cpu_worker(seconds: float, queue) -> None:
+    """Step the tripod on the numba path for ``seconds`` of wall time and put its steps/s on ``queue``."""
+    import mujoco
+    import numpy as np
+
+    model, terrain, data, off = _numba_hexapod()
     n = 0
-    if warm_up:
-        while data.time < 1.0:
-            data.ctrl[:] = 2 * np.pi * 2.0 * data.time + off
-            terrain.step(data, 10)
-        queue.put(0.0)
-        return
     terrain.step(data, 10)  # compiled kernels loaded
     t0 = time.perf_counter()
     while time.perf_counter() - t0 < seconds:
@@ -172,10 +181,11 @@ def cpu_path(seconds: float = 10.0) -> dict:
     ctx = mp.get_context("spawn")
     queue = ctx.Queue()
     # one process first fills numba's cache: a kernel compiled in the timed window would be counted as stepping
-    warm = ctx.Process(target=_cpu_worker, args=(0.0, queue, True))
+    warm = ctx.Process(target=_cpu_warm_up)
     warm.start()
-    queue.get()
     warm.join()
+    if warm.exitcode != 0:
+        raise RuntimeError(f"the numba path's warm-up process failed (exit code {warm.exitcode})")
     procs = [ctx.Process(target=_cpu_worker, args=(seconds, queue)) for _ in range(cores)]
     for p in procs:
         p.start()
