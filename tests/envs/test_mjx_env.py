@@ -217,7 +217,7 @@ def test_named_recipe_is_valid():
 
 def test_replicated_put_stands_in_only_where_jax_lacks_it():
     """Brax 0.14.2's PPO calls jax.device_put_replicated, which jax 0.10 removed: train-mjx provides it for the
-    call (the GPU machines' jax 0.11), and leaves a jax that has its own alone."""
+    call (the mjx extra pins jax 0.11 on Python 3.12+), and leaves a jax that has its own alone."""
     import types
 
     import jax
