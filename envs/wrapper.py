@@ -306,10 +306,12 @@ def _plain(value):
 
 
 def _build_terrain(model: mujoco.MjModel, medium, law, options: dict) -> tuple[GranularTerrain, list[int]]:
-    """The terrain on ``model`` (``floor="auto"``, ``resolution="auto"`` unless given) and the floor geoms."""
+    """The terrain on ``model`` (``floor="auto"``, ``resolution="auto"`` unless given: ``resolution_scale`` alone
+    scales the ``"auto"`` size) and the floor geoms."""
     options = dict(options)
     options.setdefault("floor", "auto")
-    options.setdefault("resolution", "auto")
+    if "resolution_scale" not in options:
+        options.setdefault("resolution", "auto")
     options.setdefault("implicit", True)
     terrain = GranularTerrain(model, medium, law, **options)
     floor = getattr(terrain, "floor", None)

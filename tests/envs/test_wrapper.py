@@ -178,6 +178,16 @@ def test_bad_wrapper_arguments():
         gymnasium.make("mjrft/HopperSand-v5", medum="poppy_cp")
 
 
+def test_resolution_scale_alone_scales_the_auto_element_size():
+    t1, t2 = (quiet_make("mjrft/HopperSand-v5", **kw).get_wrapper_attr("terrain")
+              for kw in ({}, {"resolution_scale": 2}))
+    assert t1.resolution_auto and t2.resolution_auto
+    assert t2.resolution == pytest.approx(2.0 * t1.resolution)
+    assert t2.n_elements < t1.n_elements / 3
+    with pytest.raises(ValueError, match="both set the element size"):
+        GranularWrapper(gymnasium.make("Hopper-v5"), resolution=0.02, resolution_scale=2.0)
+
+
 def test_kwargs_split_and_make_vec():
     env = quiet_make("mjrft/HopperSand-v5", medium="poppy_lp", resolution=0.02, frame_skip=2, substeps=2)
     w = env.env
