@@ -92,11 +92,12 @@ def robot_parts(gym_id: str, steps: int, reps: int) -> dict:
                 continue
             k = int(info["substeps"])
             ks.append(k)
-            state = (d.qpos.copy(), d.qvel.copy(), d.act.copy(), d.time, t._u.copy())
+            state = (d.qpos.copy(), d.qvel.copy(), d.act.copy(), d.time, t._u.copy(), t._g_active.copy(), t._last_time)
 
             def restore():
+                # the terrain's clock too: a call at a time before its last one would forget the memory (a reset)
                 d.qpos[:], d.qvel[:], d.act[:], d.time = state[:4]
-                t._u[:] = state[4]
+                t._u[:], t._g_active[:], t._last_time = state[4:]
 
             m.opt.timestep = h / k
             try:
