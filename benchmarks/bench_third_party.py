@@ -110,11 +110,11 @@ def make_rigid_replay(gym_id: str, substeps: list[int]):
     return env, restart
 
 
-def rest_balance(gym_id: str, seconds: float) -> dict:
+def rest_balance(gym_id: str, seconds: float, resolution_scale: float = 1.0) -> dict:
     """Zero actions for ``seconds``; the vertical granular force / weight, the fastest body, the deepest sinkage."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        env = GranularWrapper(gymnasium.make(gym_id))
+        env = GranularWrapper(gymnasium.make(gym_id), resolution_scale=resolution_scale)
     u = env.unwrapped
     env.reset(seed=0)
     zero = np.zeros(env.action_space.shape, dtype=env.action_space.dtype)
@@ -132,11 +132,11 @@ def rest_balance(gym_id: str, seconds: float) -> dict:
     return out
 
 
-def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0) -> list[dict]:
+def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0, resolution_scale: float = 1.0) -> list[dict]:
     rows = []
     for gym_id in robots:
         stability: list = []
-        sand = make_sand(gym_id, stability)
+        sand = make_sand(gym_id, stability, resolution_scale=resolution_scale)
         acts = actions(sand, steps)
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -147,7 +147,7 @@ def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0) ->
             rigid, restart = make_rigid_replay(gym_id, ks)
             stock = gymnasium.make(gym_id)
             timed(stock, acts[:20])
-            explicit = make_sand(gym_id, [], implicit=False)
+            explicit = make_sand(gym_id, [], implicit=False, resolution_scale=resolution_scale)
             timed(explicit, acts[:20])
             sand_t, rigid_t, stock_t, explicit_t = [], [], [], []
             for _ in range(repeats):
@@ -172,7 +172,7 @@ def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0) ->
             "rigid_us": 1e6 * float(np.median(rigid_t)) / physics_steps,
             "sand_us": 1e6 * (float(np.median(sand_t)) - float(np.median(rigid_t))) / physics_steps,
             "run_sinkage_mean": float(sink.mean()), "run_sinkage_max": float(sink.max()),
-            **rest_balance(gym_id, rest),
+            **rest_balance(gym_id, rest, resolution_scale),
         }
         rows.append(row)
         for e in (sand, rigid, stock, explicit):
@@ -270,11 +270,17 @@ def main(argv=None) -> None:
     ap.add_argument("--robots", nargs="*", default=list(ROBOTS), help="gymnasium ids (none: skip them)")
     ap.add_argument("--vendored", nargs="*", default=list(VENDORED), choices=list(VENDORED),
                     help="vendored robots of models/third_party (none: skip them)")
+    ap.add_argument("--resolution-scale", type=float, default=1.0,
+                    help="the gymnasium robots' element size x this (GranularWrapper's resolution_scale; default 1: "
+                         "resolution='auto', about 3,000 elements; 2: about a quarter of them)")
     args = ap.parse_args(argv)
-    rows = run(args.robots, args.steps, args.repeats, args.rest)
+    if not (args.resolution_scale > 0 and np.isfinite(args.resolution_scale)):
+        ap.error(f"--resolution-scale must be a finite number > 0, got {args.resolution_scale}")
+    rows = run(args.robots, args.steps, args.repeats, args.rest, args.resolution_scale)
     if rows:
+        scale = "" if args.resolution_scale == 1.0 else f", resolution_scale {args.resolution_scale:g}"
         print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
-              f"law {mjrft.coupler.DEFAULTS['law']}); {args.steps} random-action env steps, median of {args.repeats} "
+              f"law {mjrft.coupler.DEFAULTS['law']}{scale}); {args.steps} random-action env steps, median of {args.repeats} "
               "(CPU time of env.step, the four envs interleaved)")
         print()
         print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'k min/mean/max':>15} {'sand st/s':>9} "

@@ -14,7 +14,11 @@ at ``--reference`` elements (not coarser than 2 mm):
 * cost: env steps per second of the ``N``-element env over 400 other random actions (median of repeats;
   this process's CPU time, so the other processes of a shared machine do not count).
 
-    python benchmarks/element_budget.py [--budgets 250 500 ...] [--reference 32000] [--robots Ant-v5 ...]
+``--scales`` adds rows at ``resolution="auto"``'s own size (the 3,000-element budget) times each factor, as
+``GranularWrapper(env, resolution_scale=s)`` builds them (budget column ``xS``).
+
+    python benchmarks/element_budget.py [--budgets 250 500 ...] [--scales 1.5 2 ...] [--reference 32000]
+                                        [--robots Ant-v5 ...]
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ import gymnasium
 import mujoco
 import numpy as np
 
-from mjrft.coupler import auto_resolution, select_geoms
+from mjrft.coupler import AUTO_ELEMENTS, auto_resolution, select_geoms
 from mjrft.envs.wrapper import GranularWrapper
 
 ROBOTS = ("Ant-v5", "HalfCheetah-v5", "Hopper-v5", "Walker2d-v5", "Humanoid-v5")
@@ -35,12 +39,13 @@ BUDGETS = (250, 500, 1000, 2000, 3000, 4000, 8000)
 FINEST = 0.002  # m: no budget goes finer than this (the reference of the smallest robot)
 
 
-def resolution(gym_id: str, budget: int) -> float:
+def resolution(gym_id: str, budget: int, scale: float = 1.0) -> float:
+    """The element size of a budget (``auto_resolution``, not finer than FINEST) times ``scale``."""
     env = gymnasium.make(gym_id)
     m = env.unwrapped.model
     res = auto_resolution(m, select_geoms(m, None, None), target=budget, finest=FINEST)
     env.close()
-    return res
+    return scale * res
 
 
 def make(gym_id: str, res: float) -> GranularWrapper:
@@ -132,7 +137,8 @@ def speed(env: GranularWrapper, acts, repeats: int) -> float:
     return len(acts) / float(np.median(times))
 
 
-def run(robots, budgets, reference: int, seconds: float, rest_s: float, steps: int, repeats: int) -> list[dict]:
+def run(robots, budgets, reference: int, seconds: float, rest_s: float, steps: int, repeats: int,
+        scales=()) -> list[dict]:
     rows = []
     for gym_id in robots:
         ref = make(gym_id, resolution(gym_id, reference))
@@ -147,14 +153,16 @@ def run(robots, budgets, reference: int, seconds: float, rest_s: float, steps: i
                      "dz": 0.0, "rate": float("nan"), "reference": True, "rms": rms_ref})
         ref.close()
         speed_acts = actions(ref, steps, seed=1)
-        for n in budgets:
-            env = make(gym_id, resolution(gym_id, n))
+        cases = [(str(n), resolution(gym_id, n)) for n in budgets]
+        cases += [(f"x{s:g}", resolution(gym_id, AUTO_ELEMENTS, s)) for s in scales]
+        for label, res in cases:
+            env = make(gym_id, res)
             f = replay(env, states)
             err = float(np.sqrt(np.mean(np.sum((f - f_ref) ** 2, axis=1)))) / rms_ref
             err_z = float(np.sqrt(np.mean((f[:, 2] - f_ref[:, 2]) ** 2))) / rms_ref_z
             bal, z = rest(env, rest_s)
             speed(env, speed_acts[:20], 1)  # warm up
-            rows.append({"robot": gym_id, "budget": n, "elements": env.terrain.n_elements,
+            rows.append({"robot": gym_id, "budget": label, "elements": env.terrain.n_elements,
                          "res": env.terrain.resolution, "err": err, "err_z": err_z, "balance": bal,
                          "dz": z - ref_rest[1], "rate": speed(env, speed_acts, repeats), "reference": False,
                          "rms": rms_ref})
@@ -166,13 +174,19 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--robots", nargs="+", default=list(ROBOTS))
     ap.add_argument("--budgets", nargs="+", type=int, default=list(BUDGETS))
+    ap.add_argument("--scales", nargs="*", type=float, default=[],
+                    help="rows at the 3,000-element budget's size times these factors (GranularWrapper's "
+                         "resolution_scale)")
     ap.add_argument("--reference", type=int, default=32000, help="element budget of the reference (default 32000)")
     ap.add_argument("--seconds", type=float, default=2.0, help="simulated seconds of the replayed rollout")
     ap.add_argument("--rest", type=float, default=3.0, help="seconds of zero action before the rest numbers")
     ap.add_argument("--steps", type=int, default=400, help="timed env steps per budget")
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args(argv)
-    rows = run(args.robots, args.budgets, args.reference, args.seconds, args.rest, args.steps, args.repeats)
+    if any(not (s > 0 and np.isfinite(s)) for s in args.scales):
+        ap.error(f"--scales must be finite numbers > 0, got {args.scales}")
+    rows = run(args.robots, args.budgets, args.reference, args.seconds, args.rest, args.steps, args.repeats,
+               args.scales)
     print(f"element budget of resolution='auto' (GranularWrapper defaults otherwise): {args.seconds:g} s random-action "
           f"rollout replayed; rest after {args.rest:g} s of zero action; reference budget {args.reference}")
     print()
@@ -180,7 +194,7 @@ def main(argv=None) -> None:
           f"{'rest Fz/W':>9} {'rest CoM dz mm':>14} {'env st/s':>8}")
     for r in rows:
         tag = " (reference)" if r["reference"] else ""
-        print(f"{r['robot']:<15} {r['budget']:>7d} {r['elements']:>8d} {1e3 * r['res']:>7.1f} {r['rms']:>9.1f} "
+        print(f"{r['robot']:<15} {r['budget']:>7} {r['elements']:>8d} {1e3 * r['res']:>7.1f} {r['rms']:>9.1f} "
               f"{100 * r['err']:>7.2f} {100 * r['err_z']:>8.2f} {r['balance']:>9.4f} {1e3 * r['dz']:>14.2f} "
               f"{r['rate']:>8.0f}{tag}")
 
