@@ -23,16 +23,11 @@ _SUPPORTED_GEOMS = {
 }
 #: ``resolution="auto"``: the element count the automatic element size aims at (the selected geoms' surface
 #: area / resolution^2), and the finest size it picks (a small robot keeps this size and fewer elements).
-#: 3,000 is measured (``benchmarks/element_budget.py``, output in ``benchmarks/results/element_budget.txt``):
-#: on gymnasium's five robots, a 2 s random-action rollout replayed through terrains of 250 to 8,000 elements
-#: against a 32,000-element one. 3,000 is the coarsest budget of that ladder at which the net granular force is
-#: within 2 % (RMS; far inside the laws' own errors) of the reference for HalfCheetah, Hopper, Walker2d and
-#: Humanoid (0.45-1.96 %; at 2,000 Humanoid's is 2.7 %, at 4,000 all four are 0.3-1.3 %); at rest the vertical
-#: force balances the weight within 0.05 % and the centre of mass lies within 0.6 mm of the reference's at every
-#: budget from 2,000 up; the kernel's cost grows with the buried element count.
-#: Ant is the exception: 0.9 kg on 4 m^2 of 8 cm capsules sinks ~10 mm at rest, a contact patch a few elements
-#: wide, and its force error is 4.9 % at 3,000 (4.3 % at 4,000, 1.8 % at 8,000 = 24 mm elements): a light robot
-#: on large geoms needs an explicit finer ``resolution``.
+#: 3,000 is measured (``benchmarks/element_budget.py``): the coarsest budget of its ladder (250 to 8,000 elements)
+#: at which the net granular force of gymnasium's HalfCheetah, Hopper, Walker2d and Humanoid, replayed along a
+#: random-action rollout, stays within 2 % (RMS) of a 32,000-element reference, far inside the laws' own errors;
+#: the kernel's cost grows with the buried element count. A light robot on large geoms (Ant: 0.9 kg on 8 cm
+#: capsules) needs an explicit finer ``resolution``. The numbers: docs/own-robot.md, "The element budget".
 AUTO_ELEMENTS = 3000
 UNBOUNDED_SIZE = 1e6  # m: an element size far above any robot (auto_resolution's floor of elements)
 AUTO_MIN_RESOLUTION = 0.005
