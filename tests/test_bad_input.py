@@ -9,6 +9,9 @@ surface covered in one place.
 from __future__ import annotations
 
 import shlex
+import subprocess
+import sys
+from pathlib import Path
 
 import mujoco
 import pytest
@@ -200,3 +203,19 @@ def test_mjx_commands_without_the_optional_extra_say_which_extra(monkeypatch, ca
     monkeypatch.setattr(importlib.util, "find_spec", real)
     if real("jax") is not None and real("brax") is not None:  # control: with the extra it passes
         mjx_ppo.require_extra()
+
+
+BENCH = [
+    ("bench_third_party.py --resolution-scale 0", "--resolution-scale must be a finite number > 0, got 0.0"),
+    ("bench_third_party.py --resolution-scale nan", "--resolution-scale must be a finite number > 0, got nan"),
+    ("element_budget.py --scales 2 -1", "--scales must be finite numbers > 0, got [2.0, -1.0]"),
+    ("element_budget.py --scales inf", "--scales must be finite numbers > 0, got [inf]"),
+]
+
+
+@pytest.mark.parametrize("argv,message", BENCH, ids=[b[0] for b in BENCH])
+def test_benchmark_options_reject_bad_values_before_running(argv, message):
+    script, *args = shlex.split(argv)
+    path = Path(__file__).resolve().parent.parent / "benchmarks" / script
+    out = subprocess.run([sys.executable, str(path), *args], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 2 and message in out.stderr and "Traceback" not in out.stderr
