@@ -132,7 +132,8 @@ def rest_balance(gym_id: str, seconds: float, resolution_scale: float = 1.0) -> 
     return out
 
 
-def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0, resolution_scale: float = 1.0) -> list[dict]:
+def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0,
+        resolution_scale: float = 1.0) -> list[dict]:
     rows = []
     for gym_id in robots:
         stability: list = []
@@ -280,8 +281,8 @@ def main(argv=None) -> None:
     if rows:
         scale = "" if args.resolution_scale == 1.0 else f", resolution_scale {args.resolution_scale:g}"
         print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
-              f"law {mjrft.coupler.DEFAULTS['law']}{scale}); {args.steps} random-action env steps, median of {args.repeats} "
-              "(CPU time of env.step, the four envs interleaved)")
+              f"law {mjrft.coupler.DEFAULTS['law']}{scale}); {args.steps} random-action env steps, median of "
+              f"{args.repeats} (CPU time of env.step, the four envs interleaved)")
         print()
         print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'k min/mean/max':>15} {'sand st/s':>9} "
               f"{'rigid same dt':>13} {'stock':>7} {'sand/rigid':>10} {'sand/stock':>10} {'stab.warn':>9} "
