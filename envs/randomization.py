@@ -21,10 +21,9 @@ before:
                         forces scale by it (the water's drag and buoyancy do not). A number: that factor.
                         Stiffer grains lower the stability limit: the terrain's stability check sees the
                         scaled stiffness and its warning names the scale. The RHex-class hexapod's 2 Hz
-                        tripod at the 1 ms step stays inside the limit on ``poppy_cp`` (the stiffest Li
-                        medium) up to a scale of 1.5; at 2 and 3 a leg passes it briefly (one warning
-                        each; ``benchmarks/bench_randomization.py``, results in
-                        ``benchmarks/results/bench_randomization.txt``).
+                        tripod on ``poppy_cp`` (the stiffest Li medium) stays within the limit of its env's
+                        0.5 ms step at every scale from 0.5 to 5 (``benchmarks/bench_randomization.py``;
+                        the numbers in docs/environments.md).
 ``surface_height``      ``[low, high]`` (m): the sand surface is raised (+) or lowered (-) by a height drawn
                         uniformly, relative to the model's own surface (z = 0 in the bundled scenes). The
                         robot's start pose does not move: a raised surface starts it buried that deep, a

@@ -78,9 +78,9 @@ def resolve_kind(kind: str, env_id: str, n_envs: int, cpu_count: int | None = No
     3. otherwise (2 or 3 cores, at least as many envs) ``batched`` for the mjrft envs (:func:`batchable`),
        ``dummy`` for the others.
 
-    Measured by ``benchmarks/bench_training.py`` (``benchmarks/results/bench_training.txt``: PPO on 2 cores
-    with 2, 4 and 8 envs): on HexapodSand-v0 ``batched`` trained fastest at 4 and 8 envs, ``dummy`` within
-    10 % of it and ``subproc`` at 0.82-0.91x, the slowest kind on 2 cores.
+    Measured by ``benchmarks/bench_training.py`` (PPO on 2 cores with 2, 4 and 8 envs; the numbers in
+    docs/training.md, "Throughput"): on HexapodSand-v0 ``batched`` and ``dummy`` train within 14 % of
+    each other and ``subproc`` is the slowest kind on 2 cores.
     """
     kind = check_kind(kind)
     if kind != "auto":
