@@ -22,7 +22,7 @@ from .implicit_step import HOLD_FRACTION, implicit_wrench
 from .laws.common import memory_motion, relax_memory
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
-from .laws.rft import rft_stress_batch
+from .laws.rft import rft_stress_batch, trails
 from .laws.solidify import solid_memory
 from .laws.registry import LAW_IDS
 from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
@@ -197,24 +197,28 @@ def _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth):
+def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth, all_faces):
     """Put element ``i`` (body ``b``) into the batch for the vectorised law at slot ``nbat`` (normal, unit
-    motion, depth, mobilisation, |m|); returns the new batch size. Without motion (``|m| = 0``) the
-    element has no force and is not gathered."""
+    motion, depth, mobilisation, |m|); returns the new batch size. An element without motion (``|m| = 0``)
+    has no force and is not gathered, nor, unless ``all_faces``, a trailing face
+    (:func:`~mjrft.laws.rft.trails`: the law gives it no force and no stiffness; about 40 % of the buried
+    elements of a moving leg): its force is zeroed, and every sum the batch feeds misses only its zeros."""
     if ml > 0.0:
         iml = 1.0 / ml
-        scr_f[0, nbat] = nx
-        scr_f[1, nbat] = ny
-        scr_f[2, nbat] = nz
-        scr_f[3, nbat] = mx * iml
-        scr_f[4, nbat] = my * iml
-        scr_f[5, nbat] = mz * iml
-        scr_f[6, nbat] = depth
-        scr_f[7, nbat] = mob
-        scr_f[8, nbat] = ml
-        scr_i[0, nbat] = i
-        scr_i[1, nbat] = b
-        return nbat + 1
+        ux, uy, uz = mx * iml, my * iml, mz * iml
+        if all_faces or not trails(nx, ny, nz, ux, uy, uz):
+            scr_f[0, nbat] = nx
+            scr_f[1, nbat] = ny
+            scr_f[2, nbat] = nz
+            scr_f[3, nbat] = ux
+            scr_f[4, nbat] = uy
+            scr_f[5, nbat] = uz
+            scr_f[6, nbat] = depth
+            scr_f[7, nbat] = mob
+            scr_f[8, nbat] = ml
+            scr_i[0, nbat] = i
+            scr_i[1, nbat] = b
+            return nbat + 1
     out_force[i, 0] = 0.0
     out_force[i, 1] = 0.0
     out_force[i, 2] = 0.0
@@ -468,7 +472,7 @@ def _inside_strip(geom_xpos, G, g_aabb, g, gid, reg_bounds, breg, blend):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, dt_d, inv_d, delta, tau, v_eps,
-              solid, stick, u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, scr_f, scr_i):
+              solid, stick, u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, scr_f, scr_i, all_faces):
     """Pass 2 of a dry group (one dry Li-RFT region everywhere, or a group inside such a strip): the listed
     elements ``scr_i[0, nbat:nlist]`` through the rest memory into the law's batch, without the region and
     water branches of the general pass (about 9% of the kernel's time; tested equal to it). ``rot``, ``com``,
@@ -501,7 +505,7 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
         mx, my, mz, ml, mob = _rest_memory(u, i, out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], scr_f[10, q],
                                            scr_f[9, q], dt_d, inv_d, delta, tau, v_eps, solid, stick)
         nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2], mx, my, mz,
-                       ml, mob, out_depth[i])
+                       ml, mob, out_depth[i], all_faces)
     return OK, nbat
 
 
@@ -612,6 +616,9 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     map_frame = (reg_map_frame[0], reg_map_frame[1], reg_map_frame[2], reg_map_frame[3]) if has_map else (
         0.0, 0.0, 1.0, 1.0)
     one_dry_rft = nreg == 1 and breg == 0
+    # the batch leaves out trailing faces (_gather) unless the batched region's inertial regime, which acts on the
+    # real velocity rather than the law's motion, may give them a force
+    all_faces = breg >= 0 and reg_params[breg, P_INERTIA] > 0.0
     dt_d = dt / delta if delta > 0.0 else 0.0
     inv_d = 1.0 / delta if delta > 0.0 else 0.0
     nbat = 0
@@ -680,7 +687,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         if dry_group:
             status, nbat = _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, dt_d, inv_d,
                                      delta, tau, v_eps, solid, stick, u, out_pos, out_vel, out_nrm, out_depth,
-                                     out_force, out_region, scr_f, scr_i)
+                                     out_force, out_region, scr_f, scr_i, all_faces)
             if status != OK:
                 return status, b
             continue
@@ -737,7 +744,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                                                    solid, stick)
             if single and reg == breg:
                 # gathered; force, wrench and stiffness after the loop (_scatter_batch)
-                nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth)
+                nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth,
+                               all_faces)
                 continue
             fx = 0.0
             fy = 0.0

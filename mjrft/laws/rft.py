@@ -60,6 +60,18 @@ def rft_stress(depth, nx, ny, nz, mx, my, mz, speed, p):
     return -ax * rx * k, -ax * ry * k, az * k
 
 
+#: :func:`trails`' bound on ``n . m``: ``LEAD_EPS`` and a margin far above rounding, so that the lead weight that
+#: :func:`rft_stress_batch` computes for such an element is 0 however its arithmetic rounds.
+TRAIL_DOT = LEAD_EPS * (1.0 + 1e-6)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def trails(nx, ny, nz, mx, my, mz):
+    """Whether an element with unit normal ``n`` moving along the unit direction ``m`` faces away from its motion
+    (``n . m < -TRAIL_DOT``): its lead weight is 0, so this law gives it no stress and no stiffness."""
+    return nx * mx + ny * my + nz * mz < -TRAIL_DOT
+
+
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def rft_stress_batch(count, depth, n, m, p, out):
     """:func:`rft_stress` on ``count`` elements at once, branch-free so the compiler vectorises it.

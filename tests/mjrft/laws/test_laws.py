@@ -232,6 +232,34 @@ def test_batched_rft_equals_the_element_law():
     np.testing.assert_allclose(out.T, ref, rtol=1e-9, atol=1e-9 * np.abs(ref).max())
 
 
+def test_trailing_faces_have_no_stress_so_the_kernel_may_leave_them_out():
+    """The kernel leaves out of the batched law every element that ``trails`` (its force is zeroed instead): the law
+    must give each of them exactly zero stress, however its arithmetic rounds, at the bound as well. Control: faces
+    just on the leading side of the bound do get a stress, so the bound is not looser than the law's."""
+    from mjrft.laws.common import LEAD_EPS
+    from mjrft.laws.rft import TRAIL_DOT, rft_stress_batch, trails
+
+    rng = np.random.default_rng(11)
+    n = 4000
+    nrm = rng.normal(size=(n, 3))
+    nrm /= np.linalg.norm(nrm, axis=1)[:, None]
+    # motions at n . m just either side of the bound: m = c n + sqrt(1 - c^2) t, t a unit tangent
+    c = np.concatenate([-TRAIL_DOT - np.geomspace(1e-15, 1.0 - TRAIL_DOT, n // 2),
+                        -LEAD_EPS + np.geomspace(1e-9, 1e-3, n // 2)])
+    t = np.cross(nrm, rng.normal(size=(n, 3)))
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    mot = c[:, None] * nrm + np.sqrt(1.0 - c * c)[:, None] * t
+    mot /= np.linalg.norm(mot, axis=1)[:, None]
+    depth = rng.uniform(1e-4, 0.05, n)
+    out = np.zeros((3, n))
+    rft_stress_batch(n, depth, np.ascontiguousarray(nrm.T), np.ascontiguousarray(mot.T), MEDIA["poppy_cp"].params(),
+                     out)
+    trailing = np.array([trails(*nrm[i], *mot[i]) for i in range(n)])
+    assert trailing[: n // 2].sum() > 0.99 * (n // 2) and not trailing[n // 2:].any()
+    assert np.all(out[:, trailing] == 0.0)
+    assert np.all(np.abs(out[:, n // 2:]).sum(axis=0) > 0.0)
+
+
 def test_vertical_face_force_is_continuous_as_motion_turns_vertical():
     """The plane of motion turns smoothly to the normal's as the motion turns vertical: a vertical face
     moving down keeps its force whichever way a vanishing horizontal motion points."""
