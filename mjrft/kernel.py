@@ -590,7 +590,8 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     Speed: in a dry region under Li RFT (the common case; with several regions the first such one) the
     buried elements lying wholly in that region are gathered into the scratch arrays ``scr_f`` (12, n)
     and ``scr_i`` (2, n) and the law runs once over all of them (:func:`mjrft.laws.rft.rft_stress_batch`,
-    vectorised); the forces are then scattered back.
+    vectorised); the forces are then scattered back. Trailing faces (:func:`mjrft.laws.rft.trails`: no force, no
+    stiffness) are not gathered, their force set to zero, unless that region's inertial regime is on.
 
     ``stiff`` (nbody, 10) receives per body the moments of the element stiffness ``k_i`` (of the
     damping ``c_i`` in the viscous mode) about its CoM: ``sum k``, ``sum k r`` (x, y, z) and
