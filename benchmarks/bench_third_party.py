@@ -20,8 +20,10 @@ divided by the weight (target within 2 %), the largest body speed left, and the 
 Also listed: element count and size, sub-steps per model step (min / mean / max of the timed run; the
 explicit step's mean), the stability warnings the terrain gave during the run, and per physics step the CPU
 time of the rigid env (MuJoCo's step and the env's own work, per physics step) and what the sand adds to it
-(``(sand - rigid) / physics steps``: the granular kernel and its bookkeeping); ``sand / rigid >= 0.7`` needs
-the second to be at most 0.43x the first.
+(``(sand - rigid) / physics steps``: the granular kernel and its bookkeeping), from the fastest repeat of each
+env (a shared machine's other processes only add time, and meet runs of tens of milliseconds unevenly, so the
+fastest repeats are the less disturbed estimate); ``sand / rigid >= 0.7`` needs the second to be at most 0.43x
+the first.
 
 Then the vendored robots of ``models/third_party`` (``--vendored``), each with its own controller at its own
 timestep: the same controlled run (settle, then its motion pattern) on sand and on the unchanged model's rigid
@@ -170,8 +172,10 @@ def run(robots=ROBOTS, steps: int = 400, repeats: int = 3, rest: float = 3.0,
             "stock": steps / float(np.median(stock_t)), "stability_warnings": len(stability), "diverged": diverged,
             "explicit": steps / float(np.median(explicit_t)),
             "k_explicit": float(np.mean([int(i["substeps"]) for i in explicit_infos])),
-            "rigid_us": 1e6 * float(np.median(rigid_t)) / physics_steps,
-            "sand_us": 1e6 * (float(np.median(sand_t)) - float(np.median(rigid_t))) / physics_steps,
+            # the split per physics step from the fastest repeat of each env: other processes of a shared machine
+            # only ever add time, and its runs of tens of milliseconds meet them unevenly
+            "rigid_us": 1e6 * min(rigid_t) / physics_steps,
+            "sand_us": 1e6 * (min(sand_t) - min(rigid_t)) / physics_steps,
             "run_sinkage_mean": float(sink.mean()), "run_sinkage_max": float(sink.max()),
             **rest_balance(gym_id, rest, resolution_scale),
         }
@@ -293,7 +297,8 @@ def main(argv=None) -> None:
                   f"{r['stock']:>7.0f} {r['sand'] / r['rigid']:>10.2f} {r['sand'] / r['stock']:>10.2f} "
                   f"{r['stability_warnings']:>9d} {r['diverged']:>8d}")
         print()
-        print("the implicit step against the explicit one, and the cost per physics step (us of CPU time)")
+        print("the implicit step against the explicit one (medians), and the cost per physics step (us of CPU time, "
+              "fastest repeat)")
         print(f"{'robot':<15} {'explicit k mean':>15} {'explicit st/s':>13} {'sand/explicit':>13} {'rigid us':>8} "
               f"{'sand adds us':>12} {'adds/rigid':>10}")
         for r in rows:
