@@ -201,8 +201,8 @@ def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob
     """Put element ``i`` (body ``b``) into the batch for the vectorised law at slot ``nbat`` (normal, unit
     motion, depth, mobilisation, |m|); returns the new batch size. An element without motion (``|m| = 0``)
     has no force and is not gathered, nor, unless ``all_faces``, a trailing face
-    (:func:`~mjrft.laws.rft.trails`: the law gives it no force and no stiffness; about 40 % of the buried
-    elements of a moving leg): its force is zeroed, and every sum the batch feeds misses only its zeros."""
+    (:func:`~mjrft.laws.rft.trails`: the law gives it no force and no stiffness): its force is zeroed, and every
+    sum the batch feeds misses only its zeros."""
     if ml > 0.0:
         iml = 1.0 / ml
         ux, uy, uz = mx * iml, my * iml, mz * iml
