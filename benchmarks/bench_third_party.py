@@ -47,6 +47,7 @@ import numpy as np
 
 import mjrft
 from mjrft.envs.wrapper import GranularWrapper
+from mjrft.errors import check_positive
 
 ROBOTS = ("Ant-v5", "HalfCheetah-v5", "Hopper-v5", "Walker2d-v5", "Humanoid-v5")
 
@@ -279,8 +280,10 @@ def main(argv=None) -> None:
                     help="the gymnasium robots' element size x this (GranularWrapper's resolution_scale; default 1: "
                          "resolution='auto', about 3,000 elements; 2: about a quarter of them)")
     args = ap.parse_args(argv)
-    if not (args.resolution_scale > 0 and np.isfinite(args.resolution_scale)):
-        ap.error(f"--resolution-scale must be a finite number > 0, got {args.resolution_scale}")
+    try:
+        check_positive("--resolution-scale", args.resolution_scale)
+    except ValueError as exc:
+        ap.error(str(exc))
     rows = run(args.robots, args.steps, args.repeats, args.rest, args.resolution_scale)
     if rows:
         scale = "" if args.resolution_scale == 1.0 else f", resolution_scale {args.resolution_scale:g}"

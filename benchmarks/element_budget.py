@@ -33,6 +33,7 @@ import numpy as np
 
 from mjrft.coupler import AUTO_ELEMENTS, auto_resolution, select_geoms
 from mjrft.envs.wrapper import GranularWrapper
+from mjrft.errors import check_positive
 
 ROBOTS = ("Ant-v5", "HalfCheetah-v5", "Hopper-v5", "Walker2d-v5", "Humanoid-v5")
 BUDGETS = (250, 500, 1000, 2000, 3000, 4000, 8000)
@@ -183,8 +184,11 @@ def main(argv=None) -> None:
     ap.add_argument("--steps", type=int, default=400, help="timed env steps per budget")
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args(argv)
-    if any(not (s > 0 and np.isfinite(s)) for s in args.scales):
-        ap.error(f"--scales must be finite numbers > 0, got {args.scales}")
+    try:
+        for s in args.scales:
+            check_positive("--scales", s)
+    except ValueError as exc:
+        ap.error(str(exc))
     rows = run(args.robots, args.budgets, args.reference, args.seconds, args.rest, args.steps, args.repeats,
                args.scales)
     print(f"element budget of resolution='auto' (GranularWrapper defaults otherwise): {args.seconds:g} s random-action "
