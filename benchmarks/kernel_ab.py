@@ -6,7 +6,8 @@ REV's ``mjrft/kernel.py`` (``git show``) is compiled in this process next to the
 importing the installed laws and media, so only the kernel differs). On five scenes (the hexapod's dry poppy
 seeds, the shoal's saturated strip, its water strip, the hexapod on 3D-RFT sand, which takes the general
 per-element pass instead of the batched law, and the dry scene with the implicit step's spring moments), a
-tripod walk records N states; for each state both kernels run R times, alternately, each call timed on its
+tripod walk records N states; on three gymnasium robots under ``GranularWrapper``'s defaults (Hopper, Walker2d,
+HalfCheetah: most of their elements on a torso and thighs above the sand), seeded random actions do; for each state both kernels run R times, alternately, each call timed on its
 own, and the state's time is the minimum of its calls: a call lasts tens of microseconds, far shorter than a scheduler slice, so on a loaded machine most calls
 run undisturbed and the minimum is their cost. Prints the mean over states of those minima and their ratio,
 and whether the two kernels' forces, wrenches, stiffness moments (of the springs, the depth stiffness and the
@@ -41,6 +42,8 @@ SCENES = (  # label, model, start x (m), terrain keyword arguments
     ("dry poppy implicit", hexapod_model, 0.0, {"implicit": True}),
 )
 
+GYM_SCENES = ("Hopper-v5", "Walker2d-v5", "HalfCheetah-v5")
+
 
 def kernel_of(rev: str) -> types.ModuleType:
     """REV's mjrft/kernel.py as a module of the installed package (compiled uncached)."""
@@ -68,6 +71,26 @@ def record(make, x0: float, n: int, **kw):
         terrain.step(data, 10)
         states.append((data.qpos.copy(), data.qvel.copy(), data.time))
     return model, data, terrain, states
+
+
+def record_gym(gym_id: str, n: int):
+    """(model, data, terrain, states): n states of a seeded random-action run of ``gym_id`` on sand, 5 env steps
+    apart (the wrapper's internal timestep restored for the kernel's dt)."""
+    import gymnasium
+
+    from mjrft.envs.wrapper import GranularWrapper
+
+    env = GranularWrapper(gymnasium.make(gym_id))
+    env.reset(seed=0)
+    env.action_space.seed(0)
+    u = env.unwrapped
+    states = []
+    for _ in range(n):
+        for _ in range(5):
+            env.step(env.action_space.sample())
+        states.append((u.data.qpos.copy(), u.data.qvel.copy(), u.data.time))
+    u.model.opt.timestep = env.model_timestep / env.last_substeps
+    return u.model, u.data, env.terrain, states
 
 
 def n_params(kernel_function) -> int:
@@ -115,9 +138,11 @@ def main(argv=None) -> int:
     short = rev.stdout.strip() or args.rev
     old = kernel_of(args.rev)
     scenes = [(label, record(make, x0, args.states, **kw)) for label, make, x0, kw in SCENES]
+    scenes += [(gym_id, record_gym(gym_id, args.states)) for gym_id in GYM_SCENES]
     for _, (m, d, t, states) in scenes:  # compile both outside the timing
         compare(old, m, d, t, states[:1], 1)
-    print(f"terrain_kernel: {short} (old) vs the working tree (new), resolution {RESOLUTION} m, "
+    print(f"terrain_kernel: {short} (old) vs the working tree (new), resolution {RESOLUTION} m (gymnasium robots: "
+          "the wrapper's default), "
           f"{args.states} states x {args.reps} interleaved calls each; per state the fastest call")
     print(f"{'scene':18s} {'elements':>8s} {'old (us)':>9s} {'new (us)':>9s} {'new/old':>8s}  outputs")
     for label, (m, d, t, states) in scenes:
