@@ -1,8 +1,8 @@
 """The surface elements of the selected geoms as the kernel reads them, in cull groups.
 
 :func:`build_elements` cuts the geoms into elements of about the resolution (:mod:`mjrft.geometry`), keeps the
-exposed ones and groups them into cull boxes of at most :data:`CULL_GROUP` elements of one geom, which the kernel
-skips while they lie above the surface; :func:`check_element_count` refuses a resolution that would build more
+exposed ones, orders each geom's elements so that runs of :data:`CULL_GROUP` are compact (:func:`compact_order`)
+and groups them into those runs' cull boxes, which the kernel skips while they lie above the surface; :func:`check_element_count` refuses a resolution that would build more
 than :data:`MAX_ELEMENTS` before anything is built.
 """
 
@@ -61,6 +61,23 @@ class ElementTables:
     g_aabb: np.ndarray
 
 
+def compact_order(points: np.ndarray, size: int = CULL_GROUP) -> np.ndarray:
+    """An order of ``points`` (k, 3) whose consecutive runs of ``size`` are compact: the points are split along the
+    longest side of their box, the first part a multiple of ``size`` long (half the runs), and each part again (a
+    k-d tree whose leaves are the runs; stable sorts, so equal coordinates keep their order). A run's box then
+    stays small in every direction, so however a geom turns, the runs above the sand are culled whole."""
+    def split(idx: np.ndarray) -> list[np.ndarray]:
+        if len(idx) <= size:
+            return [idx]
+        p = points[idx]
+        axis = int(np.argmax(p.max(axis=0) - p.min(axis=0)))
+        idx = idx[np.argsort(p[:, axis], kind="stable")]
+        first = (-(-len(idx) // size) // 2) * size
+        return split(idx[:first]) + split(idx[first:])
+
+    return np.concatenate(split(np.arange(len(points))))
+
+
 def _cull_groups(model: mujoco.MjModel, groups) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """(geom, body, start, aabb) of the cull groups of ``groups`` = [(geom id, Elements), ...] (see ElementTables)."""
     g_geom, g_start, g_aabb = [], [0], []
@@ -109,13 +126,20 @@ def check_mesh_winding(model: mujoco.MjModel, geom_ids) -> None:
                              "of each face's vertices")
 
 
+def _compact(model: mujoco.MjModel, gid: int, el: Elements) -> Elements:
+    """``el`` (elements of geom ``gid``) in :func:`compact_order` of their positions in the geom's frame."""
+    order = compact_order(to_geom_frame(model, gid, el.pos))
+    return Elements(el.pos[order], el.normal[order], el.area[order])
+
+
 def build_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> ElementTables:
     """Cut the geoms into elements of about ``resolution`` and keep the exposed ones (only the exposed surface
     of each body's union of geoms meets grains, see :func:`~mjrft.geometry.exposed_elements`). A closed mesh
     turned inside out is refused (:func:`check_mesh_winding`)."""
     check_mesh_winding(model, geom_ids)
     parts = [discretize_geom(model, gid, resolution) for gid in geom_ids]
-    groups = list(zip(geom_ids, exposed_elements(model, geom_ids, parts, resolution)))
+    exposed = exposed_elements(model, geom_ids, parts, resolution)
+    groups = [(gid, _compact(model, gid, el)) for gid, el in zip(geom_ids, exposed)]
     if not groups:
         raise ValueError("no geoms selected for the granular terrain")
     ids = np.array([g for g, _ in groups], dtype=np.int64)
