@@ -375,7 +375,7 @@ class GranularTerrain:
         model, n = self.model, len(self.elements)
         self._g_active = np.zeros(len(self._g_geom), dtype=np.bool_)
         self._u = np.zeros((n, 3))
-        self._scr_f = np.zeros((12, n))  # the kernel's gather/scatter scratch (batched law)
+        self._scr_f = np.zeros((13, n))  # the kernel's gather/scatter scratch (batched law)
         self._scr_i = np.zeros((2, n), dtype=np.int64)
         self.pos = np.zeros((n, 3))
         self.vel = np.zeros((n, 3))

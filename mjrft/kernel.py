@@ -197,9 +197,10 @@ def _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth, all_faces):
+def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth, all_faces, t_mem):
     """Put element ``i`` (body ``b``) into the batch for the vectorised law at slot ``nbat`` (normal, unit
-    motion, depth, mobilisation, |m|); returns the new batch size. An element without motion (``|m| = 0``)
+    motion, depth, mobilisation, |m|, and in row 12 the implicit step's memory time ``t_mem``,
+    :func:`_memory_time`); returns the new batch size. An element without motion (``|m| = 0``)
     has no force and is not gathered, nor, unless ``all_faces``, a trailing face
     (:func:`~mjrft.laws.rft.trails`: the law gives it no force and no stiffness): its force is zeroed, and every
     sum the batch feeds misses only its zeros."""
@@ -216,6 +217,7 @@ def _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob
             scr_f[6, nbat] = depth
             scr_f[7, nbat] = mob
             scr_f[8, nbat] = ml
+            scr_f[12, nbat] = t_mem
             scr_i[0, nbat] = i
             scr_i[1, nbat] = b
             return nbat + 1
@@ -279,16 +281,17 @@ def _add_moments(arr, b, rx, ry, rz, kk, at=0):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _memory_time(speed, dt, delta, tau):
+def _memory_time(speed, relax, dt, dt_d, delta, tau):
     """How much a velocity change ``dv`` over the step moves an element's regularised motion ``m = u + tau v``,
     ``dm = T dv`` (s): ``tau`` plus the memory's response ``delta (1 - exp(-|v| dt / delta)) / |v|`` (``dt`` at
-    rest, ``delta / |v|`` in fast sliding; :func:`_rest_memory`); 1 in the viscous mode (``m = v``)."""
+    rest, ``delta / |v|`` in fast sliding; :func:`_rest_memory`); 1 in the viscous mode (``m = v``). ``relax``:
+    the rest memory's factor ``exp(-|v| dt / delta)`` of the element (``dt_d`` = dt / delta), which the kernel
+    has computed already (read only with ``delta > 0``)."""
     if delta <= 0.0:
         return 1.0
-    x = speed * dt / delta
-    if x < 1e-6:
+    if speed * dt_d < 1e-6:
         return tau + dt
-    return tau + delta * (1.0 - math.exp(-x)) / speed
+    return tau + delta * (1.0 - relax) / speed
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -472,19 +475,21 @@ def _inside_strip(geom_xpos, G, g_aabb, g, gid, reg_bounds, breg, blend):
 
 @njit(cache=True, error_model="numpy", inline="always")
 def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, dt_d, inv_d, delta, tau, v_eps,
-              solid, stick, u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, scr_f, scr_i, all_faces):
+              solid, stick, u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, scr_f, scr_i, all_faces,
+              implicit, dt):
     """Pass 2 of a dry group (one dry Li-RFT region everywhere, or a group inside such a strip): the listed
     elements ``scr_i[0, nbat:nlist]`` through the rest memory into the law's batch, without the region and
     water branches of the general pass (about 9% of the kernel's time; tested equal to it). ``rot``, ``com``,
-    ``spin``, ``lin``: body ``b``'s rotation and velocity (see :func:`_normal_velocity`). Returns (status, new
-    batch size).
+    ``spin``, ``lin``: body ``b``'s rotation and velocity (see :func:`_normal_velocity`). With ``implicit``, each
+    gathered element carries its memory time (:func:`_memory_time`, from the same relaxation factor as its
+    memory). Returns (status, new batch size).
 
     In three loops: the velocities (their speeds kept in ``scr_f[10]``), the rest memory's relaxation factors
-    ``exp(-|v| dt / delta)`` (in ``scr_f[9]``, where :func:`_rest_memory` reads them), then the memory and the
+    ``exp(-|v| dt / delta)`` (in ``scr_f[9]``, where :func:`_rest_memory` and :func:`_memory_time` read them), then the memory and the
     gathering. A call to ``exp`` inside the element loop makes the compiler save and restore the loop's
     registers around it on every element; in a loop of its own it costs the kernel less (``python
     benchmarks/kernel_ab.py REV`` against the one-loop form), with the same results bit for bit. (Rows 9 and 10
-    from ``nbat`` on are free: the gathering writes only rows 0-8, at slots no later than the one it reads, and
+    from ``nbat`` on are free: the gathering writes only rows 0-8 and 12, at slots no later than the one it reads, and
     the law writes rows 9-11 after the element loop.)"""
     for q in range(nbat, nlist):
         i = scr_i[0, q]
@@ -492,7 +497,7 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
         if not _isfinite3(vx, vy, vz):
             return BAD_STATE, nbat
         scr_f[10, q] = math.sqrt(vx * vx + vy * vy + vz * vz)
-    if delta > 0.0 and solid <= 0.0:  # the factors that _rest_memory reads
+    if delta > 0.0 and (solid <= 0.0 or implicit):  # the factors that _rest_memory and _memory_time read
         for q in range(nbat, nlist):
             scr_f[9, q] = math.exp(-scr_f[10, q] * dt_d)
     for q in range(nbat, nlist):
@@ -502,10 +507,12 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
         if e_area[i] <= 0.0:
             _clear(u, out_force, i)
             continue
-        mx, my, mz, ml, mob = _rest_memory(u, i, out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], scr_f[10, q],
-                                           scr_f[9, q], dt_d, inv_d, delta, tau, v_eps, solid, stick)
+        speed, relax = scr_f[10, q], scr_f[9, q]
+        mx, my, mz, ml, mob = _rest_memory(u, i, out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], speed, relax, dt_d,
+                                           inv_d, delta, tau, v_eps, solid, stick)
+        t_mem = _memory_time(speed, relax, dt, dt_d, delta, tau) if implicit else 0.0
         nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2], mx, my, mz,
-                       ml, mob, out_depth[i], all_faces)
+                       ml, mob, out_depth[i], all_faces, t_mem)
     return OK, nbat
 
 
@@ -588,7 +595,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     and the element's stress is the weighted sum over its regions.
 
     Speed: in a dry region under Li RFT (the common case; with several regions the first such one) the
-    buried elements lying wholly in that region are gathered into the scratch arrays ``scr_f`` (12, n)
+    buried elements lying wholly in that region are gathered into the scratch arrays ``scr_f`` (13, n)
     and ``scr_i`` (2, n) and the law runs once over all of them (:func:`mjrft.laws.rft.rft_stress_batch`,
     vectorised); the forces are then scattered back. Trailing faces (:func:`mjrft.laws.rft.trails`: no force, no
     stiffness) are not gathered, their force set to zero, unless that region's inertial regime is on.
@@ -688,7 +695,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         if dry_group:
             status, nbat = _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, dt_d, inv_d,
                                      delta, tau, v_eps, solid, stick, u, out_pos, out_vel, out_nrm, out_depth,
-                                     out_force, out_region, scr_f, scr_i, all_faces)
+                                     out_force, out_region, scr_f, scr_i, all_faces, implicit, dt)
             if status != OK:
                 return status, b
             continue
@@ -734,19 +741,22 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             if e_area[i] <= 0.0:
                 _clear(u, out_force, i)
                 continue
+            relax = 1.0
             if depth <= 0.0:  # out of the grains (in the water above the sand): no memory
                 u[i, 0] = 0.0
                 u[i, 1] = 0.0
                 u[i, 2] = 0.0
                 mx, my, mz, ml, mob = 0.0, 0.0, 0.0, 0.0, 0.0
             else:
-                relax = math.exp(-speed * dt_d) if delta > 0.0 and solid <= 0.0 and speed > 0.0 else 1.0
+                if delta > 0.0 and (solid <= 0.0 or implicit) and speed > 0.0:
+                    relax = math.exp(-speed * dt_d)
                 mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, relax, dt_d, inv_d, delta, tau, v_eps,
                                                    solid, stick)
+            t_mem = _memory_time(speed, relax, dt, dt_d, delta, tau) if implicit else 0.0
             if single and reg == breg:
                 # gathered; force, wrench and stiffness after the loop (_scatter_batch)
                 nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth,
-                               all_faces)
+                               all_faces, t_mem)
                 continue
             fx = 0.0
             fy = 0.0
@@ -765,7 +775,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     if implicit:
                         _add_implicit(imp, b, px - bx, py - by, pz - bz,
                                       _holds(ml, ylim, u[i, 0], u[i, 1], u[i, 2], delta), kk,
-                                      _memory_time(speed, dt, delta, tau))
+                                      t_mem)
                     fx *= mob
                     fy *= mob
                     fz *= mob
@@ -792,7 +802,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                 if implicit:
                     _add_implicit(imp, b, px - bx, py - by, pz - bz,
                                   _holds(ml, ylim, u[i, 0], u[i, 1], u[i, 2], delta), kk,
-                                  _memory_time(speed, dt, delta, tau))
+                                  t_mem)
                 kk, cd = _with_water_damping(kk, cw, delta, tau)
                 damp[b] += cd
                 if ci > 0.0:
@@ -854,7 +864,7 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             vx, vy, vz = out_vel[i, 0], out_vel[i, 1], out_vel[i, 2]
             if implicit and kk > 0.0 and _holds(ml, ylim, ml * scr_f[3, j] - tau * vx, ml * scr_f[4, j] - tau * vy,
                                                 ml * scr_f[5, j] - tau * vz, delta):  # _add_implicit's T kk
-                tk = _memory_time(math.sqrt(vx * vx + vy * vy + vz * vz), dt, delta, tau) * kk
+                tk = scr_f[12, j] * kk
                 i0 += tk
                 i1 += tk * rx
                 i2 += tk * ry
