@@ -7,9 +7,10 @@ importing the installed laws and media, so only the kernel differs). On five sce
 seeds, the shoal's saturated strip, its water strip, the hexapod on 3D-RFT sand, which takes the general
 per-element pass instead of the batched law, and the dry scene with the implicit step's spring moments), a
 tripod walk records N states; on three gymnasium robots under ``GranularWrapper``'s defaults (Hopper, Walker2d,
-HalfCheetah: most of their elements on a torso and thighs above the sand), seeded random actions do; for each state both kernels run R times, alternately, each call timed on its
-own, and the state's time is the minimum of its calls: a call lasts tens of microseconds, far shorter than a scheduler slice, so on a loaded machine most calls
-run undisturbed and the minimum is their cost. Prints the mean over states of those minima and their ratio,
+HalfCheetah: most of their elements on a torso and thighs above the sand), seeded random actions do; for each
+state both kernels run R times, alternately, each call timed on its own, and the state's time is the minimum of
+its calls: a call lasts tens of microseconds, far shorter than a scheduler slice, so on a loaded machine most
+calls run undisturbed and the minimum is their cost. Prints the mean over states of those minima and their ratio,
 and whether the two kernels' forces, wrenches, stiffness moments (of the springs, the depth stiffness and the
 implicit step) and damping are bit-identical on every state.
 """

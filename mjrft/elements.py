@@ -2,8 +2,9 @@
 
 :func:`build_elements` cuts the geoms into elements of about the resolution (:mod:`mjrft.geometry`), keeps the
 exposed ones, orders each geom's elements so that runs of :data:`CULL_GROUP` are compact (:func:`compact_order`)
-and groups them into those runs' cull boxes, which the kernel skips while they lie above the surface; :func:`check_element_count` refuses a resolution that would build more
-than :data:`MAX_ELEMENTS` before anything is built.
+and groups them into those runs' cull boxes, which the kernel skips while they lie above the surface;
+:func:`check_element_count` refuses a resolution that would build more than :data:`MAX_ELEMENTS` before anything
+is built.
 """
 
 from __future__ import annotations

@@ -485,12 +485,12 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
     memory). Returns (status, new batch size).
 
     In three loops: the velocities (their speeds kept in ``scr_f[10]``), the rest memory's relaxation factors
-    ``exp(-|v| dt / delta)`` (in ``scr_f[9]``, where :func:`_rest_memory` and :func:`_memory_time` read them), then the memory and the
-    gathering. A call to ``exp`` inside the element loop makes the compiler save and restore the loop's
-    registers around it on every element; in a loop of its own it costs the kernel less (``python
-    benchmarks/kernel_ab.py REV`` against the one-loop form), with the same results bit for bit. (Rows 9 and 10
-    from ``nbat`` on are free: the gathering writes only rows 0-8 and 12, at slots no later than the one it reads, and
-    the law writes rows 9-11 after the element loop.)"""
+    ``exp(-|v| dt / delta)`` (in ``scr_f[9]``, where :func:`_rest_memory` and :func:`_memory_time` read them),
+    then the memory and the gathering. A call to ``exp`` inside the element loop makes the compiler save and
+    restore the loop's registers around it on every element; in a loop of its own it costs the kernel less
+    (``python benchmarks/kernel_ab.py REV`` against the one-loop form), with the same results bit for bit. (Rows 9
+    and 10 from ``nbat`` on are free: the gathering writes only rows 0-8 and 12, at slots no later than the one it
+    reads, and the law writes rows 9-11 after the element loop.)"""
     for q in range(nbat, nlist):
         i = scr_i[0, q]
         nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
