@@ -828,53 +828,46 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
     ``pin``: the batched region's parameter vector when its inertial regime is on (the inertial force is
     added on the element's real velocity, its damping moments go to ``inert``), else an empty array.
 
-    The elements arrive grouped by body (geom by geom), so each body's 17 sums are kept in local
-    variables over its run of elements and added to ``wrench``/``stiff``/``damp`` (and, for the implicit step,
-    ``imp``) once per run: a read-modify-write of the same array slot per element would chain every element on
-    the store. (The runs follow the elements' order; with each body's batched elements in one run, as for geoms
-    selected in MuJoCo's order, and no element of it outside the batch, the sums equal the element-by-element
-    ones bit for bit.)"""
+    In two passes over each body's run of elements (they arrive grouped by body, geom by geom): the first
+    finishes each element (its force, written to ``out_force``, its lever arm ``r`` from the body's CoM, its
+    stiffness, the implicit step's spring ``T k`` (0 unless it :func:`_holds`) and its depth stiffness) into its
+    column of the scratch rows it has read, the second sums the body's 33 moments from those rows in four loops
+    of at most ten sums each and adds them to ``wrench``/``stiff``/``damp``/``dstiff`` (and, for the implicit step,
+    ``imp``) once per run: in one loop the sums do not fit the processor's registers, and a sum kept in memory
+    chains every element on its store. (Each sum adds the same terms in the elements' order as element by
+    element; with each body's batched elements in one run, as for geoms selected in MuJoCo's order, and no
+    element of it outside the batch, the sums equal the element-by-element ones bit for bit. An element that does
+    not hold adds exact zeros to the implicit sums.)"""
     implicit = imp.shape[0] > 0
     ylim = delta if delta > 0.0 else v_eps
-    j = 0
-    while j < nbat:
-        b = scr_i[1, j]
+    j0 = 0
+    while j0 < nbat:
+        b = scr_i[1, j0]
         bx, by, bz = xipos[b, 0], xipos[b, 1], xipos[b, 2]
-        f0 = f1 = f2 = t0 = t1 = t2 = 0.0
-        k0 = k1 = k2 = k3 = k4 = k5 = k6 = k7 = k8 = k9 = 0.0
-        d0 = d1 = d2 = d4 = d5 = d7 = 0.0  # depth stiffness: sum kd, kd r (x, y), kd r r^T (xx, xy, yy)
-        c = 0.0
         cin = 0.0
-        i0 = i1 = i2 = i3 = i4 = i5 = i6 = i7 = i8 = i9 = 0.0  # the implicit step's springs (_add_implicit)
-        while j < nbat and scr_i[1, j] == b:
+        j1 = j0
+        # pass 1: the run's elements, each into its own column (rows 0-2: r; 3: k; 4: T k; 5: depth stiffness;
+        # 9-11: force), read before written
+        while j1 < nbat and scr_i[1, j1] == b:
+            j = j1
             i = scr_i[0, j]
             k = e_area[i]
             fx, fy, fz = scr_f[9, j] * k, scr_f[10, j] * k, scr_f[11, j] * k
             if not _isfinite3(fx, fy, fz):
                 return BAD_FORCE, b
             f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
-            kk = _stiffness_of(f_mag, scr_f[8, j], delta, v_eps)
-            c += kk
+            ml = scr_f[8, j]
+            kk = _stiffness_of(f_mag, ml, delta, v_eps)
             mob = scr_f[7, j]
             fx *= mob
             fy *= mob
             fz *= mob
             rx, ry, rz = out_pos[i, 0] - bx, out_pos[i, 1] - by, out_pos[i, 2] - bz
-            ml = scr_f[8, j]
-            vx, vy, vz = out_vel[i, 0], out_vel[i, 1], out_vel[i, 2]
-            if implicit and kk > 0.0 and _holds(ml, ylim, ml * scr_f[3, j] - tau * vx, ml * scr_f[4, j] - tau * vy,
-                                                ml * scr_f[5, j] - tau * vz, delta):  # _add_implicit's T kk
+            tk = 0.0
+            if implicit and kk > 0.0 and _holds(ml, ylim, ml * scr_f[3, j] - tau * out_vel[i, 0],
+                                                ml * scr_f[4, j] - tau * out_vel[i, 1],
+                                                ml * scr_f[5, j] - tau * out_vel[i, 2], delta):  # _add_implicit's T kk
                 tk = scr_f[12, j] * kk
-                i0 += tk
-                i1 += tk * rx
-                i2 += tk * ry
-                i3 += tk * rz
-                i4 += tk * rx * rx
-                i5 += tk * rx * ry
-                i6 += tk * rx * rz
-                i7 += tk * ry * ry
-                i8 += tk * ry * rz
-                i9 += tk * rz * rz
             if pin.shape[0] > 0:
                 gx, gy, gz, ci = inertial_force(pin, scr_f[6, j], out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2],
                                                 out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], k)
@@ -887,19 +880,25 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
                     cin += ci
                     _add_moments(inert, b, rx, ry, rz, ci)
             out_force[i, 0], out_force[i, 1], out_force[i, 2] = fx, fy, fz
-            kd = f_mag * mob / scr_f[6, j]  # the law's force (batched elements are below the surface)
-            d0 += kd
-            d1 += kd * rx
-            d2 += kd * ry
-            d4 += kd * rx * rx
-            d5 += kd * rx * ry
-            d7 += kd * ry * ry
+            scr_f[5, j] = f_mag * mob / scr_f[6, j]  # the law's force (batched elements are below the surface)
+            scr_f[0, j], scr_f[1, j], scr_f[2, j] = rx, ry, rz
+            scr_f[3, j] = kk
+            scr_f[4, j] = tk
+            scr_f[9, j], scr_f[10, j], scr_f[11, j] = fx, fy, fz
+            j1 += 1
+        # pass 2: the run's sums
+        f0 = f1 = f2 = t0 = t1 = t2 = 0.0
+        for j in range(j0, j1):
+            rx, ry, rz, fx, fy, fz = scr_f[0, j], scr_f[1, j], scr_f[2, j], scr_f[9, j], scr_f[10, j], scr_f[11, j]
             f0 += fx
             f1 += fy
             f2 += fz
             t0 += ry * fz - rz * fy
             t1 += rz * fx - rx * fz
             t2 += rx * fy - ry * fx
+        k0 = k1 = k2 = k3 = k4 = k5 = k6 = k7 = k8 = k9 = 0.0
+        for j in range(j0, j1):
+            rx, ry, rz, kk = scr_f[0, j], scr_f[1, j], scr_f[2, j], scr_f[3, j]
             k0 += kk
             k1 += kk * rx
             k2 += kk * ry
@@ -910,7 +909,15 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             k7 += kk * ry * ry
             k8 += kk * ry * rz
             k9 += kk * rz * rz
-            j += 1
+        d0 = d1 = d2 = d4 = d5 = d7 = 0.0  # depth stiffness: sum kd, kd r (x, y), kd r r^T (xx, xy, yy)
+        for j in range(j0, j1):
+            rx, ry, kd = scr_f[0, j], scr_f[1, j], scr_f[5, j]
+            d0 += kd
+            d1 += kd * rx
+            d2 += kd * ry
+            d4 += kd * rx * rx
+            d5 += kd * rx * ry
+            d7 += kd * ry * ry
         wrench[b, 0] += f0
         wrench[b, 1] += f1
         wrench[b, 2] += f2
@@ -933,8 +940,21 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         dstiff[b, 4] += d4
         dstiff[b, 5] += d5
         dstiff[b, 7] += d7
-        damp[b] += (c * tau if delta > 0.0 else c) + cin
+        damp[b] += (k0 * tau if delta > 0.0 else k0) + cin  # sum kk, as k0
         if implicit:
+            i0 = i1 = i2 = i3 = i4 = i5 = i6 = i7 = i8 = i9 = 0.0  # the implicit step's springs (_add_implicit)
+            for j in range(j0, j1):
+                rx, ry, rz, tk = scr_f[0, j], scr_f[1, j], scr_f[2, j], scr_f[4, j]
+                i0 += tk
+                i1 += tk * rx
+                i2 += tk * ry
+                i3 += tk * rz
+                i4 += tk * rx * rx
+                i5 += tk * rx * ry
+                i6 += tk * rx * rz
+                i7 += tk * ry * ry
+                i8 += tk * ry * rz
+                i9 += tk * rz * rz
             imp[b, 0] += i0
             imp[b, 1] += i1
             imp[b, 2] += i2
@@ -945,6 +965,7 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             imp[b, 7] += i7
             imp[b, 8] += i8
             imp[b, 9] += i9
+        j0 = j1
     return OK, -1
 
 
