@@ -270,7 +270,10 @@ def test_non_finite_or_misshapen_actions_are_refused_before_anything_is_simulate
     env = quiet_make("mjrft/AntSand-v5")
     env.reset(seed=0)
     t = env.unwrapped.data.time
-    for bad in (np.full(8, np.nan), np.r_[np.zeros(7), np.inf], np.r_[np.zeros(7), -np.inf]):
+    last = np.r_[np.zeros(7), 1.0]
+    for bad in (np.full(8, np.nan), np.r_[np.zeros(7), np.inf], np.r_[np.zeros(7), -np.inf],
+                np.full(8, np.nan, dtype=np.float32), (last * np.inf).astype(np.float16),
+                (last * np.nan).astype(np.longdouble), last * complex(0, np.inf)):  # every float kind and width
         with pytest.raises(ValueError, match="action contains NaN or infinite values"):
             env.step(bad)
     with pytest.raises(ValueError, match=r"action must be numbers of shape \(8,\), got float64 of shape \(7,\)"):
