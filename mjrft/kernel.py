@@ -820,6 +820,37 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     return OK, -1
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _add_run_moments(arr, b, scr_f, row, j0, j1):
+    """Add to ``arr[b, 0:10]`` the moments (as :func:`_add_moments`) of the springs ``scr_f[row, j0:j1]`` at the lever
+    arms in rows 0-2 of the same columns, summed in local variables over the run first; returns their sum
+    (:func:`_scatter_batch`)."""
+    s0 = s1 = s2 = s3 = s4 = s5 = s6 = s7 = s8 = s9 = 0.0
+    for j in range(j0, j1):
+        rx, ry, rz, kk = scr_f[0, j], scr_f[1, j], scr_f[2, j], scr_f[row, j]
+        s0 += kk
+        s1 += kk * rx
+        s2 += kk * ry
+        s3 += kk * rz
+        s4 += kk * rx * rx
+        s5 += kk * rx * ry
+        s6 += kk * rx * rz
+        s7 += kk * ry * ry
+        s8 += kk * ry * rz
+        s9 += kk * rz * rz
+    arr[b, 0] += s0
+    arr[b, 1] += s1
+    arr[b, 2] += s2
+    arr[b, 3] += s3
+    arr[b, 4] += s4
+    arr[b, 5] += s5
+    arr[b, 6] += s6
+    arr[b, 7] += s7
+    arr[b, 8] += s8
+    arr[b, 9] += s9
+    return s0
+
+
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"}, _nrt=False)
 def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp,
                    pin, out_vel, out_nrm, inert, imp, dstiff, dt):
@@ -896,19 +927,6 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             t0 += ry * fz - rz * fy
             t1 += rz * fx - rx * fz
             t2 += rx * fy - ry * fx
-        k0 = k1 = k2 = k3 = k4 = k5 = k6 = k7 = k8 = k9 = 0.0
-        for j in range(j0, j1):
-            rx, ry, rz, kk = scr_f[0, j], scr_f[1, j], scr_f[2, j], scr_f[3, j]
-            k0 += kk
-            k1 += kk * rx
-            k2 += kk * ry
-            k3 += kk * rz
-            k4 += kk * rx * rx
-            k5 += kk * rx * ry
-            k6 += kk * rx * rz
-            k7 += kk * ry * ry
-            k8 += kk * ry * rz
-            k9 += kk * rz * rz
         d0 = d1 = d2 = d4 = d5 = d7 = 0.0  # depth stiffness: sum kd, kd r (x, y), kd r r^T (xx, xy, yy)
         for j in range(j0, j1):
             rx, ry, kd = scr_f[0, j], scr_f[1, j], scr_f[5, j]
@@ -924,16 +942,7 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         wrench[b, 3] += t0
         wrench[b, 4] += t1
         wrench[b, 5] += t2
-        stiff[b, 0] += k0
-        stiff[b, 1] += k1
-        stiff[b, 2] += k2
-        stiff[b, 3] += k3
-        stiff[b, 4] += k4
-        stiff[b, 5] += k5
-        stiff[b, 6] += k6
-        stiff[b, 7] += k7
-        stiff[b, 8] += k8
-        stiff[b, 9] += k9
+        k0 = _add_run_moments(stiff, b, scr_f, 3, j0, j1)
         dstiff[b, 0] += d0  # the moments with z do not enter vertical springs (add_vertical_k6)
         dstiff[b, 1] += d1
         dstiff[b, 2] += d2
@@ -941,30 +950,8 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
         dstiff[b, 5] += d5
         dstiff[b, 7] += d7
         damp[b] += (k0 * tau if delta > 0.0 else k0) + cin  # sum kk, as k0
-        if implicit:
-            i0 = i1 = i2 = i3 = i4 = i5 = i6 = i7 = i8 = i9 = 0.0  # the implicit step's springs (_add_implicit)
-            for j in range(j0, j1):
-                rx, ry, rz, tk = scr_f[0, j], scr_f[1, j], scr_f[2, j], scr_f[4, j]
-                i0 += tk
-                i1 += tk * rx
-                i2 += tk * ry
-                i3 += tk * rz
-                i4 += tk * rx * rx
-                i5 += tk * rx * ry
-                i6 += tk * rx * rz
-                i7 += tk * ry * ry
-                i8 += tk * ry * rz
-                i9 += tk * rz * rz
-            imp[b, 0] += i0
-            imp[b, 1] += i1
-            imp[b, 2] += i2
-            imp[b, 3] += i3
-            imp[b, 4] += i4
-            imp[b, 5] += i5
-            imp[b, 6] += i6
-            imp[b, 7] += i7
-            imp[b, 8] += i8
-            imp[b, 9] += i9
+        if implicit:  # the implicit step's springs (_add_implicit)
+            _add_run_moments(imp, b, scr_f, 4, j0, j1)
         j0 = j1
     return OK, -1
 
