@@ -816,7 +816,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
         rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
         return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
                               wrench, stiff, damp, pb if inertia and pb[P_INERTIA] > 0.0 else pb[:0], out_vel,
-                              out_nrm, inert, imp, dstiff, dt)
+                              out_nrm, inert, imp, dstiff)
     return OK, -1
 
 
@@ -853,7 +853,7 @@ def _add_run_moments(arr, b, scr_f, row, j0, j1):
 
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"}, _nrt=False)
 def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps, wrench, stiff, damp,
-                   pin, out_vel, out_nrm, inert, imp, dstiff, dt):
+                   pin, out_vel, out_nrm, inert, imp, dstiff):
     """The batched elements' forces, wrench and stiffness moments (what the element loop does inline).
 
     ``pin``: the batched region's parameter vector when its inertial regime is on (the inertial force is
