@@ -404,6 +404,7 @@ class GranularTerrain:
         self._implicit_functions = np.array(_IMPLICIT_FUNCTIONS if self.implicit else (0, 0, 0, 0), dtype=np.int64)
         self._inert = np.zeros((model.nbody, 10))  # moments of the inertial regime's dampers (kernel)
         self._inert_max = np.zeros((model.nbody, 10))  # ... of the step with the most of it (track_stiffness)
+        self._power = np.zeros(1)  # the actuators' mean power over the last step call (actuator_power)
         self._data = None
         self._resets_seen = 0  # MuJoCo's reset-after-divergence count of the bound data, when last seen
         self._t_begin = 0.0
@@ -584,7 +585,8 @@ class GranularTerrain:
         :mod:`mjrft.batch`, which keeps one such tuple per environment: the only list of them is here)."""
         return (data.xfrc_applied, self.body_ids, self._saved, *self._kernel_args(dt), self._stiff_max,
                 self._damp_max, self._inert_max, self._dstiff_max, self.implicit, self._implicit_functions,
-                data.qacc_smooth, self.inertial, *self._implicit_scratch)
+                data.qacc_smooth, self.inertial, *self._implicit_scratch, data.actuator_force,
+                data.actuator_velocity, self._power)
 
     def _begin(self, data) -> None:
         """Before evaluating on ``data``: bind to it, raise if MuJoCo reset it after a divergence since the
@@ -655,7 +657,9 @@ class GranularTerrain:
             return
         if self.implicit:
             raise RuntimeError("implicit=True steps through MuJoCo's C functions, which were not found")
-        for _ in range(nstep):
+        work = 0.0
+        self._power[0] = 0.0
+        for k in range(nstep):
             mujoco.mj_step1(m, data)
             self.compute(data)
             kernel.add_rows(xfrc, rows, self.wrench, self._saved)
@@ -663,6 +667,8 @@ class GranularTerrain:
                 mujoco.mj_step2(m, data)
             finally:
                 kernel.restore_rows(xfrc, rows, self._saved)
+            work += kernel.actuator_power(data.actuator_force, data.actuator_velocity)
+            self._power[0] = work / (k + 1)
 
     def _check_integrator(self, what: str) -> None:
         if self._opt.integrator == _RK4:
@@ -901,6 +907,14 @@ class GranularTerrain:
         kernel.region_weights_many(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(),
                                    self._reg_bounds, self._reg_map, self._reg_map_frame, self.transition, out)
         return out.reshape(*x.shape, len(self.regions))
+
+    @property
+    def actuator_power(self) -> float:
+        """The actuators' mechanical power ``sum_a |actuator_force_a x actuator_velocity_a|`` (W), averaged over
+        every physics step of the last :meth:`step` call (each step's force and velocity are of the state at its
+        start), so that an environment's control step reports the energy its actuators delivered, not a sample.
+        0 before the first step."""
+        return float(self._power[0])
 
     def sinkage(self) -> np.ndarray:
         """Deepest element depth (m, >= 0) of each body, shape (nbody,), from the last step."""

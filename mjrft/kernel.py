@@ -957,6 +957,17 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
+def actuator_power(act_force, act_vel):
+    """The actuators' mechanical power ``sum_a |f_a v_a|`` (W) from ``data.actuator_force`` and
+    ``data.actuator_velocity`` (force times velocity in the actuators' own units is the power they deliver to
+    their transmission, whatever its gear)."""
+    p = 0.0
+    for a in range(act_force.shape[0]):
+        p += abs(act_force[a] * act_vel[a])
+    return p
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
 def add_rows(target, rows, values, saved):
     """saved[rows] = target[rows]; target[rows] += values[rows]."""
     for k in range(rows.shape[0]):
@@ -993,16 +1004,23 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
               hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity, dt, delta, tau, v_eps,
               u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp, inert, scr_f,
               scr_i, imp, dstiff, solid, stick, stiff_max, damp_max, inert_max, dstiff_max, implicit, f_implicit,
-              qacc_smooth, use_inert, imp_jac, imp_minv_jac, imp_blocks, imp_a, imp_rhs, imp_rows):
+              qacc_smooth, use_inert, imp_jac, imp_minv_jac, imp_blocks, imp_a, imp_rhs, imp_rows, act_force, act_vel,
+              power):
     """``nstep`` x (mj_step1, terrain_kernel, [implicit_wrench], xfrc += wrench, mj_step2, restore xfrc).
 
     With ``implicit`` the wrench of each step is made linearly implicit by :func:`implicit_wrench`
     (``f_implicit`` the addresses of :data:`mjrft.implicit_step.IMPLICIT_FUNCTIONS`; the ``imp_*`` arrays its
     scratch).
 
+    ``power[0]`` receives the actuators' mechanical power ``sum_a |act_force[a] act_vel[a]|`` (W; the views of
+    ``actuator_force`` and ``actuator_velocity``, both of the state at the start of a step after its mj_step2)
+    averaged over the steps completed (:func:`actuator_power`).
+
     Returns (status, body, steps completed); on a non-finite value it stops after mj_step1 of the
     failing step, before anything is written to xfrc_applied.
     """
+    work = 0.0
+    power[0] = 0.0
     for s in range(nstep):
         call_mj(f_step1, m_addr, d_addr)
         status, body = terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
@@ -1013,6 +1031,8 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                       u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
                                       wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff, solid, stick)
         if status != OK:
+            if s > 0:
+                power[0] = work / s
             return status, body, s
         track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max)
         track_depth_springs(dstiff, dstiff_max)
@@ -1021,9 +1041,14 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
                                   qacc_smooth, rows, wrench, imp, inert, use_inert, dt, imp_jac, imp_minv_jac,
                                   imp_blocks, imp_a, imp_rhs, imp_rows)
             if bad >= 0:
+                if s > 0:
+                    power[0] = work / s
                 return BAD_FORCE, bad, s
         track_chatter(wrench, rows, stiff_max)
         add_rows(xfrc, rows, wrench, saved)
         call_mj(f_step2, m_addr, d_addr)
         restore_rows(xfrc, rows, saved)
+        work += actuator_power(act_force, act_vel)
+    if nstep > 0:
+        power[0] = work / nstep
     return OK, -1, nstep

@@ -483,3 +483,23 @@ def test_a_resolution_that_would_build_too_many_elements_is_refused_up_front():
     assert mjrft.GranularTerrain(m, resolution=0.01, max_elements=est).n_elements == t.n_elements
     with pytest.raises(ValueError, match="max_elements must be finite and > 0"):
         mjrft.GranularTerrain(m, max_elements=0)
+
+
+@pytest.mark.filterwarnings("ignore::mjrft.ValidityRangeWarning")  # the legs hit the sand at 1.2 m/s
+def test_actuator_power_is_the_mean_over_every_physics_step_of_a_step_call():
+    m = mujoco.MjModel.from_xml_string(LEGGED)
+    d, d1 = mujoco.MjData(m), mujoco.MjData(m)
+    t, t1 = (mjrft.GranularTerrain(m, "poppy_cp", "rft", resolution=0.004) for _ in range(2))
+    assert t.actuator_power == 0.0
+    for k in range(6):
+        d.ctrl[:] = d1.ctrl[:] = [np.sin(3.0 * k), np.cos(2.0 * k)]
+        t.step(d, 10)
+        per_step = []
+        for _ in range(10):  # the same ten physics steps, the power read off MjData after each
+            t1.step(d1, 1)
+            per_step.append(np.sum(np.abs(d1.actuator_force * d1.actuator_velocity)))
+        assert np.array_equal(d.qpos, d1.qpos)
+        assert t.actuator_power == pytest.approx(np.mean(per_step), rel=1e-12, abs=1e-15)
+        # control: the power at the call's last physics step alone (a sample) is not the mean
+        if k > 0:
+            assert abs(per_step[-1] - np.mean(per_step)) > 1e-3 * np.mean(per_step)
