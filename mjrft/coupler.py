@@ -43,7 +43,7 @@ from .implicit_step import IMPLICIT_FUNCTIONS
 from .laws import validity
 from .laws.registry import STRESS_SLOTS
 from .laws.solidify import STICK_SPEED, check_solidify
-from .laws.wet import P_WATER_DEPTH
+from .params import P_WATER_DEPTH
 from .media import get_medium
 from .mujoco_c import mujoco_functions, mujoco_step_functions
 from .regions import Region, _region_entries, build_regions

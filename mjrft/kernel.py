@@ -25,8 +25,8 @@ from .laws.inertial import inertial_force
 from .laws.rft import rft_stress_batch, trails
 from .laws.solidify import solid_memory
 from .laws.registry import LAW_IDS
-from .laws.wet import P_WATER_DEPTH, P_WATER_SKIN, water_stress
-from .media import P_INERTIA
+from .laws.wet import water_stress
+from .params import P_INERTIA, P_WATER_DEPTH, P_WATER_SKIN
 from .mujoco_c import call_mj
 from .stability import track_chatter, track_depth_springs, track_stiffness
 

@@ -18,7 +18,7 @@ depth-only law (supplement eqs. S3-S7) is built from it; a medium without one (`
 scaled copies, 3D-RFT media, saturated sand) falls back to the fit's alpha_z(0, pi/2). The paper
 prints no numbers for the other two depth-only constants, alpha_z(0, -pi/2) (plate pulled up) and
 alpha_x(pi/2, 0) (vertical plate dragged): they are read off its Fig. 2 C-D (figure and data table
-S5 not in the text), so every medium takes those two from its fit (:meth:`Medium.params`).
+S5 not in the text), so every medium takes those two from its fit (:meth:`Medium.own_params`).
 
 3D-RFT (Agarwal et al. 2023) describes a medium by its bulk density, internal friction coefficient
 ``mu_int`` and surface (leg) friction ``mu_surface``; its stress scale is
@@ -34,11 +34,13 @@ from __future__ import annotations
 import csv
 import dataclasses
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .errors import check_finite, check_positive, unknown
+from .params import P_AX_DRAG, P_AZ_DOWN, P_AZ_UP, P_COEFF, P_MU_S, P_XI, P_ZETA
 
 G = 9.81
 N_CM3 = 1e6  # N/cm^3 -> N/m^3
@@ -46,21 +48,6 @@ COEFF_NAMES = ("A00", "A10", "B11", "B01", "B_11", "C11", "C01", "C_11", "D10")
 RFT3D_DOWN = 0.875  # 3D-RFT generic response of a horizontal plate pushed straight down (up, per xi_n)
 CHI = 1.26  # Li supplement: zeta = alpha_z(0, pi/2)_measured / chi
 
-# Parameter vector shared with the compiled kernels (see mjrft.laws.dispatch).
-P_COEFF = 0  # 9 Li coefficients, N/m^3
-P_XI = 9  # 3D-RFT xi_n, N/m^3
-P_MU_S = 10  # surface (leg) friction coefficient
-P_ZETA = 11  # scaling factor, N/m^3
-P_AZ_DOWN = 12  # alpha_z(0, pi/2), N/m^3
-P_AZ_UP = 13  # |alpha_z(0, -pi/2)|, N/m^3
-P_AX_DRAG = 14  # alpha_x(pi/2, 0), N/m^3
-P_FIRST_FREE = 15  # laws added later store their constants from here on
-# The inertial (speed-dependent) regime of the dry laws (mjrft.laws.inertial), filled by the coupler only
-# when a scene turns it on (0 here: off).
-P_INERTIA = 32  # C x rho_bulk (kg/m^3) of the inertial pressure; 0 = off
-P_INERTIA_VC2 = 33  # v_c^2 (m^2/s^2), the critical intrusion speed squared
-P_INERTIA_SKIN = 34  # m, depth over which the inertial pressure ramps in below the surface
-P_SIZE = 40
 
 
 def xi_n(rho_bulk: float, mu_int: float) -> float:
@@ -218,18 +205,25 @@ class Medium:
         d.update(values)
         return dataclasses.replace(self, extra=tuple(sorted(d.items())))
 
-    def params(self) -> np.ndarray:
-        """The float64 parameter vector read by the compiled kernels (layout: ``P_*`` constants)."""
-        p = np.zeros(P_SIZE)
+    def own_params(self, p: np.ndarray) -> np.ndarray:
+        """Write the medium's own constants into the parameter vector ``p`` (layout :mod:`mjrft.params`): Li's
+        coefficients, xi_n, the surface friction, zeta and the depth-only law's three stresses; returns ``p``. The
+        whole vector, with each law's constants, is :func:`mjrft.laws.registry.parameter_vector`."""
         p[P_COEFF:P_COEFF + 9] = self.coeffs
         p[P_XI] = self.xi_n
         p[P_MU_S] = self.mu_surface
         p[P_ZETA] = self.zeta
         p[P_AZ_DOWN], p[P_AZ_UP], p[P_AX_DRAG] = self.depth_only_alphas
-        from .laws.registry import fill_params  # local import: laws depend on media, not the reverse
-
-        fill_params(self, p)  # each law's own constants
         return p
+
+    def params(self) -> np.ndarray:
+        """Deprecated: :func:`mjrft.laws.parameter_vector` (``mjrft.laws.parameter_vector(medium)``) gives the same
+        vector; the laws' constants are theirs, not the medium's."""
+        warnings.warn("Medium.params() is deprecated; use mjrft.laws.parameter_vector(medium)", DeprecationWarning,
+                      stacklevel=2)
+        import importlib
+
+        return importlib.import_module("mjrft.laws.registry").parameter_vector(self)
 
 
 def _li(name, coeffs_ncm3, zeta_ncm3, d, rho_g, phi, repose, mu_s, az_measured_ncm3, description):

@@ -16,8 +16,9 @@ import numpy as np
 
 from .errors import UnknownNameError, check_finite, check_positive, unknown
 from .laws.inertial import set_inertial
-from .laws.registry import DRY_LAWS, LAW_IDS, LAWS, get_law
-from .laws.wet import P_WATER_DEPTH, P_WATER_DRAG, wet_constants
+from .laws.registry import DRY_LAWS, LAW_IDS, LAWS, get_law, parameter_vector
+from .laws.wet import wet_constants
+from .params import P_WATER_DEPTH, P_WATER_DRAG
 from .media import MEDIA, Medium, get_medium
 
 if TYPE_CHECKING:
@@ -155,7 +156,7 @@ def _region_row(k: int, reg: Region, s: TerrainSettings) -> tuple[Medium, int, n
     hw = check_positive(f"{where}water_depth", hw, allow_zero=True)
     rho = wc["water_density"] if s.water_density is None else s.water_density
     cd = wc["drag_coefficient"] if s.drag_coefficient is None else s.drag_coefficient
-    p = med.params()
+    p = parameter_vector(med)
     p[P_WATER_DEPTH] = hw
     p[P_WATER_DRAG] = cd * rho
     if s.inertial and get_law(reg.law).dry:

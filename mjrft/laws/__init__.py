@@ -20,7 +20,7 @@ import numpy as np
 from ..media import get_medium
 from .dispatch import as_elements, element_stress, evaluate
 from .inertial import INERTIAL_DRAG, add_inertial, set_inertial
-from .registry import DRY_LAWS, LAW_IDS, get_law
+from .registry import DRY_LAWS, LAW_IDS, get_law, parameter_vector
 from .rft3d import rft3d_generic
 
 
@@ -41,7 +41,7 @@ def apply_law(name, depth, normal, velocity, area, medium="poppy_cp", *, inertia
         raise ValueError(f"inertial=True is an option of the dry laws ({', '.join(DRY_LAWS)}), not of law {name!r}")
     depth, normal, velocity, area = as_elements(depth, normal, velocity, area)
     out = np.empty((depth.shape[0], 3))
-    p = med.params()
+    p = parameter_vector(med)
     evaluate(law.id, depth, normal, velocity, area, p, out)
     if inertial:
         add_inertial(depth, normal, velocity, area, set_inertial(p, med, inertial_drag), out)

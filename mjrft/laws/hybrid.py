@@ -165,7 +165,9 @@ import numpy as np
 from numba import njit
 
 from ..errors import check_finite, check_positive
-from ..media import G, P_FIRST_FREE, P_SIZE
+from ..media import G
+from ..params import (P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_KF, P_HYB_KS, P_HYB_PAR_H, P_HYB_PAR_H_FRAC,
+                      P_HYB_PERP_H, P_HYB_RATIO, P_HYB_W)
 from .common import LEAD_EPS, TINY, lead_weight
 
 # --- constants (section 4 of the reference; assumptions in the module docstring) ----------------
@@ -188,18 +190,6 @@ LEG_FAMILY = {"straight": 9.0, "less_straight": 2.0, "semicircle": 1.0, "bent": 
 X_TABLE = 40.0  # G(x) tabulated on x = (d - W) / W in [0, X_TABLE]
 N_TABLE = 161
 
-# --- parameter slots of the per-element law -----------------------------------------------------
-P_HYB_W = P_FIRST_FREE + 7
-P_HYB_E0 = P_FIRST_FREE + 8
-P_HYB_E1 = P_FIRST_FREE + 9
-P_HYB_E2 = P_FIRST_FREE + 10
-P_HYB_RATIO = P_FIRST_FREE + 11
-P_HYB_PERP_H = P_FIRST_FREE + 12
-P_HYB_PAR_H = P_FIRST_FREE + 13
-P_HYB_KF = P_FIRST_FREE + 14
-P_HYB_KS = P_FIRST_FREE + 15
-P_HYB_PAR_H_FRAC = P_FIRST_FREE + 16
-assert P_HYB_PAR_H_FRAC < P_SIZE
 
 
 # ================================================================================================

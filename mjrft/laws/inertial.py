@@ -62,7 +62,8 @@ import numpy as np
 from numba import njit
 
 from ..errors import check_positive
-from ..media import P_INERTIA, P_INERTIA_SKIN, P_INERTIA_VC2, get_medium
+from ..media import get_medium
+from ..params import P_INERTIA, P_INERTIA_SKIN, P_INERTIA_VC2
 
 # --- the coefficient and its source numbers (module docstring) --------------------------------
 ROBOT_MASS = 0.025  # kg, DynaRoACH (abstract, sec. 2.1.1)

@@ -5,13 +5,13 @@ medium's parameter vector it reads that hold grain stresses, the function that w
 that vector, whether it is dry (takes the inertial regime) or saturated (water at least up to the sand surface),
 and the ranges its source calibrated. From the table come :data:`LAW_IDS`, :data:`DRY_LAWS`, :data:`STRESS_SLOTS`,
 the compiled dispatch (:func:`mjrft.laws.dispatch.element_stress`, generated from the entries and compiled by
-numba), the parameter vector's law constants (:func:`fill_params`, called by :meth:`mjrft.media.Medium.params`),
+numba), the parameter vector (:func:`parameter_vector`: the medium's constants and each law's, :func:`fill_params`),
 the validity checks (:mod:`mjrft.laws.validity`) and the laws of the JAX path (:data:`mjrft.mjx.laws.LAWS` and
 :data:`mjrft.mjx.laws.UNSUPPORTED`, from each entry's ``jax`` or ``no_jax``).
 
 Adding a law: write its module (a compiled ``*_stress(depth, nx, ny, nz, mx, my, mz, speed, p)`` returning the
 stress in Pa on one element, m the unit motion direction, speed in m/s, p the parameter vector; its constants
-in slots from ``mjrft.media.P_FIRST_FREE`` on, after the laws' below) and append its entry here with the next id;
+in slots from ``mjrft.params.P_FIRST_FREE`` on, named in :mod:`mjrft.params`) and append its entry here with the next id;
 with a JAX twin (a function ``f(depth, n, m, p)`` in :mod:`mjrft.mjx.laws`) the entry names it in ``jax``,
 without one it says in ``no_jax`` why mjrft.mjx refuses the law.
 """
@@ -24,9 +24,10 @@ from typing import Callable
 import numpy as np
 
 from ..errors import unknown
-from ..media import P_AX_DRAG, P_AZ_DOWN, P_AZ_UP, P_COEFF, P_INERTIA, P_XI, P_ZETA
+from ..params import (P_AX_DRAG, P_AZ_DOWN, P_AZ_UP, P_COEFF, P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PAR_H, P_HYB_PERP_H,
+                      P_INERTIA, P_SIZE, P_XI, P_ZETA)
 from .depth_only import depth_only_stress
-from .hybrid import P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PAR_H, P_HYB_PERP_H, hybrid_params, hybrid_stress
+from .hybrid import hybrid_params, hybrid_stress
 from .rft import rft_stress
 from .rft3d import rft3d_stress
 from .validity import HYBRID_RANGES, LI_RANGES, RFT3D_RANGES, WET_RANGES, Range
@@ -100,4 +101,13 @@ def fill_params(medium, p: np.ndarray) -> None:
         fill(medium, p)
 
 
-__all__ = ["DRY_LAWS", "LAWS", "LAW_IDS", "STRESS_SLOTS", "Law", "fill_params", "get_law"]
+def parameter_vector(medium) -> np.ndarray:
+    """The float64 parameter vector (layout :mod:`mjrft.params`) of a :class:`~mjrft.media.Medium`: its own constants
+    (:meth:`~mjrft.media.Medium.own_params`), then each law's (:func:`fill_params`); the water layer and the
+    inertial regime are the region's (:func:`mjrft.regions.build_regions`)."""
+    p = medium.own_params(np.zeros(P_SIZE))
+    fill_params(medium, p)
+    return p
+
+
+__all__ = ["DRY_LAWS", "LAWS", "LAW_IDS", "STRESS_SLOTS", "Law", "fill_params", "get_law", "parameter_vector"]

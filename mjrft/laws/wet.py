@@ -112,7 +112,7 @@ Medium constants: ``water_depth`` (0 m: no layer; set it for your scene: the pap
 the water 50 mm above the sand, its running experiments under 10 mm, sections 2.2 and 4.2), ``drag_coefficient`` (0.585), ``water_density`` (1000 kg/m^3), ``water_skin``
 (1e-3 m).
 
-Parameter slots (``Medium.params()``, from ``media.P_FIRST_FREE`` = 15): 15 eps_v / dv (s/m),
+Parameter slots (:mod:`mjrft.params`, from ``P_FIRST_FREE`` = 15): 15 eps_v / dv (s/m),
 16 v_base, 17 v_cap (m/s), 18 factor(v_cap); 19 water depth (m), 20 C x rho_w (kg/m^3), 21 skin (m).
 """
 
@@ -124,7 +124,9 @@ import numpy as np
 from numba import njit
 
 from ..errors import check_finite, check_positive
-from ..media import N_CM3, P_FIRST_FREE, generic
+from ..media import N_CM3, generic
+from ..params import (P_WATER_DEPTH, P_WATER_DRAG, P_WATER_SKIN, P_WET_FCAP, P_WET_K, P_WET_VBASE,
+                      P_WET_VCAP)
 from .rft import rft_stress
 
 # --- SGRFT constants (table 3 and section 3 of the reference) ---------------------------------
@@ -142,14 +144,6 @@ WATER_DENSITY = 1000.0  # kg/m^3
 DRAG_COEFFICIENT = 0.585  # C in C rho v^2 S = C_D / 2, C_D = 1.17 (square flat plate, Hoerner)
 WATER_SKIN = 1e-3  # m, the sea sand's largest grain (grains <= 1 mm)
 
-# --- parameter slots --------------------------------------------------------------------------
-P_WET_K = P_FIRST_FREE  # eps_v / dv, s/m
-P_WET_VBASE = P_FIRST_FREE + 1
-P_WET_VCAP = P_FIRST_FREE + 2
-P_WET_FCAP = P_FIRST_FREE + 3  # factor(v_cap)
-P_WATER_DEPTH = P_FIRST_FREE + 4
-P_WATER_DRAG = P_FIRST_FREE + 5  # C x rho_w
-P_WATER_SKIN = P_FIRST_FREE + 6
 
 
 def speed_factor(v, eps_v=EPS_V, v_base=V_BASE, dv=DV, v_cap=V_CAP):

@@ -2,7 +2,7 @@
 
 Every function here has the signature ``stress(depth, n, m, p) -> (k, 3)``: ``depth`` (k,) in m, positive
 below the surface, ``n`` (k, 3) unit outward normals, ``m`` (k, 3) unit (regularised) motion directions,
-``p`` the medium's parameter vector (:meth:`mjrft.media.Medium.params`, layout ``mjrft.media.P_*``). The
+``p`` the medium's parameter vector (:func:`mjrft.laws.registry.parameter_vector`, layout :mod:`mjrft.params`). The
 result is the stress (Pa) on each element; the caller multiplies by area and mobilisation. They follow
 their numba twins line for line (the same smoothing constants, the same choices, documented there), with
 ``jnp.where`` in place of each branch, so they run under ``jit`` and ``vmap`` on any JAX device and in

@@ -61,6 +61,7 @@ from mujoco.mjx._src.smooth import solve_m
 from ..coupler import STRESS_SLOTS, GranularTerrain
 from ..errors import NonFiniteError, check_positive
 from ..implicit_step import HOLD_FRACTION
+from ..laws.registry import parameter_vector
 from ..media import get_medium
 from .integrator import integrate
 from .laws import law_function
@@ -182,7 +183,7 @@ class Sand:
     # ------------------------------------------------------------------ state
     def init(self, params=None, surface=None) -> SandState:
         """A fresh state (no memory) with the terrain's medium parameters or ``params`` (a medium's
-        :meth:`~mjrft.media.Medium.params` vector, already scaled: :meth:`params_of`) and its surface height or
+        :func:`~mjrft.laws.registry.parameter_vector`, already scaled: :meth:`params_of`) and its surface height or
         ``surface`` (m)."""
         p = self.params if params is None else params
         z = self.surface if surface is None else surface
@@ -200,7 +201,7 @@ class Sand:
     def params_of(self, medium, stress_scale: float = 1.0) -> np.ndarray:
         """The parameter vector of another ``medium`` (name or :class:`~mjrft.Medium`) with ``stress_scale``, for
         :meth:`init` or ``state._replace(params=...)``: the CPU terrain's :meth:`~mjrft.GranularTerrain.set_medium`."""
-        p = get_medium(medium).params()
+        p = parameter_vector(get_medium(medium))
         p[STRESS_SLOTS] *= check_positive("stress_scale", stress_scale)
         return p
 

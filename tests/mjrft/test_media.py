@@ -104,3 +104,15 @@ def test_calibration_errors(tmp_path):
     bad.write_text("depth,stress\n0.01,abc\n")
     with pytest.raises(ValueError, match="non-numeric"):
         read_plate_csv(bad)
+
+
+def test_the_parameter_vector_comes_from_the_registry_and_medium_params_is_a_deprecated_alias():
+    from mjrft.laws.registry import parameter_vector
+    from mjrft.params import P_COEFF, P_SIZE, P_WATER_SKIN
+
+    m = mjrft.get_medium("poppy_cp")
+    p = parameter_vector(m)
+    assert p.shape == (P_SIZE,) and np.array_equal(p[P_COEFF:P_COEFF + 9], m.coeffs)
+    assert p[P_WATER_SKIN] > 0  # a law's own constant (the water layer's skin) is filled by its entry
+    with pytest.warns(DeprecationWarning, match="parameter_vector"):
+        assert np.array_equal(m.params(), p)

@@ -11,7 +11,7 @@ import pytest
 import mjrft
 from mjrft import laws
 from mjrft.coupler import Region, RegionMap
-from mjrft.laws.wet import P_WATER_DRAG
+from mjrft.params import P_WATER_DRAG
 
 SAND = "sea_sand_saturated"
 DT = 1e-3

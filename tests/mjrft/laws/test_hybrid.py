@@ -12,6 +12,7 @@ from mjrft.laws.hybrid import (AXLE_HEIGHT, C_PAR_H_FRACTION, C_PAR_RATIO, GAMMA
                                HybridModel, active_angle, c_perp, hybrid_leg_forces, hybrid_stress, leg_family,
                                leg_family_profiles, leg_pose, passive_force, rotating_leg_profile, semi_ellipse_leg,
                                shadowed_elements, stroke_depth, wedge_force, wedge_shape)
+from mjrft.laws.registry import parameter_vector
 
 STEP = 0.1 * 1e-3  # one 1 ms step at 0.1 m/s
 ANGLES = np.linspace(-3 * math.pi / 4, 3 * math.pi / 4, 121)
@@ -204,7 +205,7 @@ def test_leg_forces_match_bar_drag_and_per_element_law():
     res = hybrid_leg_forces(pts, tan, vel, 1.0, density_correction=False)
     np.testing.assert_allclose(res["forces"][:, 0], c_perp(depths), rtol=1e-12)
     assert np.allclose(res["forces"][:, 1], 0) and res["counted"].all()
-    p = mjrft.get_medium("generic").params()  # no bulk density: river-sand unit weight
+    p = parameter_vector(mjrft.get_medium("generic"))  # no bulk density: river-sand unit weight
     for d in depths:
         s = hybrid_stress(d, -1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.1, p)
         assert s[0] * LEG_WIDTH == pytest.approx(c_perp(d), rel=2e-3)
@@ -232,7 +233,7 @@ def test_leg_forces_match_bar_drag_and_per_element_law():
 
 def test_per_element_law_extremes_and_continuity():
     m = mjrft.get_medium("poppy_cp").with_extra(hybrid_max_depth=0.04)
-    p = m.params()
+    p = parameter_vector(m)
     for speed in (0.0, 1e-9, 0.1, 10.0):
         for depth in (1e-300, 1e-9, 0.03, 1.0, 1e6):
             s = hybrid_stress(depth, 0.6, 0.0, -0.8, 0.8, 0.0, -0.6, speed, p)
@@ -245,7 +246,7 @@ def test_per_element_law_extremes_and_continuity():
     print(f"hybrid at the surface: jump {jump:.3g} Pa, own change per step {own:.3g} Pa")
     assert jump <= own
     # density factors land in the vertical and horizontal components
-    s0 = np.array(hybrid_stress(0.03, 0.6, 0.0, -0.8, 0.8, 0.0, -0.6, 0.1, mjrft.get_medium("poppy_cp").params()))
+    s0 = np.array(hybrid_stress(0.03, 0.6, 0.0, -0.8, 0.8, 0.0, -0.6, 0.1, parameter_vector(mjrft.get_medium("poppy_cp"))))
     s1 = np.array(hybrid_stress(0.03, 0.6, 0.0, -0.8, 0.8, 0.0, -0.6, 0.1, p))
     np.testing.assert_allclose(s1, s0 * [32.5 * 0.04, 1, 60 * 0.04], rtol=1e-12)
 
@@ -266,9 +267,9 @@ def test_errors_name_the_bad_value():
     with pytest.raises(ValueError, match="tangents row 0"):
         hybrid_leg_forces([[0, -0.01]], [[0, 0]], [[1, 0]], 0.01)
     with pytest.raises(ValueError, match="hybrid_width"):
-        mjrft.get_medium("generic").with_extra(hybrid_width=-1.0).params()
+        parameter_vector(mjrft.get_medium("generic").with_extra(hybrid_width=-1.0))
     with pytest.raises(ValueError, match="hybrid_phi"):
-        mjrft.get_medium("generic").with_extra(hybrid_phi=1.2, hybrid_phi_w=0.5).params()
+        parameter_vector(mjrft.get_medium("generic").with_extra(hybrid_phi=1.2, hybrid_phi_w=0.5))
 
 
 def test_shadow_rule_is_not_a_function_of_the_per_element_inputs():
@@ -316,7 +317,7 @@ def test_shadow_rule_is_not_a_function_of_the_per_element_inputs():
     v2 = -np.array([r2[1], -r2[0]])  # omega' = -1
     np.testing.assert_allclose(v2, v, atol=1e-4)
     assert not shadowed_elements(wp, o2, -1.0)[j]  # ... and it counts
-    prm = mjrft.get_medium("generic").params()
+    prm = parameter_vector(mjrft.get_medium("generic"))
     s1 = hybrid_stress(float(depth[i]), n_lead[0], 0.0, n_lead[1], m[0], 0.0, m[1], rho, prm)
     n2 = np.array([-wt[j][1], wt[j][0]])
     n2 = n2 if n2 @ v2 > 0 else -n2

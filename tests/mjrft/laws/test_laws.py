@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 import mjrft
 from mjrft import laws
 from mjrft.media import MEDIA, fourier_alpha
+from mjrft.laws.registry import parameter_vector
 
 # (name, outward normal of the leading face, velocity, Li (alpha_z, alpha_x), 3D-RFT (up, against motion))
 TABLE = [
@@ -225,7 +226,7 @@ def test_batched_rft_equals_the_element_law():
     nrm /= np.linalg.norm(nrm, axis=1)[:, None]
     mot /= np.linalg.norm(mot, axis=1)[:, None]
     depth = rng.uniform(1e-4, 0.05, n)
-    p = MEDIA["poppy_cp"].params()
+    p = parameter_vector(MEDIA["poppy_cp"])
     out = np.zeros((3, n))
     rft_stress_batch(n, depth, np.ascontiguousarray(nrm.T), np.ascontiguousarray(mot.T), p, out)
     ref = np.array([rft_stress(depth[i], *nrm[i], *mot[i], 1.0, p) for i in range(n)])
@@ -252,7 +253,7 @@ def test_trailing_faces_have_no_stress_so_the_kernel_may_leave_them_out():
     mot /= np.linalg.norm(mot, axis=1)[:, None]
     depth = rng.uniform(1e-4, 0.05, n)
     out = np.zeros((3, n))
-    rft_stress_batch(n, depth, np.ascontiguousarray(nrm.T), np.ascontiguousarray(mot.T), MEDIA["poppy_cp"].params(),
+    rft_stress_batch(n, depth, np.ascontiguousarray(nrm.T), np.ascontiguousarray(mot.T), parameter_vector(MEDIA["poppy_cp"]),
                      out)
     trailing = np.array([trails(*nrm[i], *mot[i]) for i in range(n)])
     assert trailing[: n // 2].sum() > 0.99 * (n // 2) and not trailing[n // 2:].any()
@@ -263,7 +264,7 @@ def test_trailing_faces_have_no_stress_so_the_kernel_may_leave_them_out():
 def test_vertical_face_force_is_continuous_as_motion_turns_vertical():
     """The plane of motion turns smoothly to the normal's as the motion turns vertical: a vertical face
     moving down keeps its force whichever way a vanishing horizontal motion points."""
-    p = MEDIA["poppy_cp"].params()
+    p = parameter_vector(MEDIA["poppy_cp"])
     from mjrft.laws.rft import rft_stress
 
     n = (1.0, 0.0, 0.0)

@@ -12,9 +12,11 @@ from mjrft.errors import UnknownNameError
 from mjrft.laws import DRY_LAWS, LAW_IDS, law_id
 from mjrft.laws import registry as R
 from mjrft.laws.dispatch import _dispatch_source, element_stress
-from mjrft.laws.hybrid import P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PAR_H, P_HYB_PERP_H
 from mjrft.laws.validity import INERTIAL_SPEED, dynamic_ranges
-from mjrft.media import MEDIA, P_AX_DRAG, P_AZ_DOWN, P_AZ_UP, P_INERTIA, P_SIZE, P_XI, P_ZETA
+from mjrft.media import MEDIA
+from mjrft.params import (P_AX_DRAG, P_AZ_DOWN, P_AZ_UP, P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PAR_H, P_HYB_PERP_H,
+                          P_INERTIA, P_SIZE, P_XI, P_ZETA)
+from mjrft.laws.registry import parameter_vector
 
 
 def test_ids_and_names_come_from_the_table():
@@ -36,7 +38,7 @@ def test_dispatch_has_one_branch_per_law_and_calls_its_stress_function():
     src = _dispatch_source()
     assert [line.strip() for line in src.splitlines() if line.strip().startswith("if law ==")] == [
         f"if law == {law.id}:" for law in R.LAWS]
-    p = MEDIA["poppy_cp"].params()
+    p = parameter_vector(MEDIA["poppy_cp"])
     args = (0.02, 0.3, 0.0, -0.95, 0.6, 0.0, -0.8, 0.01, p)
     for law in R.LAWS:
         # the dispatch may be compiled with its callee inlined (fastmath contraction): equal to rounding
@@ -48,7 +50,7 @@ def test_dispatch_has_one_branch_per_law_and_calls_its_stress_function():
 
 def test_params_hold_each_laws_own_constants():
     med = MEDIA["sea_sand_saturated"]
-    p = med.params()
+    p = parameter_vector(med)
     for law in R.LAWS:
         if law.params is not None:
             q = np.zeros(P_SIZE)

@@ -9,6 +9,7 @@ from mjrft import laws
 from mjrft.laws.common import PLANE_EPS, PLANE_FADE, motion_plane
 from mjrft.laws.rft import rft_stress, rft_stress_batch
 from mjrft.media import get_medium
+from mjrft.laws.registry import parameter_vector
 
 
 def _unit(a):
@@ -103,7 +104,7 @@ def test_rft_batch_equals_scalar_across_the_plane_fade():
     sgn = rng.choice([-1.0, 1.0], count)
     m = np.array([np.sin(tilt) * np.cos(phi), np.sin(tilt) * np.sin(phi), sgn * np.cos(tilt)])
     depth = rng.uniform(0.001, 0.1, count)
-    p = get_medium("poppy_cp").params()
+    p = parameter_vector(get_medium("poppy_cp"))
     out = np.zeros((3, count))
     rft_stress_batch(count, depth, n, m, p, out)
     ref = np.array([rft_stress(depth[i], *n[:, i], *m[:, i], 0.01, p) for i in range(count)]).T

@@ -9,6 +9,7 @@ import mjrft
 from mjrft.laws import LAW_IDS, LAWS, apply_law, rft, water, wet
 from mjrft.laws.wet import (DRAG_COEFFICIENT, DRY_CROSSOVER_SPEED, EPS_V, V_CAP, WATER_SKIN, dry_reference,
                             speed_factor, water_drag_stress, water_stress, wet_stress)
+from mjrft.laws.registry import parameter_vector
 
 SAND = "sea_sand_saturated"
 STEP = 0.1 * 1e-3  # one 1 ms step of motion at 0.1 m/s
@@ -101,7 +102,7 @@ def test_wet_is_rft_times_factor():
 
 def test_speed_factor_extremes():
     """Zero speed: the line's 0.52; above v_cap = 1 m/s (and inf): held at 16.52; NaN counts as 0."""
-    p = mjrft.get_medium(SAND).params()
+    p = parameter_vector(mjrft.get_medium(SAND))
     base = wet_stress(0.03, -1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.03, p)
     at_cap = 1 + 0.16 * (V_CAP - 0.03) / 0.01
     for speed, k in ((0.0, 0.52), (1e-300, 0.52), (1e-9, 0.52 + 16e-9), (0.005, 0.6), (0.05, 1.32), (0.5, 8.52),
@@ -125,7 +126,7 @@ def test_speed_factor_extremes():
 def test_speed_factor_other_constants():
     """A medium's own constants: cap and slope are used; a falling line that stays > 0 is allowed."""
     m = mjrft.get_medium(SAND).with_extra(wet_eps_v=-0.002, wet_v_cap=0.5)
-    p = m.params()
+    p = parameter_vector(m)
     for speed, k in ((0.0, 1.006), (0.03, 1.0), (0.5, 1 - 0.002 * 47), (100.0, 1 - 0.002 * 47)):
         s = wet_stress(0.03, -1.0, 0.0, 0.0, -1.0, 0.0, 0.0, speed, p)
         b = rft(0.03, [-1.0, 0, 0], [-max(speed, 1e-9), 0, 0], 1.0, m)[0]
@@ -150,7 +151,7 @@ def _assert_continuous(fun, z0, label):
 
 def test_continuity_at_sand_surface():
     m = mjrft.get_medium(SAND).with_extra(water_depth=0.02)
-    p = m.params()
+    p = parameter_vector(m)
     for nrm, mot in (((0.0, 0.0, -1.0), (0.0, 0.0, -1.0)), ((1.0, 0.0, 0.0), (1.0, 0.0, 0.0)),
                      ((0.6, 0.0, -0.8), (0.8, 0.0, -0.6))):
         for speed in (0.1, 10.0):
@@ -163,7 +164,7 @@ def test_continuity_at_sand_surface():
 
 def test_continuity_at_water_surface():
     for hw in (0.02, 0.5e-3):
-        p = mjrft.get_medium(SAND).with_extra(water_depth=hw).params()
+        p = parameter_vector(mjrft.get_medium(SAND).with_extra(water_depth=hw))
         for speed in (0.1, 10.0):
             _assert_continuous(lambda d: water_stress(d, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, speed, p), -hw,
                                f"water surface hw={hw} v={speed}")
@@ -209,4 +210,4 @@ def test_water_drag_helper_signature():
 def test_bad_constants_named(key, value):
     m = mjrft.get_medium(SAND).with_extra(**{key: value})
     with pytest.raises(ValueError, match=key):
-        m.params()
+        parameter_vector(m)

@@ -65,6 +65,7 @@ from ... import rigs
 from mjrft.laws.hybrid import (AXLE_HEIGHT, LEG_FAMILY, LEG_WIDTH, PHI, PSI_BREAK, HybridModel,
                             active_angle, c_perp, hybrid_leg_forces, hybrid_stress, leg_family, leg_family_profiles,
                             leg_pose, rotating_leg_profile, semi_ellipse_leg, stroke_depth, wedge_force)
+from mjrft.laws.registry import parameter_vector
 from mjrft.media import G, get_medium
 from ..case import CONSISTENCY, CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published, wrong_physics
 
@@ -117,7 +118,7 @@ def run_bar_drag(quick: bool) -> CaseResult:
     ratio, ratio_sd = published(PAPER, "c_par_ratio").value, published(PAPER, "c_par_ratio_sd").value
     psi_par_pub = published(PAPER, "psi_f_par_max").value
     model = HybridModel()
-    params = _sand().params()
+    params = parameter_vector(_sand())
     checks, curves, cps = [], {}, {}
     for d in depths:
         fperp, fpar = model.f_perp(psi, d), model.f_par(psi, d)

@@ -47,6 +47,7 @@ from mjrft.tools.validation.case import (CASES, CONSISTENCY, SIMILAR, UPRIGHT_TI
 from mjrft.tools.validation.cases import li2013, li2013_robot, sgrft, thesis_biped, thesis_hubo
 from mjrft.tools.validation.cases.li2013_robot import UPSIDE_DOWN, _lowest_point, start_on_gait
 from mjrft.tools.validation.report import write_report
+from mjrft.laws.registry import parameter_vector
 
 case_mod = importlib.import_module("mjrft.tools.validation.case")  # the module (the package exports `case`)
 
@@ -338,10 +339,10 @@ def test_wrong_physics_variants():
     # x2 / x0.5 scale exactly the slots GranularTerrain's stress_scale multiplies, in every law's constants
     hybrid_sand = get_medium("generic").with_extra(hybrid_unit_weight=13000.0)
     for m in ("poppy_lp", "sea_sand_saturated", "generic", hybrid_sand):
-        p = get_medium(m).params()
+        p = parameter_vector(get_medium(m))
         other = np.setdiff1d(np.arange(p.size), STRESS_SLOTS)
         for k in (2.0, 0.5):
-            q = case_mod.stress_scaled(m, k).params()
+            q = parameter_vector(case_mod.stress_scaled(m, k))
             assert np.allclose(q[STRESS_SLOTS], k * p[STRESS_SLOTS]) and np.array_equal(q[other], p[other])
     assert case_mod.wrong_physics(None, "poppy_lp", "rft") == ("poppy_lp", "rft")
     assert case_mod.wrong_physics("rate_independent", "sea_sand_saturated", "wet") == ("sea_sand_saturated", "rft")
