@@ -287,8 +287,8 @@ def main(argv=None) -> None:
     rows = run(args.robots, args.steps, args.repeats, args.rest, args.resolution_scale)
     if rows:
         scale = "" if args.resolution_scale == 1.0 else f", resolution_scale {args.resolution_scale:g}"
-        print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.coupler.DEFAULTS['medium']}, "
-              f"law {mjrft.coupler.DEFAULTS['law']}{scale}); {args.steps} random-action env steps, median of "
+        print(f"gymnasium MuJoCo robots on sand (GranularWrapper defaults: medium {mjrft.settings.DEFAULTS['medium']}, "
+              f"law {mjrft.settings.DEFAULTS['law']}{scale}); {args.steps} random-action env steps, median of "
               f"{args.repeats} (CPU time of env.step, the four envs interleaved)")
         print()
         print(f"{'robot':<15} {'elements':>8} {'size mm':>7} {'h ms':>5} {'k min/mean/max':>15} {'sand st/s':>9} "

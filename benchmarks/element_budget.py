@@ -1,7 +1,7 @@
 """Accuracy and cost of ``resolution="auto"``'s element budget on gymnasium's five MuJoCo robots.
 
 For each robot (``GranularWrapper(gymnasium.make(id))`` defaults, only the resolution changed) and each
-element budget ``N`` (``mjrft.coupler.auto_resolution(model, geoms, target=N)``), against a reference
+element budget ``N`` (``mjrft.selection.auto_resolution(model, geoms, target=N)``), against a reference
 at ``--reference`` elements (not coarser than 2 mm):
 
 * replay: the reference run's random-action rollout (``--seconds``, seeded) is recorded at every physics
@@ -31,7 +31,7 @@ import gymnasium
 import mujoco
 import numpy as np
 
-from mjrft.coupler import AUTO_ELEMENTS, auto_resolution, select_geoms
+from mjrft.selection import AUTO_ELEMENTS, auto_resolution, select_geoms
 from mjrft.envs.wrapper import GranularWrapper
 from mjrft.errors import check_positive
 

@@ -68,7 +68,7 @@ def speeds(factor, com_x=-0.01, t_end=6.0):
                 if abs(t * 2 - round(t * 2)) < 1e-6:
                     b = ter.depth > 0
                     sp = np.linalg.norm(ter.vel[b], axis=1)
-                    mem = np.linalg.norm(ter._u[b], axis=1) / ter.yield_displacement
+                    mem = np.linalg.norm(ter.terrain_state.u[b], axis=1) / ter.yield_displacement
                     out.append((t, int(b.sum()), float(np.median(sp)), float(np.mean(sp < ter.stick_speed)),
                                 float(np.median(mem)), float(mem.max()), env.torso_tilt()))
                 if env.torso_tilt() > th.FALL_TILT:

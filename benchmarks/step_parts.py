@@ -20,7 +20,7 @@ shorter than a scheduler slice, so on a loaded machine most calls run undisturbe
 
 ``rest`` is ``terrain.step`` less the three parts: MuJoCo's step split in ``mj_step1`` / ``mj_step2``, the stability
 bookkeeping, the kernel reading the fresh state after ``mj_step1`` (the timed kernel runs on data it has just read),
-and the Python call with its ~70 arguments, once per env step and shared by its physics steps.
+and the Python call with its grouped arguments, once per env step and shared by its physics steps.
 
     python benchmarks/step_parts.py [--robots Hopper-v5 ...] [--steps N] [--reps R]
 """
@@ -41,14 +41,12 @@ from mjrft.implicit_step import implicit_wrench
 from mjrft.kernel import terrain_kernel
 
 ROBOTS = ("Hopper-v5", "Walker2d-v5", "HalfCheetah-v5")
-#: position of ``surface`` among terrain_kernel's arguments (``top`` follows it)
-SURFACE_ARG = terrain_kernel.py_func.__code__.co_varnames.index("surface")
 
 
 @njit(cache=True)
-def _kernel_loop(n, *args):
+def _kernel_loop(n, tables, mjd, gravity, dt, st):
     for _ in range(n):
-        terrain_kernel(*args)
+        terrain_kernel(tables, mjd, gravity, dt, st)
 
 
 @njit(cache=True)
@@ -92,27 +90,31 @@ def robot_parts(gym_id: str, steps: int, reps: int) -> dict:
                 continue
             k = int(info["substeps"])
             ks.append(k)
-            state = (d.qpos.copy(), d.qvel.copy(), d.act.copy(), d.time, t._u.copy(), t._g_active.copy(), t._last_time)
+            st = t.terrain_state
+            state = (d.qpos.copy(), d.qvel.copy(), d.act.copy(), d.time, st.u.copy(), st.group_active.copy(),
+                     t._last_time)
 
             def restore():
                 # the terrain's clock too: a call at a time before its last one would forget the memory (a reset)
                 d.qpos[:], d.qvel[:], d.act[:], d.time = state[:4]
-                t._u[:], t._g_active[:], t._last_time = state[4:]
+                st.u[:], st.group_active[:], t._last_time = state[4:]
 
             m.opt.timestep = h / k
             try:
                 restore()
                 mujoco.mj_step1(m, d)
-                kargs = t._kernel_args(m.opt.timestep)
+                f_implicit, tables, mjd, views, gravity, dt, _ = t.step_arguments(d, m.opt.timestep)
+                kargs = (tables, mjd, gravity, dt, st)
                 _kernel_loop(1, *kargs)
                 buried.append(int(np.count_nonzero(t.depth > 0)))
                 # the same call with the surface 5 m lower, its top kept (pass 1 only) or lowered too (culling only);
-                # the arguments after them, the elements' state, are the terrain's own arrays, restored below
-                at = SURFACE_ARG
-                no_buried = kargs[:at] + (kargs[at] - 5.0,) + kargs[at + 1:]
-                culled = no_buried[:at + 1] + (kargs[at + 1] - 5.0,) + kargs[at + 2:]
-                iargs = (t._implicit_functions, m._address, d._address, d.qacc_smooth, t.body_ids, t.wrench, t._imp,
-                         t._inert, t.inertial, m.opt.timestep, *t._implicit_scratch)
+                # the elements' state is the terrain's own, restored below
+                sf = tables.surface
+                no_buried = (tables._replace(surface=sf._replace(height=sf.height - 5.0)), *kargs[1:])
+                culled = (tables._replace(surface=sf._replace(height=sf.height - 5.0, top=sf.top - 5.0)), *kargs[1:])
+                iargs = (f_implicit, m._address, d._address, d.qacc_smooth, t.body_ids, st.wrench, st.imp, st.inert,
+                         t.inertial, m.opt.timestep, st.imp_jac, st.imp_minv_jac, st.imp_blocks, st.imp_a, st.imp_rhs,
+                         st.imp_rows)
                 _implicit_loop(1, *iargs)
 
                 def physics():

@@ -40,7 +40,7 @@ import numpy as np
 from brax.envs.base import Env, State
 from mujoco import mjx
 
-from mjrft.coupler import STRESS_SLOTS
+from mjrft.laws.registry import STRESS_SLOTS
 from mjrft.mjx import Sand, SandState
 from mjrft.mjx import step as rigid_step
 
@@ -88,7 +88,7 @@ class HexapodSandMJX(Env):
         self.sand = Sand.from_terrain(cpu.terrain, cull=cull) if sand else None
         self.randomization = randomization if randomization is not None and randomization.active else None
         if self.randomization is not None:
-            media = self.randomization.media or (self.sand.terrain.medium.name,)
+            media = self.randomization.media or (self.sand.terrain_model.settings.medium.name,)
             self._media = tuple(media)
             self._media_params = np.stack([self.sand.params_of(m) for m in media])
         self.model = model

@@ -67,7 +67,8 @@ from dataclasses import dataclass, fields
 import mujoco
 import numpy as np
 
-from mjrft.coupler import GranularTerrain, Region
+from mjrft.coupler import GranularTerrain
+from mjrft.regions import Region
 from mjrft.errors import check_finite, check_positive, unknown
 from mjrft.media import MEDIA, Medium
 
@@ -243,7 +244,7 @@ class TerrainRandomizer:
                  surface_geoms=()):
         self.options, self.terrain, self.model = options, terrain, model
         o, t = options, terrain
-        self.base_medium, self.base_regions = t.medium, list(t._settings.regions)
+        self.base_medium, self.base_regions = t.medium, list(t.terrain_model.settings.regions)
         self.base_surface = t.surface if t.surface_hfield is None else t.surface_samples()[2]
         for m in o.media:  # every medium the law can use (an inertial scene needs grain size and density)
             try:
@@ -265,7 +266,7 @@ class TerrainRandomizer:
                                  f"than two samples of the height-field surface ({max(self.spacing):g} m apart); "
                                  f"use correlation_length >= {2 * max(self.spacing):g} m or a finer surface_grid")
         if o.strips is not None and o.strips[1] > 0:
-            if t._settings.region_map is not None:
+            if t.terrain_model.settings.region_map is not None:
                 raise ValueError("terrain_randomization strips cannot replace a region_map; the scene's regions "
                                  "are a map, not strips along x")
             if o.strip_length[0] < t.transition:

@@ -105,7 +105,9 @@ from gymnasium.envs.mujoco import MujocoEnv
 from numba import njit
 
 from mjrft import kernel
-from mjrft.coupler import GranularTerrain, geom_world_boxes
+from mjrft.coupler import GranularTerrain
+from mjrft.floor import geom_world_boxes
+from mjrft.stability import max_stable_dt
 from mjrft.errors import NonFiniteError, SandContactWarning, unknown
 
 from .randomization import TerrainRandomization, TerrainRandomizer, upload_surface
@@ -127,7 +129,7 @@ REACH_TOLERANCE = 1e-6
 
 def spring_rate(limit: float, tau: float) -> float:
     """The angular rate ``omega`` (1/s) of the granular spring whose explicit stability limit is ``limit`` (s)
-    with damping time ``tau`` (s): the inverse of :func:`mjrft.kernel.max_stable_dt`'s
+    with damping time ``tau`` (s): the inverse of :func:`mjrft.stability.max_stable_dt`'s
     ``limit = 2 (sqrt(1 + zeta^2) - zeta) / omega``, ``zeta = tau omega / 2``, i.e.
     ``omega = 2 / sqrt(limit (limit + 2 tau))`` (0 for an infinite limit)."""
     if not math.isfinite(limit):
@@ -147,7 +149,7 @@ def static_timestep_limit(terrain: GranularTerrain, data: mujoco.MjData) -> floa
     For body ``b``: stiffness ``K = M g / delta`` (``M`` the model's total mass, ``delta`` the yield
     displacement), damper ``tau K`` (the terrain's ``damping_time``) and inverse mass ``w`` the largest
     eigenvalue of the translational mobility of ``b``'s centre of mass in ``data``'s pose
-    (:meth:`GranularTerrain.inverse_mass`); the limit is :func:`mjrft.kernel.max_stable_dt` of the stiffest
+    (:meth:`GranularTerrain.inverse_mass`); the limit is :func:`mjrft.stability.max_stable_dt` of the stiffest
     body. With ``yield_displacement = 0`` the viscous mode ``c = M g / v_eps`` is used instead. ``data`` is
     forwarded (``mj_forward``) first: pass a scratch ``MjData`` holding the pose to judge."""
     m = terrain.model
@@ -162,9 +164,9 @@ def static_timestep_limit(terrain: GranularTerrain, data: mujoco.MjData) -> floa
             continue
         if terrain.yield_displacement > 0:
             K = weight / terrain.yield_displacement
-            out = min(out, kernel.max_stable_dt(K, terrain.damping_time * K, w))
+            out = min(out, max_stable_dt(K, terrain.damping_time * K, w))
         else:
-            out = min(out, kernel.max_stable_dt(0.0, weight / terrain.v_eps, w))
+            out = min(out, max_stable_dt(0.0, weight / terrain.v_eps, w))
     return out
 
 
@@ -497,11 +499,11 @@ class GranularWrapper(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):
         return self.terrain.wrench[self.body_ids, :3].copy()
 
     def _sand_info(self, info: dict) -> dict:
-        t = self.terrain
+        tm, st = self.terrain.terrain_model, self.terrain.terrain_state
         n = self.body_ids.shape[0]
         sink, force = np.zeros(n), np.empty((n, 3))
-        _sinkage_and_force(t.depth, t._g_start, t._g_active, t.elem_body, self._slot, t.wrench, self.body_ids, sink,
-                           force)
+        _sinkage_and_force(st.depth, tm.elements.group_start, st.group_active, tm.elements.body, self._slot, st.wrench,
+                           self.body_ids, sink, force)
         info["sinkage"], info["granular_force"] = sink, force
         info["substeps"] = self.last_substeps
         if self.terrain_info is not None:

@@ -4,12 +4,15 @@
 >>> terrain = mjrft.GranularTerrain(model, medium="poppy_cp", law="rft", bodies=["foot"])
 >>> terrain.step(data)
 
-Two layers. The physics core: :mod:`mjrft.coupler` (:class:`GranularTerrain`, the only code that reads
-``mjData``) with what it is built from (:mod:`mjrft.settings`, :mod:`mjrft.selection`, :mod:`mjrft.floor`,
-:mod:`mjrft.regions`, :mod:`mjrft.elements`, :mod:`mjrft.stability`), :mod:`mjrft.kernel` (the compiled
-per-step kernel) with :mod:`mjrft.implicit_step` and :mod:`mjrft.mujoco_c` (MuJoCo's C functions),
-:mod:`mjrft.batch` (many terrains stepped in one call), :mod:`mjrft.media`, :mod:`mjrft.laws`,
-:mod:`mjrft.geometry` and :mod:`mjrft.errors`. On top of it
+Two layers. The physics core: the records every path shares (:mod:`mjrft.types`: :class:`TerrainModel`,
+what a terrain is, and :class:`TerrainState`, what it remembers; the parameter vector's layout in
+:mod:`mjrft.params`), built by :mod:`mjrft.build` from what they are made of (:mod:`mjrft.settings`,
+:mod:`mjrft.selection`, :mod:`mjrft.floor`, :mod:`mjrft.regions`, :mod:`mjrft.elements`); :mod:`mjrft.coupler`
+(:class:`GranularTerrain`, the only code that reads ``mjData``) steps them with :mod:`mjrft.kernel` (the compiled
+per-step kernel, :mod:`mjrft.surface` its surface and regions), :mod:`mjrft.stepping` (the fused stepping loop),
+:mod:`mjrft.implicit_step`, :mod:`mjrft.mujoco_c` (MuJoCo's C functions), :mod:`mjrft.stability` and
+:mod:`mjrft.watch` (the checks); :mod:`mjrft.batch` (many terrains stepped in one call), :mod:`mjrft.media`,
+:mod:`mjrft.laws`, :mod:`mjrft.geometry` and :mod:`mjrft.errors`. On top of it
 :mod:`mjrft.tools` (the command line, rigs, gaits, presets, the trade study, calibration, rerun logging,
 output paths and the validation against the papers), :mod:`mjrft.models` (the robots' MJCF),
 :mod:`mjrft.envs` (gymnasium environments) and :mod:`mjrft.train`. The core imports nothing from
@@ -21,7 +24,9 @@ ids, so ``gymnasium.make("mjrft/HexapodSand-v0")`` works after ``import mjrft``.
 """
 
 from . import _jit_cache  # noqa: F401  (must precede every compiled module)
-from .coupler import GranularTerrain, Region
+from .coupler import GranularTerrain
+from .regions import Region
+from .types import TerrainModel, TerrainState
 from .errors import (MjrftError, NonFiniteError, SandContactWarning, TerrainStabilityWarning, UnknownNameError,
                      ValidityRangeWarning)
 from .media import MEDIA, Medium, calibrate, generic, get_medium, medium_3d
@@ -47,5 +52,5 @@ def __getattr__(name):
 __version__ = "0.1.0"
 
 __all__ = ["GranularTerrain", "MEDIA", "Medium", "MjrftError", "NonFiniteError", "Region", "SandContactWarning",
-           "TerrainStabilityWarning", "UnknownNameError", "ValidityRangeWarning", "calibrate", "generic", "get_medium",
-           "laws", "medium_3d", "models", "tools"]
+           "TerrainModel", "TerrainStabilityWarning", "TerrainState", "UnknownNameError", "ValidityRangeWarning",
+           "calibrate", "generic", "get_medium", "laws", "medium_3d", "models", "tools"]

@@ -5,17 +5,18 @@
 >>> batch.step(np.where(active, 10, 0))                    # per-env step counts (0: leave that env alone)
 
 Each environment ``e`` is stepped by exactly the compiled loop that :meth:`GranularTerrain.step` runs
-(``kernel.run_steps``), so the result equals stepping every environment on its own, bit for bit. What
-the batch removes is the per-environment Python work: one call, not E calls each unboxing ~40 arrays.
+(:func:`mjrft.stepping.run_steps`), so the result equals stepping every environment on its own, bit for bit. What
+the batch removes is the per-environment Python work: one call, not E calls each unboxing its records.
 
-How the call stays generic. A terrain's per-step arguments are one tuple,
-:meth:`GranularTerrain._step_args` (built on ``_kernel_args``); the batch keeps one such tuple per
-environment in a numba typed ``List`` (built once; rebuilding it costs ~0.2 ms per environment) and the
-compiled loop star-unpacks item ``e`` into ``run_steps``. Nothing here spells out the kernel's argument
-list, so it may grow without this module changing. Before every call each environment's tuple is
-fetched again and compared item by item (arrays by identity, numbers by value, ~2 us per environment);
-an environment whose tuple changed (a new ``MjData`` bound, a replaced array, a new timestep) gets its
-list item replaced.
+How the call stays generic. A terrain's per-step arguments are one tuple of records,
+:meth:`GranularTerrain.step_arguments` (its terrain model's tables, the ``MjData`` views, its state, gravity and
+the timestep); the batch keeps one such tuple per environment in a numba typed ``List`` (built once;
+rebuilding it costs ~0.2 ms per environment) and the compiled loop star-unpacks item ``e`` into
+:func:`~mjrft.stepping.run_steps`. Nothing here spells out the kernel's arguments, so they may grow without
+this module changing. Before every call each environment's tuple is fetched again and compared item by item
+(records and arrays by identity, numbers by value, ~1 us per environment); an environment whose tuple
+changed (a new ``MjData`` bound, a new terrain model after ``set_medium``, a replaced state, a new timestep)
+gets its list item replaced.
 
 Parallel stepping. With ``parallel=True`` the environments are spread over numba's threads
 (``numba.prange``; MuJoCo's ``mj_step1``/``mj_step2`` are thread-safe for separate ``mjData``;
@@ -37,7 +38,6 @@ carries the coupler's body and time; its ``env_indices`` attribute lists every f
 
 from __future__ import annotations
 
-import operator
 from collections.abc import Sequence
 
 import mujoco
@@ -46,6 +46,7 @@ import numpy as np
 from numba import njit, prange, typed
 
 from . import coupler, kernel
+from .stepping import run_steps
 from .coupler import GranularTerrain
 from .errors import NonFiniteError
 
@@ -65,13 +66,13 @@ def _step_one(e, nsteps, f_step1, f_step2, m_addr, d_addr, args, out):
     if n <= 0:
         out[e, 0], out[e, 1], out[e, 2] = kernel.OK, -1, 0
         return
-    status, body, done = kernel.run_steps(n, f_step1, f_step2, m_addr[e], d_addr[e], *args[e])
+    status, body, done = run_steps(n, f_step1, f_step2, m_addr[e], d_addr[e], *args[e])
     out[e, 0], out[e, 1], out[e, 2] = status, body, done
 
 
 @njit(cache=True, error_model="numpy")
 def run_batch_serial(nsteps, f_step1, f_step2, m_addr, d_addr, args, out):
-    """For each environment ``e``: ``kernel.run_steps(nsteps[e], f_step1, f_step2, m_addr[e], d_addr[e], *args[e])``;
+    """For each environment ``e``: ``run_steps(nsteps[e], f_step1, f_step2, m_addr[e], d_addr[e], *args[e])``;
     ``out[e] = (status, body, steps done)``."""
     for e in range(len(args)):
         _step_one(e, nsteps, f_step1, f_step2, m_addr, d_addr, args, out)
@@ -85,33 +86,14 @@ def run_batch_parallel(nsteps, f_step1, f_step2, m_addr, d_addr, args, out):
         _step_one(np.int64(k), nsteps, f_step1, f_step2, m_addr, d_addr, args, out)
 
 
-def _getter(positions: list[int]):
-    """``t -> tuple(t[i] for i in positions)`` at C speed (operator.itemgetter returns a bare item for one index)."""
-    if len(positions) > 1:
-        return operator.itemgetter(*positions)
-    if positions:
-        i = positions[0]
-        return lambda t: (t[i],)
-    return lambda t: ()
-
-
-def _signature(args: tuple) -> tuple:
-    """What :func:`_unchanged` compares: the arrays (by identity) and the other items (by value) of ``args``."""
-    arrays = [i for i, a in enumerate(args) if isinstance(a, np.ndarray)]
-    others = [i for i in range(len(args)) if i not in set(arrays)]
-    get_arrays, get_others = _getter(arrays), _getter(others)
-    return len(args), get_arrays, get_others, get_arrays(args), get_others(args)
-
-
-def _unchanged(sig: tuple, args: tuple) -> bool:
-    """Same arrays (the same objects) and equal numbers as when ``sig`` was taken (~1 us for ~50 items)."""
-    n, get_arrays, get_others, arrays, others = sig
-    if len(args) != n or not all(map(operator.is_, get_arrays(args), arrays)):
+def _unchanged(old: tuple, args: tuple) -> bool:
+    """Whether ``args`` holds the same records and arrays (the same objects) and equal numbers as ``old``."""
+    if len(args) != len(old):
         return False
-    try:
-        return bool(get_others(args) == others)
-    except ValueError:  # an array where a number was: not the same
-        return False
+    for a, k in zip(args, old):
+        if a is not k and not (isinstance(a, (int, float)) and isinstance(k, (int, float)) and a == k):
+            return False
+    return True
 
 
 class BatchedTerrain:
@@ -156,7 +138,6 @@ class BatchedTerrain:
         self._d_addr = np.array([d._address for d in self.datas], dtype=np.int64)
         self._dt = [None] * n  # the timestep float each environment's tuple was built with
         self._args: list[tuple | None] = [None] * n
-        self._sig: list[tuple | None] = [None] * n  # _signature of each self._args item
         self._list = None  # numba typed List of the tuples in self._args
         self._out = np.zeros((n, 3), dtype=np.int64)
 
@@ -176,11 +157,10 @@ class BatchedTerrain:
             dt = self._dt[e]
             if dt is None or t.model.opt.timestep != dt:
                 dt = self._dt[e] = t.model.opt.timestep
-            args = t._step_args(d, dt)
-            sig = self._sig[e]
-            if sig is None or not _unchanged(sig, args):
+            args = t.step_arguments(d, dt)
+            old = self._args[e]
+            if old is None or not _unchanged(old, args):
                 self._args[e] = args
-                self._sig[e] = _signature(args)
                 changed.append(e)
         if not changed:
             return
@@ -197,10 +177,9 @@ class BatchedTerrain:
     def _build_list(self) -> None:
         for e, (t, d) in enumerate(zip(self.terrains, self.datas)):
             if self._args[e] is None:  # an environment that has not stepped yet: bind it so its tuple exists
-                t._bind(d)
+                t.bind(d)
                 self._dt[e] = t.model.opt.timestep
-                self._args[e] = t._step_args(d, self._dt[e])
-                self._sig[e] = _signature(self._args[e])
+                self._args[e] = t.step_arguments(d, self._dt[e])
         ref = numba.typeof(self._args[0])
         for e in range(1, len(self._args)):
             ty = numba.typeof(self._args[e])
@@ -237,7 +216,7 @@ class BatchedTerrain:
         if active.size == 0:
             return
         for e in active:  # as GranularTerrain.step
-            self.terrains[e]._begin(self.datas[e])
+            self.terrains[e].begin_steps(self.datas[e])
         functions = coupler._STEP_FUNCTIONS
         if functions is None:  # no libmujoco to call directly: each terrain's own (Python) stepping loop
             self._step_each(active, counts)
@@ -250,7 +229,7 @@ class BatchedTerrain:
         for e in active:
             t, d = self.terrains[e], self.datas[e]
             try:
-                t._finish(d, int(out[e, 0]), int(out[e, 1]), self._dt[e], int(out[e, 2]))
+                t.end_steps(d, int(out[e, 0]), int(out[e, 1]), self._dt[e], int(out[e, 2]))
             except NonFiniteError as exc:
                 errors.append((int(e), exc))
         self._raise(errors)

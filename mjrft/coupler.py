@@ -21,7 +21,10 @@ carry its terrain::
       <text name="mjrft:floor" data="auto"/>            <text name="mjrft:resolution" data="auto"/>
     </custom>
 
-and otherwise from :data:`mjrft.settings.DEFAULTS`. One terrain serves one ``MjData`` at a time: stepping a
+and otherwise from :data:`mjrft.settings.DEFAULTS`. A terrain is two records (:mod:`mjrft.types`): what it is
+(:attr:`GranularTerrain.terrain_model`, a :class:`~mjrft.types.TerrainModel`) and what it remembers
+(:attr:`GranularTerrain.terrain_state`, a :class:`~mjrft.types.TerrainState`); the compiled kernel
+(:mod:`mjrft.kernel`, :mod:`mjrft.stepping`) steps them. One terrain serves one ``MjData`` at a time: stepping a
 different ``MjData``, or one whose time went backwards (a reset), clears the elements' memory.
 """
 
@@ -35,37 +38,23 @@ import numpy as np
 
 from . import kernel
 from ._jit_cache import load_cached_callees_first
-from .elements import build_elements, check_element_count
-from .errors import (NonFiniteError, SandContactWarning, TerrainStabilityWarning, ValidityRangeWarning, check_finite,
-                     check_positive, unknown)
-from .floor import _remove_contacts
+from .build import build_model, make_state, remove_floor_contacts, water_depth, with_regions, with_surface
+from .errors import NonFiniteError, SandContactWarning, check_finite, check_positive, unknown
 from .implicit_step import IMPLICIT_FUNCTIONS
-from .laws import validity
-from .laws.registry import STRESS_SLOTS
-from .laws.solidify import STICK_SPEED, check_solidify
-from .params import P_WATER_DEPTH
+from .laws.solidify import STICK_SPEED
 from .media import get_medium
 from .mujoco_c import mujoco_functions, mujoco_step_functions
-from .regions import Region, _region_entries, build_regions
-from .settings import TerrainSettings, resolve_settings
-from .stability import (HELD_STEPS, TRACK_SLOTS, _stable_dts, _stable_timestep_pair, _stable_timesteps, chatter_warning,
-                        chattering, largest_rate, stability_warning, track_chatter, track_depth_springs, track_stiffness,
-                        unstable_mode)
-
-# names of the settings, the selection, the floor, the regions, the elements and the stability check that were
-# defined in this module, importable from it as well
-from .elements import CULL_GROUP, CULL_PAD, MAX_ELEMENTS, ElementTables  # noqa: F401
-from .floor import FLOOR_PAIR_MARGIN, _find_floor, geom_world_boxes  # noqa: F401
-from .regions import LAW_WATER, RegionMap, RegionTables  # noqa: F401
-from .selection import (_SUPPORTED_GEOMS, AUTO_ELEMENTS, AUTO_MIN_RESOLUTION, auto_resolution,  # noqa: F401
-                        select_geoms)
-from .settings import CUSTOM_KEYS, CUSTOM_PREFIX, DEFAULTS, _custom  # noqa: F401
-from .stability import spring  # noqa: F401
+from .regions import Region, _region_entries
+from .stability import largest_rate, track_chatter, track_depth_springs, track_stiffness
+from .stepping import CompiledCall, actuator_power, add_rows, restore_rows, run_steps
+from .surface import region_weights_many, surface_heights
+from .types import MjViews, StepViews, TerrainModel, TerrainState
+from .watch import StabilityWatch, ValidityWatch
 
 STABILITY_CHECK_EVERY = 50
 _STEP_FUNCTIONS = mujoco_step_functions()  # None -> the plain Python stepping loop is used
-_JACOBIAN_FUNCTIONS = mujoco_functions("mj_jacBodyCom", "mj_solveM")  # None -> through the bindings
 _IMPLICIT_FUNCTIONS = mujoco_functions(*IMPLICIT_FUNCTIONS)  # None -> implicit=True is refused
+_NO_IMPLICIT = np.zeros(4, dtype=np.int64)
 _RESET_WARNINGS = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQACC)
 _RESET_INDEX = tuple(int(w) for w in _RESET_WARNINGS)
 _RK4 = int(mujoco.mjtIntegrator.mjINT_RK4)
@@ -103,60 +92,11 @@ def mujoco_reset_error(model: mujoco.MjModel, data: mujoco.MjData, since: str) -
                           "lost. Reduce the timestep, or check the model and the forces applied to it")
 
 
-def _refill(old: np.ndarray, new: np.ndarray) -> np.ndarray:
-    """``new``'s values in ``old`` when shape and dtype match (the same array object), else ``new``."""
-    if old.shape == new.shape and old.dtype == new.dtype:
-        old[...] = new
-        return old
-    return np.ascontiguousarray(new)
-
-
 def nonfinite_error(model: mujoco.MjModel, status: int, body: int, time: float) -> NonFiniteError:
     """The :class:`NonFiniteError` for a kernel ``status`` (``kernel.BAD_FORCE`` or ``kernel.BAD_STATE``) on ``body``."""
     name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
     what = "granular force" if status == kernel.BAD_FORCE else "state (position or velocity)"
     return NonFiniteError(f"non-finite {what} on body '{name}' at t = {time:.6g} s; nothing was written to mjData")
-
-
-class ValidityWatch:
-    """Warns once per (law, quantity) when a terrain leaves a law's calibrated range (:mod:`mjrft.laws.validity`):
-    at construction for the static quantities (grain size, ...) of each region's medium, afterwards through
-    :meth:`check` for the deepest and the fastest buried element. ``dynamic`` holds (region mask, law name,
-    range) for each dynamic range in use not yet warned about (empty: nothing left to check). ``warned``: the
-    (law, quantity) pairs already warned about (a terrain whose regions change keeps them: no second warning)."""
-
-    def __init__(self, regions, inertial: bool, warned: set | None = None):
-        self.warned: set[tuple[str, str]] = set() if warned is None else warned
-        groups: dict[str, list[int]] = {}
-        for k, reg in enumerate(regions):
-            groups.setdefault(str(reg.law), []).append(k)
-            for r, v in validity.check_static(str(reg.law), reg.medium):
-                self.warn(str(reg.law), r, v, f" (medium '{reg.medium.name}')", stacklevel=4)
-        self.dynamic = [(validity.group_mask(len(regions), ks), law, r) for law, ks in groups.items()
-                        for r in validity.dynamic_ranges(law, inertial)]
-
-    def warn(self, law: str, r, value: float, where: str, stacklevel: int) -> None:
-        if (law, r.quantity) in self.warned:
-            return
-        self.warned.add((law, r.quantity))
-        warnings.warn(ValidityRangeWarning(r.message(law, value, where)), stacklevel=stacklevel)
-
-    def check(self, depth, vel, region, time: float) -> None:
-        """Warn for the buried elements (``depth`` > 0, velocities ``vel``, region ids ``region``) of the step at
-        ``time`` that are deeper or faster than their law's range."""
-        extremes = {}
-        for mask, law, r in self.dynamic:
-            if (law, r.quantity) in self.warned:
-                continue
-            if law not in extremes:  # one compiled pass per law: (deepest, fastest) buried element
-                extremes[law] = validity.buried_extremes(depth, vel, region, mask)
-            dmax, vmax = extremes[law]
-            if dmax <= 0.0:
-                continue
-            v = dmax if r.quantity == "depth" else vmax
-            if not r.contains(v):
-                self.warn(law, r, v, f" at t = {time:.4g} s", stacklevel=5)
-        self.dynamic = [d for d in self.dynamic if (d[1], d[2].quantity) not in self.warned]
 
 
 class GranularTerrain:
@@ -319,101 +259,220 @@ class GranularTerrain:
             raise RuntimeError("implicit=True calls MuJoCo's C functions (mj_step1, mj_step2, "
                                f"{', '.join(IMPLICIT_FUNCTIONS)}) and they were not found in the library the "
                                "mujoco bindings loaded; use implicit=False")
-        self.implicit = bool(implicit)
-        self.solidify, self.stick_speed = check_solidify(solidify, stick_speed)
+        tm = build_model(model, medium, law, bodies=bodies, geoms=geoms, floor=floor, surface=surface,
+                         resolution=resolution, resolution_scale=resolution_scale,
+                         yield_displacement=yield_displacement, damping_time=damping_time, v_eps=v_eps,
+                         water_depth=water_depth, regions=regions, region_map=region_map, transition=transition,
+                         buoyancy=buoyancy, drag_coefficient=drag_coefficient, water_density=water_density,
+                         inertial=inertial, inertial_drag=inertial_drag, max_elements=max_elements,
+                         implicit=implicit, solidify=solidify, stick_speed=stick_speed, stacklevel=3)
+        self._setup(model, tm)
+
+    @classmethod
+    def from_model(cls, model: mujoco.MjModel, terrain_model: TerrainModel) -> "GranularTerrain":
+        """The terrain of the records ``terrain_model`` (:func:`mjrft.build.build_model`, or another terrain's
+        :attr:`terrain_model`) on ``model``, with a fresh state: the same forces as a terrain built with the same
+        arguments. The floor that became the surface loses its contacts in ``model`` as in the constructor."""
+        if not isinstance(model, mujoco.MjModel):
+            raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
+        if not isinstance(terrain_model, TerrainModel):
+            raise TypeError(f"terrain_model must be a mjrft.TerrainModel, got {type(terrain_model).__name__}")
+        if int(terrain_model.elements.body_root.shape[0]) != model.nbody:
+            raise ValueError(f"terrain_model was built on a model with {terrain_model.elements.body_root.shape[0]} "
+                             f"bodies, not this one ({model.nbody})")
+        if terrain_model.constants.implicit and (_IMPLICIT_FUNCTIONS is None or _STEP_FUNCTIONS is None):
+            raise RuntimeError("implicit=True calls MuJoCo's C functions, which were not found; use implicit=False")
+        self = cls.__new__(cls)
+        self._setup(model, terrain_model)
+        return self
+
+    def _setup(self, model: mujoco.MjModel, tm: TerrainModel) -> None:
+        """The terrain of ``tm`` on ``model``, called by the constructor and :meth:`from_model` (warnings name their
+        caller's caller)."""
+        load_cached_callees_first()  # every process then runs the same compiled code (see its docstring)
         self.model = model
         # the model's options (a view of its struct, kept alive with it): read per step, ~1 us cheaper than model.opt
         self._opt = model.opt
-        s = resolve_settings(model, medium=medium, law=law, bodies=bodies, geoms=geoms, floor=floor, surface=surface,
-                             resolution=resolution, resolution_scale=resolution_scale,
-                             yield_displacement=yield_displacement, damping_time=damping_time, v_eps=v_eps,
-                             water_depth=water_depth, regions=regions, region_map=region_map, transition=transition,
-                             buoyancy=buoyancy, drag_coefficient=drag_coefficient, water_density=water_density,
-                             inertial=inertial, inertial_drag=inertial_drag, stacklevel=3)
-        self._settings = s  # what set_medium / set_regions change
-        load_cached_callees_first()  # every process then runs the same compiled code (see its docstring)
-        self.stress_scale = 1.0  # factor on every granular stress (set_medium)
-        self.medium, self.law = s.medium, s.law
-        self.floor = s.floor  # geom id of the floor that became the surface
-        self.floor_contacts = None  # its (contype, conaffinity) before the terrain removed its contacts
-        self.surface_hfield = s.surface_hfield  # geom id of the hfield surface
-        self._hf_z, self._hf_frame = s.hf_z, s.hf_frame
-        self.surface = s.surface
-        self.resolution, self.resolution_auto = s.resolution, s.resolution_auto
-        self.yield_displacement, self.v_eps, self.damping_time = s.yield_displacement, s.v_eps, s.damping_time
-        if self.solidify > 0.0 and self.yield_displacement <= 0.0:
-            raise ValueError(f"solidify={self.solidify:g} needs the rest memory (yield_displacement > 0); "
-                             "the viscous mode (yield_displacement=0) has no memory to solidify")
-        self.transition, self.buoyancy, self.inertial_drag = s.transition, s.buoyancy, s.inertial_drag
-
-        # --- regions: strips along x or a map; water layer, buoyancy ---
-        rt = build_regions(s)
-        self.regions: list[Region] = rt.regions  # region 0 (the terrain's own) first, each with its water depth
-        self.inertial = rt.inertial
-        self._reg_bounds, self._reg_law, self._reg_params, self._reg_rho = rt.bounds, rt.law, rt.params, rt.rho
-        self._reg_map, self._reg_map_frame = rt.map, rt.map_frame
-        self.water_depth = float(self._reg_params[:, P_WATER_DEPTH].max())  # deepest water anywhere
-        self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
-
-        # --- geoms ---
-        check_element_count(model, s.geom_ids, self.resolution, max_elements)
-        et = build_elements(model, s.geom_ids, self.resolution)
-        self.elements, self.geom_ids, self.area = et.elements, et.geom_ids, et.area
-        self.elem_geom, self.elem_body, self.body_ids = et.elem_geom, et.elem_body, et.body_ids
-        self._e_lpos, self._e_lnrm = et.lpos, et.lnrm
-        self._g_geom, self._g_body, self._g_start, self._g_aabb = et.g_geom, et.g_body, et.g_start, et.g_aabb
-        self._rootid = np.ascontiguousarray(model.body_rootid, dtype=np.int64)
-
-        self._allocate_state()
-        self._validity = ValidityWatch(self.regions, self.inertial)
-        if self.floor is not None:  # last: a constructor that raises leaves the model as it was
-            self.floor_contacts = _remove_contacts(model, self.floor)
-        for note in s.floor_warnings:
-            warnings.warn(SandContactWarning(note), stacklevel=2)
-
-    # ------------------------------------------------------------------ set-up helpers
-    def _allocate_state(self) -> None:
-        """The per-step state, outputs and scratch arrays, zeroed."""
-        model, n = self.model, len(self.elements)
-        self._g_active = np.zeros(len(self._g_geom), dtype=np.bool_)
-        self._u = np.zeros((n, 3))
-        self._scr_f = np.zeros((13, n))  # the kernel's gather/scatter scratch (batched law)
-        self._scr_i = np.zeros((2, n), dtype=np.int64)
-        self.pos = np.zeros((n, 3))
-        self.vel = np.zeros((n, 3))
-        self.normal = np.zeros((n, 3))
-        self.depth = np.zeros(n)
-        self.force = np.zeros((n, 3))
-        self.region = np.zeros(n, dtype=np.int64)
-        self.wrench = np.zeros((model.nbody, 6))
-        self._saved = np.zeros((model.nbody, 6))
-        self._stiff = np.zeros((model.nbody, 10))  # moments of the element stiffness (kernel.terrain_kernel)
-        self._damp = np.zeros(model.nbody)
-        self._stiff_max = np.zeros((model.nbody, TRACK_SLOTS, 10))  # see stability.track_stiffness, track_chatter
-        self._jac6 = (np.zeros((6, model.nv)), np.zeros((6, model.nv)))  # stability check scratch
-        self._jac_rows = (np.zeros((6 * len(self.body_ids), model.nv)), np.zeros((6 * len(self.body_ids), model.nv)))
-        self._dt_scratch = np.full(model.nbody, np.inf)  # min_stable_timestep's
-        self._rows_scratch = np.zeros(len(self.body_ids), dtype=np.int64)
-        self._damp_max = np.zeros(model.nbody)
-        self._imp = np.zeros((model.nbody if self.implicit else 0, 10))  # the implicit step's spring moments
-        self._dstiff = np.zeros((model.nbody, 10))  # moments of the depth stiffness (kernel, "Depth stiffness")
-        self._dstiff_max = np.zeros((model.nbody, 10))  # stability.track_depth_springs
-        nb = len(self.body_ids) if self.implicit else 0  # the implicit step's scratch (implicit_step.implicit_wrench)
-        self._implicit_scratch = (np.zeros((6 * nb, model.nv)), np.zeros((6 * nb, model.nv)), np.zeros((nb, 6, 6)),
-                                  np.zeros((6 * nb, 6 * nb)), np.zeros(12 * nb + 6), np.zeros(nb, dtype=np.int64))
-        self._implicit_functions = np.array(_IMPLICIT_FUNCTIONS if self.implicit else (0, 0, 0, 0), dtype=np.int64)
-        self._inert = np.zeros((model.nbody, 10))  # moments of the inertial regime's dampers (kernel)
-        self._inert_max = np.zeros((model.nbody, 10))  # ... of the step with the most of it (track_stiffness)
-        self._power = np.zeros(1)  # the actuators' mean power over the last step call (actuator_power)
+        self.terrain_model = tm
+        self.terrain_state = make_state(tm, model)
+        self._f_implicit = (np.array(_IMPLICIT_FUNCTIONS, dtype=np.int64) if tm.constants.implicit
+                            else _NO_IMPLICIT)
+        self._run_steps = CompiledCall(run_steps)
+        self._kernel = CompiledCall(kernel.terrain_kernel)
+        self._stability = StabilityWatch(model, tm.elements.body_ids)
+        self._validity = ValidityWatch(tm.region_list, tm.constants.inertial, stacklevel=3)
         self._data = None
         self._resets_seen = 0  # MuJoCo's reset-after-divergence count of the bound data, when last seen
         self._t_begin = 0.0
         self._last_time = -np.inf
         self._steps = 0
-        self._warned: set[int] = set()
-        self._chatter_warned: set[int] = set()  # bodies warned about chatter (_check_chatter)
-        self._cb_prev = None
+        self._hf_geom_z = None  # the hfield geom's height (set_surface of a height field)
+        # last: a constructor that raises leaves the model as it was
+        self.floor_contacts = remove_floor_contacts(model, tm)  # the floor's (contype, conaffinity) before
+        for note in tm.settings.floor_warnings:
+            warnings.warn(SandContactWarning(note), stacklevel=4)
 
+    # ------------------------------------------------------------------ what the terrain is (its TerrainModel)
+    @property
+    def medium(self):
+        """The terrain's own medium (region 0)."""
+        return self.terrain_model.settings.medium
+
+    @property
+    def law(self) -> str:
+        return self.terrain_model.settings.law
+
+    @property
+    def floor(self) -> int | None:
+        """Geom id of the floor that became the surface (None without one)."""
+        return self.terrain_model.settings.floor
+
+    @property
+    def surface_hfield(self) -> int | None:
+        """Geom id of the height-field surface (None for a flat surface)."""
+        return self.terrain_model.settings.surface_hfield
+
+    @property
+    def surface(self) -> float:
+        """Height of the flat surface (m); with a height field, the mean of its samples."""
+        return self.terrain_model.surface.height
+
+    @property
+    def resolution(self) -> float:
+        return self.terrain_model.settings.resolution
+
+    @property
+    def resolution_auto(self) -> bool:
+        return self.terrain_model.settings.resolution_auto
+
+    @property
+    def yield_displacement(self) -> float:
+        return self.terrain_model.constants.delta
+
+    @property
+    def damping_time(self) -> float:
+        return self.terrain_model.constants.tau
+
+    @property
+    def v_eps(self) -> float:
+        return self.terrain_model.constants.v_eps
+
+    @property
+    def solidify(self) -> float:
+        return self.terrain_model.constants.solid
+
+    @property
+    def stick_speed(self) -> float:
+        return self.terrain_model.constants.stick
+
+    @property
+    def implicit(self) -> bool:
+        return self.terrain_model.constants.implicit
+
+    @property
+    def inertial(self) -> bool:
+        """Whether the inertial regime applies (in the regions with a dry law)."""
+        return self.terrain_model.constants.inertial
+
+    @property
+    def transition(self) -> float:
+        return self.terrain_model.regions.transition
+
+    @property
+    def buoyancy(self) -> bool:
+        return self.terrain_model.settings.buoyancy
+
+    @property
+    def inertial_drag(self) -> float:
+        return self.terrain_model.settings.inertial_drag
+
+    @property
+    def regions(self) -> list[Region]:
+        """The regions, region 0 (the terrain's own) first, each resolved with its water depth."""
+        return list(self.terrain_model.region_list)
+
+    @property
+    def water_depth(self) -> float:
+        """The deepest water standing over the sand anywhere (m)."""
+        return water_depth(self.terrain_model.regions.params)
+
+    @property
+    def stress_scale(self) -> float:
+        """The factor on every granular stress (:meth:`set_medium`)."""
+        return self.terrain_model.stress_scale
+
+    @property
+    def elements(self):
+        """The elements as the geometry cut them (:class:`~mjrft.geometry.Elements`: positions, normals, areas in
+        their body's frame)."""
+        return self.terrain_model.geometry
+
+    @property
+    def geom_ids(self) -> np.ndarray:
+        return self.terrain_model.elements.geom_ids
+
+    @property
+    def area(self) -> np.ndarray:
+        return self.terrain_model.elements.area
+
+    @property
+    def elem_geom(self) -> np.ndarray:
+        return self.terrain_model.elements.geom
+
+    @property
+    def elem_body(self) -> np.ndarray:
+        return self.terrain_model.elements.body
+
+    @property
+    def body_ids(self) -> np.ndarray:
+        """The bodies that own elements, sorted."""
+        return self.terrain_model.elements.body_ids
+
+    @property
+    def n_elements(self) -> int:
+        return self.terrain_model.n_elements
+
+    # ------------------------------------------------------------------ what it wrote (its TerrainState)
+    @property
+    def pos(self) -> np.ndarray:
+        """World position of each element within reach at the last step (n, 3)."""
+        return self.terrain_state.pos
+
+    @property
+    def vel(self) -> np.ndarray:
+        return self.terrain_state.vel
+
+    @property
+    def normal(self) -> np.ndarray:
+        return self.terrain_state.normal
+
+    @property
+    def depth(self) -> np.ndarray:
+        return self.terrain_state.depth
+
+    @property
+    def force(self) -> np.ndarray:
+        return self.terrain_state.force
+
+    @property
+    def region(self) -> np.ndarray:
+        return self.terrain_state.region
+
+    @property
+    def wrench(self) -> np.ndarray:
+        """Each body's granular wrench of the last step (nbody, 6: force, torque about its centre of mass, world
+        frame)."""
+        return self.terrain_state.wrench
+
+    @property
+    def actuator_power(self) -> float:
+        """The actuators' mechanical power ``sum_a |actuator_force_a x actuator_velocity_a|`` (W), averaged over
+        every physics step of the last :meth:`step` call (each step's force and velocity are of the state at its
+        start), so that an environment's control step reports the energy its actuators delivered, not a sample.
+        0 before the first step."""
+        return float(self.terrain_state.power[0])
+
+    # ------------------------------------------------------------------ binding and resetting
     def _bind(self, data: mujoco.MjData) -> None:
         if data is self._data:
             return
@@ -422,18 +481,20 @@ class GranularTerrain:
         self._data = data
         self._warning_numbers = data.warning.number  # a view: MuJoCo's counters as they change
         self._resets_seen = _reset_count(self._warning_numbers)
-        self._views = (data.geom_xpos, data.geom_xmat, data.xpos, data.xmat, data.xipos, data.cvel, data.subtree_com)
+        self._views = MjViews(data.geom_xpos, data.geom_xmat, data.xpos, data.xmat, data.xipos, data.cvel,
+                              data.subtree_com)
+        self._step_views = StepViews(data.xfrc_applied, data.qacc_smooth, data.actuator_force,
+                                     data.actuator_velocity)
         self.reset()
+
+    def bind(self, data: mujoco.MjData) -> None:
+        """Make ``data`` the ``MjData`` this terrain steps (what stepping a new one does first); binding another
+        one forgets the elements' memory (:meth:`reset`)."""
+        self._bind(data)
 
     def reset(self) -> None:
         """Forget every element's memory (call after changing the state by hand)."""
-        self._u[:] = 0.0
-        self.force[:] = 0.0
-        self.depth[:] = 0.0
-        self.wrench[:] = 0.0
-        self._g_active[:] = False
-        self._stiff_max[:] = 0.0
-        self._inert_max[:] = 0.0
+        self.terrain_state.forget()
         self._last_time = -np.inf
 
     # ------------------------------------------------------------------ changing the terrain in place
@@ -442,18 +503,19 @@ class GranularTerrain:
         depth stay) and/or the factor ``stress_scale`` (> 0) on the granular stresses of every region,
         without rebuilding the elements. ``None`` keeps the current value.
 
-        ``stress_scale`` multiplies the stress slots of each region's parameters (:data:`STRESS_SLOTS`:
-        every stress of the sand laws and of the inertial regime), so every buried element's granular
-        force scales by it; the water layer's drag and the buoyancy keep theirs. It is relative to the
-        media's own stresses (``set_medium(stress_scale=1)`` restores them), and it stays when the
-        medium or the regions change. A larger scale stiffens the grains in proportion: the stability
+        ``stress_scale`` multiplies the stress slots of each region's parameters
+        (:data:`~mjrft.laws.registry.STRESS_SLOTS`: every stress of the sand laws and of the inertial regime), so
+        every buried element's granular force scales by it; the water layer's drag and the buoyancy keep theirs.
+        It is relative to the media's own stresses (``set_medium(stress_scale=1)`` restores them), and it stays
+        when the medium or the regions change. A larger scale stiffens the grains in proportion: the stability
         check sees the scaled stiffness, and its warning names the scale. The elements' memory is
         kept (:meth:`reset` forgets it). A bad medium raises as in the constructor (an unknown name
         lists the catalogue) and leaves the terrain as it was.
         """
-        s = self._settings if medium is None else replace(self._settings, medium=get_medium(medium))
-        scale = self.stress_scale if stress_scale is None else check_positive("stress_scale", stress_scale)
-        self._install_regions(s, scale)
+        tm = self.terrain_model
+        s = tm.settings if medium is None else replace(tm.settings, medium=get_medium(medium))
+        scale = tm.stress_scale if stress_scale is None else check_positive("stress_scale", stress_scale)
+        self._set_regions(s, scale)
 
     def set_regions(self, regions) -> None:
         """Replace the terrain's extra regions without rebuilding the elements: strips along x in the
@@ -462,33 +524,20 @@ class GranularTerrain:
         ``region_map``, its ``(medium, law[, water_depth])`` entries (at least as many as the map's ids
         name). Checked as in the constructor; on an error the terrain is left as it was. The current
         ``stress_scale`` applies to the new regions; the elements' memory is kept."""
-        s = self._settings
-        self._install_regions(replace(s, regions=_region_entries(regions, mapped=s.region_map is not None)),
-                              self.stress_scale)
+        tm = self.terrain_model
+        s = tm.settings
+        self._set_regions(replace(s, regions=_region_entries(regions, mapped=s.region_map is not None)),
+                          tm.stress_scale)
 
-    def _install_regions(self, s: TerrainSettings, scale: float) -> None:
-        """Build the region tables of ``s`` with the stresses times ``scale`` and put them in place: into the
-        kernel's arrays when their shapes are unchanged (a :class:`~mjrft.batch.BatchedTerrain` then reuses
-        its argument tuple), else as new arrays; everything derived from them follows (water depth, cull
-        height, validity ranges; the elements' region ids when the region count changes)."""
-        rt = build_regions(s)  # raises before anything changes
-        params = rt.params
-        if scale != 1.0:
-            params[:, STRESS_SLOTS] *= scale
-        if len(rt.regions) != len(self.regions):
-            self.region[:] = 0  # ids of the old layout would index past the new tables
-        self._settings, self.stress_scale = s, float(scale)
-        self.medium, self.law = s.medium, s.law
-        self.regions, self.inertial = rt.regions, rt.inertial
-        self._reg_bounds = _refill(self._reg_bounds, rt.bounds)
-        self._reg_law = _refill(self._reg_law, rt.law)
-        self._reg_params = _refill(self._reg_params, params)
-        self._reg_rho = _refill(self._reg_rho, rt.rho)
-        self._reg_map = _refill(self._reg_map, rt.map)
-        self._reg_map_frame = _refill(self._reg_map_frame, rt.map_frame)
-        self.water_depth = float(self._reg_params[:, P_WATER_DEPTH].max())
-        self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
-        self._validity = ValidityWatch(self.regions, self.inertial, self._validity.warned)
+    def _set_regions(self, s, scale: float) -> None:
+        """The terrain model with the regions of ``s`` and the stresses times ``scale`` (raises before anything
+        changes); the elements' region ids are zeroed when the region count changes (ids of the old layout would
+        index past the new tables), and the validity ranges follow."""
+        tm = with_regions(self.terrain_model, s, scale)
+        if len(tm.region_list) != len(self.terrain_model.region_list):
+            self.terrain_state.region[:] = 0
+        self.terrain_model = tm
+        self._validity = ValidityWatch(tm.region_list, tm.constants.inertial, self._validity.warned, stacklevel=4)
 
     def set_surface(self, surface) -> None:
         """Move the free sand surface without rebuilding the elements.
@@ -501,36 +550,37 @@ class GranularTerrain:
         ``mujoco.mjr_uploadHField`` on a render context made before) show the surface the grains have.
         Water stands the same depth above the new surface. The elements' memory is kept.
         """
-        if self._hf_z.size == 0:
+        hf_z = self.terrain_model.surface.hfield_z
+        if hf_z.size == 0:
             if np.ndim(surface) != 0:
                 raise ValueError(f"this terrain's surface is flat (height {self.surface:g} m): set_surface takes one "
                                  f"height in m, got an array of shape {np.shape(surface)}; a height field needs an "
                                  "hfield geom as the surface (surface='<hfield geom>')")
-            self.surface = check_finite("surface", surface)
-        else:
-            z = np.asarray(surface, dtype=np.float64)
-            if z.ndim == 0:
-                z = np.full(self._hf_z.shape, check_finite("surface", z))
-            if z.shape != self._hf_z.shape:
-                raise ValueError(f"surface heights must have the height field's shape {self._hf_z.shape} "
-                                 f"(nrow, ncol), got {z.shape}")
-            if not np.all(np.isfinite(z)):
-                raise ValueError("surface heights must be finite")
-            self._hf_z[...] = z
-            self.surface = float(z.mean())
-            self._write_hfield()
-        self._top = float(self._hf_z.max() if self._hf_z.size else self.surface) + self.water_depth
+            self.terrain_model = with_surface(self.terrain_model, check_finite("surface", surface))
+            return
+        z = np.asarray(surface, dtype=np.float64)
+        if z.ndim == 0:
+            z = np.full(hf_z.shape, check_finite("surface", z))
+        if z.shape != hf_z.shape:
+            raise ValueError(f"surface heights must have the height field's shape {hf_z.shape} "
+                             f"(nrow, ncol), got {z.shape}")
+        if not np.all(np.isfinite(z)):
+            raise ValueError("surface heights must be finite")
+        z = np.array(z, dtype=np.float64, order="C")
+        self.terrain_model = with_surface(self.terrain_model, float(z.mean()), z)
+        self._write_hfield()
 
     def surface_samples(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """World ``(x, y, z)`` of the height-field surface's samples, each ``(nrow, ncol)`` (copies); raises
         on a flat surface."""
-        if self._hf_z.size == 0:
+        sf = self.terrain_model.surface
+        if sf.hfield_z.size == 0:
             raise ValueError(f"this terrain's surface is flat (height {self.surface:g} m), it has no samples; "
                              "a height field needs an hfield geom as the surface (surface='<hfield geom>')")
-        nrow, ncol = self._hf_z.shape
-        x0, y0, c, sn, rx, ry, kx, ky = self._hf_frame
+        nrow, ncol = sf.hfield_z.shape
+        x0, y0, c, sn, rx, ry, kx, ky = sf.hfield_frame
         lx, ly = np.meshgrid(np.arange(ncol) / kx - rx, np.arange(nrow) / ky - ry)
-        return x0 + c * lx - sn * ly, y0 + sn * lx + c * ly, self._hf_z.copy()
+        return x0 + c * lx - sn * ly, y0 + sn * lx + c * ly, sf.hfield_z.copy()
 
     def _write_hfield(self) -> None:
         """Write the surface heights into the loaded model's hfield samples (z = geom z + elevation x sample)."""
@@ -539,18 +589,16 @@ class GranularTerrain:
         elev = float(m.hfield_size[h, 2])
         if not elev > 0:
             return
-        if getattr(self, "_hf_geom_z", None) is None:
+        if self._hf_geom_z is None:
             d = mujoco.MjData(m)
             mujoco.mj_kinematics(m, d)
             self._hf_geom_z = float(d.geom_xpos[g, 2])
-        adr, n = int(m.hfield_adr[h]), self._hf_z.size
-        m.hfield_data[adr:adr + n] = ((self._hf_z - self._hf_geom_z) / elev).ravel()
+        z = self.terrain_model.surface.hfield_z
+        adr, n = int(m.hfield_adr[h]), z.size
+        m.hfield_data[adr:adr + n] = ((z - self._hf_geom_z) / elev).ravel()
+
 
     # ------------------------------------------------------------------ per-step work
-    @property
-    def n_elements(self) -> int:
-        return int(self.area.shape[0])
-
     def compute(self, data: mujoco.MjData, dt: float | None = None) -> np.ndarray:
         """Evaluate the granular wrench from ``data``'s current kinematics (positions, ``cvel``).
 
@@ -563,30 +611,25 @@ class GranularTerrain:
         self._begin(data)
         if dt is None:
             dt = self._opt.timestep
-        status, body = kernel.terrain_kernel(*self._kernel_args(dt))
-        track_stiffness(self._stiff, self._stiff_max, self._damp, self._damp_max, self._inert, self._inert_max)
-        track_depth_springs(self._dstiff, self._dstiff_max)
-        track_chatter(self.wrench, self.body_ids, self._stiff_max)
+        st = self.terrain_state
+        status, body = self._kernel(self.terrain_model.tables, self._views, self._gravity(), float(dt), st)
+        track_stiffness(st.stiff, st.stiff_max, st.damp, st.damp_max, st.inert, st.inert_max)
+        track_depth_springs(st.dstiff, st.dstiff_max)
+        track_chatter(st.wrench, self.body_ids, st.stiff_max)
         self._finish(data, status, body, dt, 1)
-        return self.wrench
+        return st.wrench
 
-    def _kernel_args(self, dt) -> tuple:
-        return (self._g_geom, self._g_body, self._g_start, self._g_aabb, self._g_active,
-                self._e_lpos, self._e_lnrm, self.area, *self._views, self._rootid,
-                self.surface, self._top, self._reg_bounds, self._reg_law, self._reg_params,
-                self._hf_z, self._hf_frame, self._reg_map, self._reg_map_frame, self._reg_rho, self.transition,
-                max(0.0, -float(self._opt.gravity[2])), dt, self.yield_displacement, self.damping_time, self.v_eps,
-                self._u, self.pos, self.vel, self.normal, self.depth, self.force, self.region,
-                self.wrench, self._stiff, self._damp, self._inert, self._scr_f, self._scr_i, self._imp, self._dstiff,
-                self.solidify, self.stick_speed)
+    def _gravity(self) -> float:
+        """The downward gravity (m/s^2) of the model now (the buoyancy's)."""
+        return max(0.0, -float(self._opt.gravity[2]))
 
-    def _step_args(self, data, dt) -> tuple:
-        """Arguments of ``kernel.run_steps`` after ``(nstep, f_step1, f_step2, m_addr, d_addr)`` (also used by
-        :mod:`mjrft.batch`, which keeps one such tuple per environment: the only list of them is here)."""
-        return (data.xfrc_applied, self.body_ids, self._saved, *self._kernel_args(dt), self._stiff_max,
-                self._damp_max, self._inert_max, self._dstiff_max, self.implicit, self._implicit_functions,
-                data.qacc_smooth, self.inertial, *self._implicit_scratch, data.actuator_force,
-                data.actuator_velocity, self._power)
+    def step_arguments(self, data: mujoco.MjData, dt: float) -> tuple:
+        """The arguments of :func:`mjrft.stepping.run_steps` after ``(nstep, f_step1, f_step2, m_addr, d_addr)`` for
+        stepping ``data`` (bound) at the timestep ``dt``: ``(f_implicit, tables, mjd, views, gravity, dt, state)``.
+        :class:`~mjrft.batch.BatchedTerrain` keeps one such tuple per environment; its groups are the same objects
+        from call to call until something changes (a new ``MjData`` bound, a new terrain model or state)."""
+        return (self._f_implicit, self.terrain_model.tables, self._views, self._step_views, self._gravity(), dt,
+                self.terrain_state)
 
     def _begin(self, data) -> None:
         """Before evaluating on ``data``: bind to it, raise if MuJoCo reset it after a divergence since the
@@ -600,6 +643,17 @@ class GranularTerrain:
         if t < self._last_time:
             self.reset()
 
+    def begin_steps(self, data: mujoco.MjData) -> None:
+        """What :meth:`step` does before its compiled steps (bind ``data``, raise if MuJoCo reset it after a
+        divergence, forget the memory after a reset): for a caller that runs them itself
+        (:class:`~mjrft.batch.BatchedTerrain`), with :meth:`step_arguments` and then :meth:`end_steps`."""
+        self._begin(data)
+
+    def end_steps(self, data: mujoco.MjData, status: int, body: int, dt: float, nstep: int) -> None:
+        """What :meth:`step` does after ``nstep`` compiled steps that returned ``(status, body)``: note the time,
+        raise :class:`~mjrft.errors.NonFiniteError` on a non-finite result, run the checks on schedule."""
+        self._finish(data, status, body, dt, nstep)
+
     def _check_mujoco_reset(self, data, since: str) -> None:
         """Raise :class:`NonFiniteError` when MuJoCo's reset-after-divergence counters grew since last seen;
         note them either way (they fall to 0 on ``mj_resetData``). Callers call it only when
@@ -609,7 +663,7 @@ class GranularTerrain:
         grew = n > self._resets_seen
         self._resets_seen = n
         if grew:
-            self.wrench[:] = 0.0
+            self.terrain_state.wrench[:] = 0.0
             raise mujoco_reset_error(self.model, data, since)
 
     def _finish(self, data, status, body, dt, nstep) -> None:
@@ -619,17 +673,15 @@ class GranularTerrain:
         if _reset_count(self._warning_numbers) != self._resets_seen:
             self._check_mujoco_reset(data, f"between t = {self._t_begin:.6g} s and the end of {nstep} step(s)")
         if status != kernel.OK:
-            self.wrench[:] = 0.0
+            self.terrain_state.wrench[:] = 0.0
             raise nonfinite_error(self.model, status, body, data.time)
         before = self._steps
         self._steps += nstep
         if before == 0 or before // STABILITY_CHECK_EVERY != self._steps // STABILITY_CHECK_EVERY:
-            if not self.implicit:  # the springs' explicit limit does not bound the implicit step (docs/numerics.md)
-                self._check_stability(data, dt)
-            self._check_depth_springs(data, dt)
-            self._check_chatter(data, dt)
+            st = self.terrain_state
+            self._stability.check(data, dt, self.terrain_model, st)
             if self._validity.dynamic:
-                self._validity.check(self.depth, self.vel, self.region, data.time)
+                self._validity.check(st.depth, st.vel, st.region, data.time)
 
     def step(self, data: mujoco.MjData, nstep: int = 1) -> None:
         """``nstep`` times: ``mj_step1``, add the granular wrench to ``xfrc_applied``, ``mj_step2``.
@@ -647,28 +699,29 @@ class GranularTerrain:
             raise ValueError(f"nstep must be >= 0, got {nstep}")
         m = self.model
         self._begin(data)
-        xfrc = data.xfrc_applied
-        rows = self.body_ids
         if _STEP_FUNCTIONS is not None and nstep > 0:
             dt = self._opt.timestep
-            status, body, done = kernel.run_steps(nstep, *_STEP_FUNCTIONS, m._address, data._address,
-                                                  *self._step_args(data, dt))
+            status, body, done = self._run_steps(nstep, *_STEP_FUNCTIONS, m._address, data._address,
+                                                 *self.step_arguments(data, dt))
             self._finish(data, status, body, dt, done)
             return
         if self.implicit:
             raise RuntimeError("implicit=True steps through MuJoCo's C functions, which were not found")
+        st = self.terrain_state
+        xfrc = data.xfrc_applied
+        rows = self.body_ids
         work = 0.0
-        self._power[0] = 0.0
+        st.power[0] = 0.0
         for k in range(nstep):
             mujoco.mj_step1(m, data)
             self.compute(data)
-            kernel.add_rows(xfrc, rows, self.wrench, self._saved)
+            add_rows(xfrc, rows, st.wrench, st.saved)
             try:
                 mujoco.mj_step2(m, data)
             finally:
-                kernel.restore_rows(xfrc, rows, self._saved)
-            work += kernel.actuator_power(data.actuator_force, data.actuator_velocity)
-            self._power[0] = work / (k + 1)
+                restore_rows(xfrc, rows, st.saved)
+            work += actuator_power(data.actuator_force, data.actuator_velocity)
+            st.power[0] = work / (k + 1)
 
     def _check_integrator(self, what: str) -> None:
         if self._opt.integrator == _RK4:
@@ -719,75 +772,15 @@ class GranularTerrain:
             dt = 0.0
         self.compute(data, dt)
         point = np.empty(3)
+        wrench = self.terrain_state.wrench
         for b in self.body_ids:
-            w = self.wrench[b]
+            w = wrench[b]
             if w[0] == 0 and w[1] == 0 and w[2] == 0 and w[3] == 0 and w[4] == 0 and w[5] == 0:
                 continue
             point[:] = data.xipos[b]
             mujoco.mj_applyFT(model, data, w[:3].copy(), w[3:].copy(), point, int(b), data.qfrc_passive)
 
     # ------------------------------------------------------------------ diagnostics
-    def _check_stability(self, data, dt) -> None:
-        """Warn once per body when dt exceeds the explicit stability limit (:mod:`mjrft.stability`, docs/numerics.md):
-        for a stiffness held ``HELD_STEPS`` steps, or a single step that amplifies by ``SPIKE_GROWTH``;
-        with the inertial regime on, its largest damping rate since the last check is added to both
-        (:func:`unstable_mode`)."""
-        held, spike, damp = self._stiff_max[:, 0].copy(), self._stiff_max[:, 1].copy(), self._damp_max.copy()
-        inert = self._inert_max.copy() if self.inertial else None
-        self._stiff_max[:, :2] = 0.0
-        self._damp_max[:] = 0.0
-        if self.inertial:
-            self._inert_max[:] = 0.0
-        for b in self.body_ids:
-            has_inert = inert is not None and inert[b, 0] > 0
-            if (spike[b, 0] <= 0 and not has_inert) or b in self._warned:
-                continue
-            jac, minv_jac = self._jacobians(data, int(b))
-            mode = unstable_mode(jac, minv_jac, held[b], spike[b], inert[b] if has_inert else None,
-                                 self.yield_displacement, self.damping_time, dt)
-            if mode is not None:
-                self._warn(int(b), lambda name: stability_warning(
-                    name, data.time, dt, mode[0], damp[b], mode[1], mode[2], self.yield_displacement,
-                    self.damping_time))
-
-    def _check_depth_springs(self, data, dt) -> None:
-        """Warn once per body when dt exceeds the explicit limit of the depth stiffness ``|F| / depth`` of its
-        elements (vertical springs, docs/numerics.md, "Depth stiffness"), ``dt <= sqrt(2) / omega`` with
-        ``omega^2 = lambda_max(W6 Kd6)``, for the stiffest step since the last check."""
-        peak = self._dstiff_max.copy()
-        self._dstiff_max[:] = 0.0
-        if not np.any(peak[self.body_ids, 0] > 0):
-            return
-        limits = np.full(self.model.nbody, np.inf)
-        self._limits_into(data, limits, peak, vertical=True)
-        for b in self.body_ids:
-            if dt > limits[b] and b not in self._warned:
-                self._warn(int(b), lambda name: TerrainStabilityWarning(
-                    f"mjrft: at t = {data.time:.6g} s the timestep {dt:.3g} s exceeds the stability limit "
-                    f"{limits[b]:.3g} s of the grains' depth stiffness on body '{name}' (its force grows with its "
-                    "depth, explicitly in every mode: a light body on a large area sunk shallow); use a smaller "
-                    "timestep (GranularWrapper: substeps)"))
-
-    def _check_chatter(self, data, dt) -> None:
-        """Warn once per body whose granular force alternated from step to step since the last check
-        (:func:`mjrft.stability.track_chatter`, docs/numerics.md, "Chatter"), in either mode."""
-        for b, steps, change, force in chattering(self._stiff_max, self.body_ids):
-            if b not in self._chatter_warned:
-                self._chatter_warned.add(b)
-                name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
-                warnings.warn(chatter_warning(name, data.time, dt, steps, change, force, self.implicit), stacklevel=4)
-
-    def _warn(self, b: int, warning_of) -> None:
-        """Warn once about body ``b``: ``warning_of(its name)`` is the :class:`TerrainStabilityWarning`; a stress
-        scale other than 1 is named (the stiffness grows with it). Called from the checks that ``_finish`` runs."""
-        self._warned.add(b)
-        name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
-        w = warning_of(name)
-        if self.stress_scale != 1.0:
-            w = TerrainStabilityWarning(f"{w} (the granular stresses are scaled x{self.stress_scale:.4g}, "
-                                        "set_medium: the stiffness grows with the scale)")
-        warnings.warn(w, stacklevel=4)
-
     def stable_timestep(self, data: mujoco.MjData, part: str = "step") -> np.ndarray:
         """Largest stable timestep (s) of each body for the granular stiffness of the last step, shape (nbody,).
 
@@ -804,7 +797,7 @@ class GranularTerrain:
     def min_stable_timestep(self, data: mujoco.MjData, part: str = "step") -> float:
         """The smallest of :meth:`stable_timestep` over the selected bodies (s; ``inf`` when nothing is buried),
         without allocating: the per-step query of a caller that picks its timestep from it."""
-        out = self._dt_scratch
+        out = self._stability.dt_scratch
         out[:] = np.inf
         self._stable_into(data, out, "min_stable_timestep", part)
         return float(out.min())
@@ -815,13 +808,9 @@ class GranularTerrain:
         the two calls)."""
         if data is not self._data:
             raise ValueError("min_stable_timesteps needs the MjData this terrain last stepped")
-        if _JACOBIAN_FUNCTIONS is None:
+        if not self._stability.has_compiled_jacobians():
             return self.min_stable_timestep(data, "springs"), self.min_stable_timestep(data, "depth")
-        jac, minv_jac = self._jac_rows
-        springs, depth = _stable_timestep_pair(*_JACOBIAN_FUNCTIONS, self.model._address, data._address,
-                                               self.body_ids, self._stiff, self._dstiff, self._inert, self.inertial,
-                                               float(self.yield_displacement), float(self.damping_time), jac,
-                                               minv_jac, self._rows_scratch, self._dt_scratch)
+        springs, depth = self._stability.stable_pair(data, self.terrain_model, self.terrain_state)
         return float(springs), float(depth)
 
     def _stable_into(self, data, out: np.ndarray, what: str, part: str) -> None:
@@ -830,38 +819,7 @@ class GranularTerrain:
             raise ValueError(f"{what} needs the MjData this terrain last stepped")
         if part not in ("step", "springs", "depth"):
             raise unknown(f"{what} part", part, ["step", "springs", "depth"])
-        if part == "step":
-            if not self.implicit:
-                self._stable_into(data, out, what, "springs")
-            part = "depth"  # with implicit=False the smaller of both: written into the same out
-        vertical = part == "depth"
-        self._limits_into(data, out, self._dstiff if vertical else self._stiff, vertical)
-
-    def _limits_into(self, data, out: np.ndarray, stiff: np.ndarray, vertical: bool) -> None:
-        """Each body's limit for the moments ``stiff`` (the springs', with the inertial dampers; with ``vertical``
-        the depth stiffness's) into ``out``, keeping a smaller value it holds: the buried bodies' CoM jacobian rows
-        stacked, solved with ``M^-1`` in one ``mj_solveM`` and reduced in one compiled call (:func:`_stable_dts`)."""
-        use_inert = self.inertial and not vertical
-        jac, minv_jac = self._jac_rows
-        if _JACOBIAN_FUNCTIONS is not None:
-            _stable_timesteps(*_JACOBIAN_FUNCTIONS, self.model._address, data._address, self.body_ids, stiff,
-                              self._inert, use_inert, float(self.yield_displacement), float(self.damping_time),
-                              vertical, jac, minv_jac, self._rows_scratch, out)
-            return
-        bodies = self.body_ids
-        buried = stiff[bodies, 0] > 0
-        if use_inert:
-            buried |= self._inert[bodies, 0] > 0
-        rows = bodies[buried]
-        n = rows.shape[0]
-        if n == 0:
-            return
-        m = self.model
-        for i in range(n):
-            mujoco.mj_jacBodyCom(m, data, jac[6 * i:6 * i + 3], jac[6 * i + 3:6 * i + 6], int(rows[i]))
-        mujoco.mj_solveM(m, data, minv_jac[:6 * n], jac[:6 * n])
-        _stable_dts(jac, minv_jac, rows, stiff, self._inert, use_inert, float(self.yield_displacement),
-                    float(self.damping_time), vertical, out)
+        self._stability.stable_into(data, out, self.terrain_model, self.terrain_state, part)
 
     def critical_rate(self, data, body: int, moments) -> float:
         """Largest eigenvalue of ``W6 K6`` for ``body``: omega^2 (1/s^2), or 1/s in the viscous mode.
@@ -869,14 +827,8 @@ class GranularTerrain:
         ``moments`` are the kernel's stiffness moments of the body (:func:`mjrft.kernel.terrain_kernel`), ``K6``
         the 6x6 stiffness they describe and ``W6`` the body's :meth:`mobility`.
         """
-        return largest_rate(*self._jacobians(data, body), np.ascontiguousarray(moments, dtype=np.float64))
-
-    def _jacobians(self, data, body: int) -> tuple[np.ndarray, np.ndarray]:
-        """(J, (M^-1 J^T)^T) of ``body``'s CoM translation (rows 0-2) and rotation (3-5), in scratch arrays."""
-        jac, minv_jac = self._jac6
-        mujoco.mj_jacBodyCom(self.model, data, jac[:3], jac[3:], body)
-        mujoco.mj_solveM(self.model, data, minv_jac, jac)
-        return jac, minv_jac
+        return largest_rate(*self._stability.jacobians(data, body),
+                            np.ascontiguousarray(moments, dtype=np.float64))
 
     def mobility(self, data, body: int) -> np.ndarray:
         """6x6 ``J M^-1 J^T`` of ``body``'s CoM translation (rows 0-2, 1/kg) and rotation (3-5), world frame."""
@@ -896,32 +848,26 @@ class GranularTerrain:
         """Height (m) of the free sand surface at world ``(x, y)`` (arrays broadcast), as the kernel sees it."""
         x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
         out = np.empty(x.shape)
-        kernel.surface_heights(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), self.surface,
-                               self._hf_z, self._hf_frame, out.reshape(-1))
+        sf = self.terrain_model.surface
+        surface_heights(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), sf.height, sf.hfield_z,
+                        sf.hfield_frame, out.reshape(-1))
         return out
 
     def region_weights(self, x, y) -> np.ndarray:
         """Weight of each region (columns: 0 = the terrain's own, k = ``regions[k]``) at world ``(x, y)``."""
         x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
-        out = np.zeros((x.size, len(self.regions)))
-        kernel.region_weights_many(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(),
-                                   self._reg_bounds, self._reg_map, self._reg_map_frame, self.transition, out)
-        return out.reshape(*x.shape, len(self.regions))
-
-    @property
-    def actuator_power(self) -> float:
-        """The actuators' mechanical power ``sum_a |actuator_force_a x actuator_velocity_a|`` (W), averaged over
-        every physics step of the last :meth:`step` call (each step's force and velocity are of the state at its
-        start), so that an environment's control step reports the energy its actuators delivered, not a sample.
-        0 before the first step."""
-        return float(self._power[0])
+        rg = self.terrain_model.regions
+        out = np.zeros((x.size, rg.law.shape[0]))
+        region_weights_many(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), rg.bounds, rg.map,
+                            rg.map_frame, rg.transition, out)
+        return out.reshape(*x.shape, rg.law.shape[0])
 
     def sinkage(self) -> np.ndarray:
         """Deepest element depth (m, >= 0) of each body, shape (nbody,), from the last step."""
         out = np.zeros(self.model.nbody)
-        np.maximum.at(out, self.elem_body, np.maximum(self.depth, 0.0))
+        np.maximum.at(out, self.elem_body, np.maximum(self.terrain_state.depth, 0.0))
         return out
 
     def contact_mask(self) -> np.ndarray:
         """Elements below the surface at the last step."""
-        return self.depth > 0.0
+        return self.terrain_state.depth > 0.0

@@ -10,13 +10,13 @@ is built.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
 from .errors import check_positive
 from .geometry import Elements, discretize_geom, estimate_elements, exposed_elements, to_geom_frame
+from .types import ElementTables
 
 
 #: largest element count a terrain builds unless told otherwise (``max_elements``): about 15 s and 0.4 GB
@@ -40,28 +40,6 @@ def check_element_count(model: mujoco.MjModel, geom_ids, resolution: float, max_
                          "max_elements=... if you mean it")
 
 
-@dataclass
-class ElementTables:
-    """The surface elements of the selected geoms, as the kernel reads them: per element its position and
-    normal in its geom's frame (``lpos``, ``lnrm``), ``area``, geom and body; per cull group (runs of at most
-    :data:`CULL_GROUP` consecutive elements of one geom) its geom, body, first element (``g_start``, one past
-    the last at the end) and the box of its element points in the geom frame (``g_aabb``: centre, half sizes,
-    what MuJoCo's geom_aabb is for the whole geom), so the part of a leg above the sand costs no element work."""
-
-    elements: Elements
-    geom_ids: np.ndarray  # the geoms with exposed elements, in element order
-    lpos: np.ndarray
-    lnrm: np.ndarray
-    area: np.ndarray
-    elem_geom: np.ndarray
-    elem_body: np.ndarray
-    body_ids: np.ndarray  # the bodies that own elements, sorted
-    g_geom: np.ndarray
-    g_body: np.ndarray
-    g_start: np.ndarray
-    g_aabb: np.ndarray
-
-
 def compact_order(points: np.ndarray, size: int = CULL_GROUP) -> np.ndarray:
     """An order of ``points`` (k, 3) whose consecutive runs of ``size`` are compact: the points are split along the
     longest side of their box, the first part a multiple of ``size`` long (half the runs), and each part again (a
@@ -80,7 +58,8 @@ def compact_order(points: np.ndarray, size: int = CULL_GROUP) -> np.ndarray:
 
 
 def _cull_groups(model: mujoco.MjModel, groups) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(geom, body, start, aabb) of the cull groups of ``groups`` = [(geom id, Elements), ...] (see ElementTables)."""
+    """(geom, body, start, aabb) of the cull groups of ``groups`` = [(geom id, Elements), ...] (see
+    :class:`~mjrft.types.ElementTables`)."""
     g_geom, g_start, g_aabb = [], [0], []
     for gid, el in groups:
         local = to_geom_frame(model, gid, el.pos)
@@ -133,10 +112,11 @@ def _compact(model: mujoco.MjModel, gid: int, el: Elements) -> Elements:
     return Elements(el.pos[order], el.normal[order], el.area[order])
 
 
-def build_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> ElementTables:
+def build_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> tuple[Elements, ElementTables]:
     """Cut the geoms into elements of about ``resolution`` and keep the exposed ones (only the exposed surface
-    of each body's union of geoms meets grains, see :func:`~mjrft.geometry.exposed_elements`). A closed mesh
-    turned inside out is refused (:func:`check_mesh_winding`)."""
+    of each body's union of geoms meets grains, see :func:`~mjrft.geometry.exposed_elements`): the elements as
+    the geometry cut them and the kernel's :class:`~mjrft.types.ElementTables` of them. A closed mesh turned
+    inside out is refused (:func:`check_mesh_winding`)."""
     check_mesh_winding(model, geom_ids)
     parts = [discretize_geom(model, gid, resolution) for gid in geom_ids]
     exposed = exposed_elements(model, geom_ids, parts, resolution)
@@ -147,8 +127,11 @@ def build_elements(model: mujoco.MjModel, geom_ids, resolution: float) -> Elemen
     g_geom, g_body, g_start, g_aabb = _cull_groups(model, groups)
     elements = Elements.concatenate([el for _, el in groups])
     elem_geom = np.repeat(ids, [len(el) for _, el in groups])
-    return ElementTables(elements, ids, np.ascontiguousarray(elements.pos, dtype=np.float64),
-                         np.ascontiguousarray(elements.normal, dtype=np.float64),
-                         np.ascontiguousarray(elements.area, dtype=np.float64), elem_geom,
-                         np.ascontiguousarray(model.geom_bodyid[elem_geom], dtype=np.int64), np.unique(g_body),
-                         g_geom, g_body, g_start, g_aabb)
+    tables = ElementTables(lpos=np.ascontiguousarray(elements.pos, dtype=np.float64),
+                           lnrm=np.ascontiguousarray(elements.normal, dtype=np.float64),
+                           area=np.ascontiguousarray(elements.area, dtype=np.float64), geom=elem_geom,
+                           body=np.ascontiguousarray(model.geom_bodyid[elem_geom], dtype=np.int64),
+                           body_ids=np.unique(g_body), geom_ids=ids, group_geom=g_geom, group_body=g_body,
+                           group_start=g_start, group_aabb=g_aabb,
+                           body_root=np.ascontiguousarray(model.body_rootid, dtype=np.int64))
+    return elements, tables

@@ -4,8 +4,8 @@
 :func:`_find_floor` picks the floor (a named geom, or ``"auto"``: the highest horizontal collision plane, box or
 hfield under the robot), :func:`_rigid_floors_left` names the other rigid geoms of the world the robot can still
 stand on (:func:`rigid_support_notes` does it for a surface given as a height),
-:func:`_remove_contacts` takes the chosen floor out of MuJoCo's collisions in the loaded model, and
-:func:`_hfield_surface` reads an hfield geom's world heights for the kernel (:func:`mjrft.kernel.surface_height`).
+:func:`remove_contacts` takes the chosen floor out of MuJoCo's collisions in the loaded model, and
+:func:`_hfield_surface` reads an hfield geom's world heights for the kernel (:func:`mjrft.surface.surface_height`).
 """
 
 from __future__ import annotations
@@ -13,9 +13,9 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from . import kernel
 from .errors import UnknownNameError, unknown
 from .selection import _collides, _geom_label, _ids
+from .surface import surface_heights
 
 
 _FLOOR_TYPES = {int(mujoco.mjtGeom.mjGEOM_PLANE): "plane", int(mujoco.mjtGeom.mjGEOM_BOX): "box",
@@ -51,7 +51,7 @@ def _floor_top(model: mujoco.MjModel, d: mujoco.MjData, g: int, xy: np.ndarray):
         return None, "not under the robot"
     _, z, frame = _hfield_surface(model, _geom_label(model, g))
     out = np.empty(1)
-    kernel.surface_heights(np.array([xy[0]]), np.array([xy[1]]), 0.0, z, frame, out)
+    surface_heights(np.array([xy[0]]), np.array([xy[1]]), 0.0, z, frame, out)
     return float(out[0]), None
 
 
@@ -211,7 +211,7 @@ def _support_note(model, f: int, kind: str, what: str, t: float, top: float, whe
     return []
 
 
-def _remove_contacts(model: mujoco.MjModel, g: int) -> tuple[int, int]:
+def remove_contacts(model: mujoco.MjModel, g: int) -> tuple[int, int]:
     """Take geom ``g`` out of MuJoCo's collisions in the loaded model (contype = conaffinity = 0, explicit
     pairs with it out of reach); returns its former (contype, conaffinity)."""
     before = (int(model.geom_contype[g]), int(model.geom_conaffinity[g]))
@@ -224,7 +224,8 @@ def _remove_contacts(model: mujoco.MjModel, g: int) -> tuple[int, int]:
 
 
 def _hfield_surface(model: mujoco.MjModel, name) -> tuple[int, np.ndarray, np.ndarray]:
-    """(geom id, world heights (nrow, ncol), frame) of the hfield geom ``name`` (see kernel.surface_height)."""
+    """(geom id, world heights (nrow, ncol), frame) of the hfield geom ``name`` (see
+    :func:`mjrft.surface.surface_height`)."""
     hgeoms = [g for g in range(model.ngeom) if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_HFIELD]
     hnames = [mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_GEOM, g) or f"#{g}" for g in hgeoms]
     g = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, str(name))

@@ -37,7 +37,7 @@ def implicit_wrench(f_act, f_acc, f_jac, f_solve, m_addr, d_addr, qacc_smooth, b
     ``mj_solveM`` ``M^-1 J^T``. Scratch: ``jac``, ``minv_jac`` (6 nb x nv), ``blocks`` (nb, 6, 6), ``a``
     (6 nb x 6 nb), ``rhs`` (12 nb + 6: the right-hand side, then room for a column of ``W`` and for ``dV_o``),
     ``rows`` (nb), with nb the number of selected bodies; nothing is allocated, so the fused loop that calls it
-    compiles without numba's reference counting (:func:`mjrft.kernel.run_steps`). Returns -1, or the first body
+    compiles without numba's reference counting (:func:`mjrft.stepping.run_steps`). Returns -1, or the first body
     whose implicit wrench is not finite (its ``wrench`` row is then left as it is)."""
     nv = jac.shape[1]
     nb = bodies.shape[0]

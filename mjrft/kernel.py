@@ -1,12 +1,10 @@
-"""The compiled per-step kernel of the coupler: kinematics -> rest regularisation -> law -> wrench, and the fused
-stepping loop.
+"""The compiled per-step kernel of the coupler: kinematics -> rest regularisation -> law -> wrench.
 
-Pure array code (numba); :mod:`mjrft.coupler` hands it views of ``mjData`` and owns all MuJoCo calls made from
-Python. :func:`terrain_kernel` evaluates every surface element that can reach the grains and sums each body's
-wrench and the moments the stability check (:mod:`mjrft.stability`) and the implicit step
-(:mod:`mjrft.implicit_step`) need; :func:`run_steps` runs ``mj_step1 -> terrain_kernel -> mj_step2`` in one
-compiled loop through MuJoCo's C functions (:mod:`mjrft.mujoco_c`). :func:`surface_height` and
-:func:`region_weights` are the surface and the regions as the kernel sees them.
+Pure array code (numba); :mod:`mjrft.coupler` hands it a terrain's records (:mod:`mjrft.types`) and views of
+``mjData``, and owns all MuJoCo calls made from Python. :func:`terrain_kernel` evaluates every surface element that
+can reach the grains and sums each body's wrench and the moments the stability check (:mod:`mjrft.stability`) and
+the implicit step (:mod:`mjrft.implicit_step`) need; :mod:`mjrft.stepping` runs it between ``mj_step1`` and
+``mj_step2`` in one compiled loop; :mod:`mjrft.surface` is the surface and the regions as it sees them.
 
 The numerics (the rest regularisation of each element, its linearised spring and damper, the depth stiffness,
 the inertial regime's dampers, the implicit step) are derived in docs/numerics.md.
@@ -18,23 +16,16 @@ import math
 
 from numba import njit
 
-from .implicit_step import HOLD_FRACTION, implicit_wrench
+from .implicit_step import HOLD_FRACTION
 from .laws.common import memory_motion, relax_memory
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
+from .laws.registry import LAW_IDS
 from .laws.rft import rft_stress_batch, trails
 from .laws.solidify import solid_memory
-from .laws.registry import LAW_IDS
 from .laws.wet import water_stress
 from .params import P_INERTIA, P_WATER_DEPTH, P_WATER_SKIN
-from .mujoco_c import call_mj
-from .stability import track_chatter, track_depth_springs, track_stiffness
-
-# names of the stability check, the implicit step and the C calls, importable from here as well
-from .implicit_step import IMPLICIT_FUNCTIONS  # noqa: F401
-from .mujoco_c import mujoco_functions, mujoco_step_functions  # noqa: F401
-from .stability import (HELD_STEPS, SPIKE_GROWTH, add_k6, add_vertical_k6, depth_stable_dt, largest_rate,  # noqa: F401
-                        max_stable_dt, stable_step, step_growth)
+from .surface import heaviest_region, map_cell, region_weights, strip_of, surface_height
 
 OK = 0
 BAD_FORCE = 1
@@ -48,134 +39,12 @@ def _isfinite3(x, y, z):
     return math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
 
 
-@njit(cache=True, error_model="numpy")
-def surface_height(px, py, surface, hf_z, hf_frame):
-    """Height of the free (sand) surface at ``(px, py)``: ``surface``, or with a height field the bilinear
-    interpolation of ``hf_z`` (nrow x ncol world heights; row j at local y = -ry + j cell_y, column i at
-    local x = -rx + i cell_x). ``hf_frame`` = (x, y of the hfield geom, cos, sin of its yaw, rx, ry,
-    1/cell_x, 1/cell_y). Outside the grid the border heights continue (the point is clamped onto it)."""
-    nrow = hf_z.shape[0]
-    if nrow == 0:
-        return surface
-    ncol = hf_z.shape[1]
-    dx = px - hf_frame[0]
-    dy = py - hf_frame[1]
-    c, s = hf_frame[2], hf_frame[3]
-    fx = (c * dx + s * dy + hf_frame[4]) * hf_frame[6]
-    fy = (c * dy - s * dx + hf_frame[5]) * hf_frame[7]
-    if not fx > 0.0:  # also NaN: the caller's finiteness check reports the state
-        fx = 0.0
-    elif fx > ncol - 1.0:
-        fx = ncol - 1.0
-    if not fy > 0.0:
-        fy = 0.0
-    elif fy > nrow - 1.0:
-        fy = nrow - 1.0
-    i = min(int(fx), ncol - 2)
-    j = min(int(fy), nrow - 2)
-    tx = fx - i
-    ty = fy - j
-    z0 = hf_z[j, i] + tx * (hf_z[j, i + 1] - hf_z[j, i])
-    z1 = hf_z[j + 1, i] + tx * (hf_z[j + 1, i + 1] - hf_z[j + 1, i])
-    return z0 + ty * (z1 - z0)
-
-
-@njit(cache=True, error_model="numpy")
-def _map_axis(x, origin, cell, n, blend):
-    """Cells (i0, i1) either side of ``x`` along one axis of a region map and the weight of i1."""
-    t = (x - origin) / cell - 0.5  # in cell-centre units
-    if n == 1 or not t > 0.0:
-        return 0, min(1, n - 1), 0.0
-    if t >= n - 1.0:
-        return n - 1, n - 1, 0.0
-    i0 = int(t)
-    f = t - i0
-    if blend > 0.0:
-        s = 0.5 + (f - 0.5) * cell / blend
-        s = min(1.0, max(0.0, s))
-    else:
-        s = 1.0 if f >= 0.5 else 0.0
-    return i0, i0 + 1, s
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _strip(x, reg_bounds):
-    """The strip region containing ``x``: the number of strip starts ``reg_bounds`` (sorted) at or below it."""
-    k = 0
-    while k < reg_bounds.shape[0] and x >= reg_bounds[k]:
-        k += 1
-    return k
-
-
 @njit(cache=True, error_model="numpy", inline="always")
 def _clear(u, out_force, i):
     """Element ``i`` has no force and no memory."""
     for j in range(3):
         u[i, j] = 0.0
         out_force[i, j] = 0.0
-
-
-@njit(cache=True, error_model="numpy")
-def region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend):
-    """Regions at ``(px, py)`` and their weights (four slots, unused ones weigh 0; the weights sum to 1).
-
-    Strips along x (``reg_bounds``, sorted x_min of regions 1..): region k covers
-    ``[bounds[k-1], bounds[k])``; within ``blend / 2`` of a boundary the two neighbours are mixed
-    linearly (half and half on the boundary). Region map (``reg_map`` ny x nx region ids,
-    ``reg_map_frame`` = x_min, y_min, cell_x, cell_y): along each axis the weight moves from one cell to
-    the next over ``blend`` centred on their common edge (bilinear in x and y, up to four regions).
-    ``blend = 0``: hard switch.
-    """
-    if reg_map.shape[0] > 0:
-        i0, i1, sx = _map_axis(px, reg_map_frame[0], reg_map_frame[2], reg_map.shape[1], blend)
-        j0, j1, sy = _map_axis(py, reg_map_frame[1], reg_map_frame[3], reg_map.shape[0], blend)
-        r0, r1, r2, r3 = reg_map[j0, i0], reg_map[j0, i1], reg_map[j1, i0], reg_map[j1, i1]
-        w0, w1, w2, w3 = (1.0 - sx) * (1.0 - sy), sx * (1.0 - sy), (1.0 - sx) * sy, sx * sy
-        if r1 == r0:  # merge repeated regions into their first slot
-            w0 += w1
-            w1 = 0.0
-        if r2 == r0:
-            w0 += w2
-            w2 = 0.0
-        elif r2 == r1:
-            w1 += w2
-            w2 = 0.0
-        if r3 == r0:
-            w0 += w3
-            w3 = 0.0
-        elif r3 == r1:
-            w1 += w3
-            w3 = 0.0
-        elif r3 == r2:
-            w2 += w3
-            w3 = 0.0
-        return (r0, r1, r2, r3), (w0, w1, w2, w3)
-    nb = reg_bounds.shape[0]
-    k = _strip(px, reg_bounds)
-    if blend > 0.0:
-        if k > 0 and px - reg_bounds[k - 1] < 0.5 * blend:
-            s = 0.5 + (px - reg_bounds[k - 1]) / blend
-            return (k, k - 1, 0, 0), (s, 1.0 - s, 0.0, 0.0)
-        if k < nb and reg_bounds[k] - px < 0.5 * blend:
-            s = 0.5 + (px - reg_bounds[k]) / blend
-            return (k + 1, k, 0, 0), (s, 1.0 - s, 0.0, 0.0)
-    return (k, 0, 0, 0), (1.0, 0.0, 0.0, 0.0)
-
-
-@njit(cache=True, error_model="numpy")
-def surface_heights(xs, ys, surface, hf_z, hf_frame, out):
-    """:func:`surface_height` at many points (``out[i]`` for ``(xs[i], ys[i])``)."""
-    for i in range(xs.shape[0]):
-        out[i] = surface_height(xs[i], ys[i], surface, hf_z, hf_frame)
-
-
-@njit(cache=True, error_model="numpy")
-def region_weights_many(xs, ys, reg_bounds, reg_map, reg_map_frame, blend, out):
-    """:func:`region_weights` at many points, accumulated into ``out[i, region]`` (zeroed by the caller)."""
-    for i in range(xs.shape[0]):
-        regs, wts = region_weights(xs[i], ys[i], reg_bounds, reg_map, reg_map_frame, blend)
-        for q in range(4):
-            out[i, regs[q]] += wts[q]
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -469,7 +338,7 @@ def _inside_strip(geom_xpos, G, g_aabb, g, gid, reg_bounds, breg, blend):
     gxh = abs(G[0]) * g_aabb[g, 3] + abs(G[1]) * g_aabb[g, 4] + abs(G[2]) * g_aabb[g, 5]
     xlo = gxc - gxh - 0.5 * blend
     xhi = gxc + gxh + 0.5 * blend
-    greg = _strip(xlo, reg_bounds)
+    greg = strip_of(xlo, reg_bounds)
     return greg == breg and (greg == reg_bounds.shape[0] or xhi < reg_bounds[greg])
 
 
@@ -517,33 +386,6 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _map_cell(px, py, frame, nx, ny, blend):
-    """Cell (i, j) of a region map (``frame`` = x_min, y_min, cell_x, cell_y; ``nx`` x ``ny`` cells) holding
-    ``(px, py)``, clamped onto the grid (NaN -> 0, reported as a bad state by the caller), and whether the
-    point lies within ``blend / 2`` of an edge to another cell (where the regions are blended)."""
-    x0, y0, cx, cy = frame
-    fx = (px - x0) / cx
-    fy = (py - y0) / cy
-    ci = min(int(fx), nx - 1) if fx > 0.0 else 0
-    cj = min(int(fy), ny - 1) if fy > 0.0 else 0
-    hx = 0.5 * blend / cx
-    hy = 0.5 * blend / cy
-    near = ((ci > 0 and fx - ci < hx) or (ci < nx - 1 and ci + 1 - fx < hx)
-            or (cj > 0 and fy - cj < hy) or (cj < ny - 1 and cj + 1 - fy < hy))
-    return ci, cj, near
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _heaviest(regs, wts):
-    """The region of the largest of the four weights (:func:`region_weights`), the one an element reports."""
-    top_q = 0
-    for slot in range(1, 4):
-        if wts[slot] > wts[top_q]:
-            top_q = slot
-    return regs[top_q]
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def _with_water_damping(kk, cw, delta, tau):
     """(stiffness, damping) of an element whose sand part has stiffness ``kk`` and whose water drag has damping
     ``cw``: with the rest memory (``delta > 0``) the drag adds to the damping only; in the viscous mode the
@@ -560,14 +402,7 @@ def _with_water_damping(kk, cw, delta, tau):
 # reference-count pruning does not remove around a loop; as helpers they cost 2-5 % of the kernel
 # (benchmarks/kernel_ab.py). The helpers above are the ones measured free of that cost.
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"}, _nrt=False)
-def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
-                   e_lpos, e_lnrm, e_area,
-                   geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
-                   surface, top, reg_bounds, reg_law, reg_params,
-                   hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
-                   dt, delta, tau, v_eps,
-                   u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                   wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff, solid, stick):
+def terrain_kernel(tables, mjd, gravity, dt, st):
     """Evaluate every element of every geom that can reach below ``top``; returns (status, body).
 
     Elements come in cull groups (``g_*``: runs of up to ``elements.CULL_GROUP`` elements of one geom).
@@ -611,7 +446,27 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
     drag needs none). With the regime off in every region nothing of it runs (one flag per step).
 
     ``solid``, ``stick``: the solidify option (:mod:`mjrft.laws.solidify`; ``solid = 0`` off).
+
+    Arguments: ``tables`` (model in: :attr:`mjrft.types.TerrainModel.tables`), ``mjd`` (data in:
+    :class:`mjrft.types.MjViews` after ``mj_step1``), ``gravity`` (m/s^2, downward), ``dt`` (s, the step the memory
+    advances by), ``st`` (state in and out: :class:`mjrft.types.TerrainState`).
     """
+    # Model
+    el, sf, rg, cs = tables
+    g_geom, g_body, g_start, g_aabb = el.group_geom, el.group_body, el.group_start, el.group_aabb
+    e_lpos, e_lnrm, e_area, rootid = el.lpos, el.lnrm, el.area, el.body_root
+    surface, top, hf_z, hf_frame = sf.height, sf.top, sf.hfield_z, sf.hfield_frame
+    reg_bounds, reg_law, reg_params, reg_rho = rg.bounds, rg.law, rg.params, rg.rho
+    reg_map, reg_map_frame, blend = rg.map, rg.map_frame, rg.transition
+    delta, tau, v_eps, solid, stick = cs.delta, cs.tau, cs.v_eps, cs.solid, cs.stick
+    # Data in
+    geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com = mjd
+    # State in and out
+    u, g_active = st.u, st.group_active
+    out_pos, out_vel, out_nrm, out_depth = st.pos, st.vel, st.normal, st.depth
+    out_force, out_region = st.force, st.region
+    wrench, stiff, damp, inert, dstiff, imp = st.wrench, st.stiff, st.damp, st.inert, st.dstiff, st.imp
+    scr_f, scr_i = st.scr_f, st.scr_i
     nreg = reg_law.shape[0]
     nb = reg_bounds.shape[0]
     has_hf = hf_z.shape[0] > 0
@@ -708,7 +563,7 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
             reg = 0
             if nreg > 1:
                 if has_map:  # the blend only within blend / 2 of an edge to another cell
-                    ci, cj, near = _map_cell(px, py, map_frame, map_nx, map_ny, blend)
+                    ci, cj, near = map_cell(px, py, map_frame, map_nx, map_ny, blend)
                     if near:
                         regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
                         reg = regs[0]
@@ -716,13 +571,13 @@ def terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active,
                     else:
                         reg = reg_map[cj, ci]
                 else:  # strips: the blend only near a boundary
-                    reg = _strip(px, reg_bounds)
+                    reg = strip_of(px, reg_bounds)
                     if blend > 0.0 and ((reg > 0 and px - reg_bounds[reg - 1] < 0.5 * blend)
                                         or (reg < nb and reg_bounds[reg] - px < 0.5 * blend)):
                         regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
                         single = False
                 if not single:  # report the region with the largest weight
-                    reg = _heaviest(regs, wts)
+                    reg = heaviest_region(regs, wts)
             if single and reg != cur_reg:
                 cur_reg = reg
                 p = reg_params[reg]
@@ -954,101 +809,3 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             _add_run_moments(imp, b, scr_f, 4, j0, j1)
         j0 = j1
     return OK, -1
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def actuator_power(act_force, act_vel):
-    """The actuators' mechanical power ``sum_a |f_a v_a|`` (W) from ``data.actuator_force`` and
-    ``data.actuator_velocity`` (force times velocity in the actuators' own units is the power they deliver to
-    their transmission, whatever its gear)."""
-    p = 0.0
-    for a in range(act_force.shape[0]):
-        p += abs(act_force[a] * act_vel[a])
-    return p
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def add_rows(target, rows, values, saved):
-    """saved[rows] = target[rows]; target[rows] += values[rows]."""
-    for k in range(rows.shape[0]):
-        b = rows[k]
-        for j in range(values.shape[1]):
-            saved[b, j] = target[b, j]
-            target[b, j] += values[b, j]
-
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def restore_rows(target, rows, saved):
-    """target[rows] = saved[rows]: exactly what other code had put there."""
-    for k in range(rows.shape[0]):
-        b = rows[k]
-        for j in range(saved.shape[1]):
-            target[b, j] = saved[b, j]
-
-
-# ---------------------------------------------------------------------------------------------
-# Fused stepping: mj_step1 -> terrain_kernel -> mj_step2 in one compiled loop, calling MuJoCo's C
-# functions through their addresses (passed at run time, so the compiled code stays cacheable).
-# This removes the per-step Python overhead that would otherwise dominate small models.
-#
-# The loop and everything it calls per step (terrain_kernel, _scatter_batch, the stability tracking, the
-# implicit step) are compiled with _nrt=False: they allocate nothing, and without numba's reference counting
-# a call no longer takes and drops a reference (two atomic operations) on each of its ~50 arrays, nor each
-# inlined helper on its arrays per cull group (benchmarks/step_parts.py; results equal bit for bit).
-
-@njit(cache=True, error_model="numpy", _nrt=False)
-def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, xfrc, rows, saved,
-              g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
-              geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
-              surface, top, reg_bounds, reg_law, reg_params,
-              hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity, dt, delta, tau, v_eps,
-              u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region, wrench, stiff, damp, inert, scr_f,
-              scr_i, imp, dstiff, solid, stick, stiff_max, damp_max, inert_max, dstiff_max, implicit, f_implicit,
-              qacc_smooth, use_inert, imp_jac, imp_minv_jac, imp_blocks, imp_a, imp_rhs, imp_rows, act_force, act_vel,
-              power):
-    """``nstep`` x (mj_step1, terrain_kernel, [implicit_wrench], xfrc += wrench, mj_step2, restore xfrc).
-
-    With ``implicit`` the wrench of each step is made linearly implicit by :func:`implicit_wrench`
-    (``f_implicit`` the addresses of :data:`mjrft.implicit_step.IMPLICIT_FUNCTIONS`; the ``imp_*`` arrays its
-    scratch).
-
-    ``power[0]`` receives the actuators' mechanical power ``sum_a |act_force[a] act_vel[a]|`` (W; the views of
-    ``actuator_force`` and ``actuator_velocity``, both of the state at the start of a step after its mj_step2)
-    averaged over the steps completed (:func:`actuator_power`).
-
-    Returns (status, body, steps completed); on a non-finite value it stops after mj_step1 of the
-    failing step, before anything is written to xfrc_applied.
-    """
-    work = 0.0
-    power[0] = 0.0
-    for s in range(nstep):
-        call_mj(f_step1, m_addr, d_addr)
-        status, body = terrain_kernel(g_geom, g_body, g_start, g_aabb, g_active, e_lpos, e_lnrm, e_area,
-                                      geom_xpos, geom_xmat, xpos, xmat, xipos, cvel, subtree_com, rootid,
-                                      surface, top, reg_bounds, reg_law, reg_params,
-                                      hf_z, hf_frame, reg_map, reg_map_frame, reg_rho, blend, gravity,
-                                      dt, delta, tau, v_eps,
-                                      u, out_pos, out_vel, out_nrm, out_depth, out_force, out_region,
-                                      wrench, stiff, damp, inert, scr_f, scr_i, imp, dstiff, solid, stick)
-        if status != OK:
-            if s > 0:
-                power[0] = work / s
-            return status, body, s
-        track_stiffness(stiff, stiff_max, damp, damp_max, inert, inert_max)
-        track_depth_springs(dstiff, dstiff_max)
-        if implicit:
-            bad = implicit_wrench(f_implicit[0], f_implicit[1], f_implicit[2], f_implicit[3], m_addr, d_addr,
-                                  qacc_smooth, rows, wrench, imp, inert, use_inert, dt, imp_jac, imp_minv_jac,
-                                  imp_blocks, imp_a, imp_rhs, imp_rows)
-            if bad >= 0:
-                if s > 0:
-                    power[0] = work / s
-                return BAD_FORCE, bad, s
-        track_chatter(wrench, rows, stiff_max)
-        add_rows(xfrc, rows, wrench, saved)
-        call_mj(f_step2, m_addr, d_addr)
-        restore_rows(xfrc, rows, saved)
-        work += actuator_power(act_force, act_vel)
-    if nstep > 0:
-        power[0] = work / nstep
-    return OK, -1, nstep

@@ -1,7 +1,7 @@
 """MuJoCo's C functions called from compiled code: the library the bindings loaded, the addresses of its
 functions, and the numba intrinsics that call a function at such an address.
 
-The fused stepping loop (:func:`mjrft.kernel.run_steps`), the implicit step (:mod:`mjrft.implicit_step`) and the
+The fused stepping loop (:func:`mjrft.stepping.run_steps`), the implicit step (:mod:`mjrft.implicit_step`) and the
 stability check (:mod:`mjrft.stability`) call ``mj_step1``, ``mj_step2``, ``mj_jacBodyCom``, ``mj_solveM`` and
 the like without going back to Python. The addresses are passed to the compiled functions as arguments at run
 time, so the compiled code stays cacheable. The library is the one the ``mujoco`` package ships next to its

@@ -2,7 +2,7 @@
 the kernel's per-region tables built from them.
 
 :class:`Region` and :class:`RegionMap` are the user's description; :func:`build_regions` turns a terrain's
-settings into :class:`RegionTables` (law ids, each region's parameter row with its water layer, drag and
+settings into :class:`~mjrft.types.RegionTables` (law ids, each region's parameter row with its water layer, drag and
 inertial constants, the buoyancy's water density, the strips' bounds or the map); each law's part of them comes
 from its entry in :mod:`mjrft.laws.registry`.
 """
@@ -16,10 +16,11 @@ import numpy as np
 
 from .errors import UnknownNameError, check_finite, check_positive, unknown
 from .laws.inertial import set_inertial
-from .laws.registry import DRY_LAWS, LAW_IDS, LAWS, get_law, parameter_vector
+from .laws.registry import DRY_LAWS, LAW_IDS, LAWS, STRESS_SLOTS, get_law, parameter_vector
 from .laws.wet import wet_constants
 from .params import P_WATER_DEPTH, P_WATER_DRAG
 from .media import MEDIA, Medium, get_medium
+from .types import RegionTables
 
 if TYPE_CHECKING:
     from .settings import TerrainSettings
@@ -122,24 +123,6 @@ def _region_map(value, n_regions: int, transition: float) -> tuple[np.ndarray, n
     return np.ascontiguousarray(arr), np.array([x0, y0, cx, cy], dtype=np.float64)
 
 
-@dataclass
-class RegionTables:
-    """The kernel's per-region arrays (region 0 = the terrain's own medium and law, then ``regions[k - 1]``):
-    ``bounds`` the strips' x_min, ``law`` law ids, ``params`` each medium's parameter row with its water depth,
-    water drag and inertial constants, ``rho`` the buoyancy's water density (0: none), ``map`` / ``map_frame``
-    the region map (empty for strips); ``regions`` the resolved :class:`Region` of each row; ``inertial``
-    the setting as it applies (off for a scene file's ``mjrft:inertial`` when no region has a dry law)."""
-
-    regions: list
-    bounds: np.ndarray
-    law: np.ndarray
-    params: np.ndarray
-    rho: np.ndarray
-    map: np.ndarray
-    map_frame: np.ndarray
-    inertial: bool
-
-
 def _region_row(k: int, reg: Region, s: TerrainSettings) -> tuple[Medium, int, np.ndarray, float, float]:
     """(medium, law id, parameter row, water depth, buoyancy's water density) of region ``k``."""
     where = "" if k == 0 else f"region {k} "
@@ -179,8 +162,11 @@ def _next_strip(k: int, x_min, bounds: list, transition: float) -> float:
     return x_min
 
 
-def build_regions(s: TerrainSettings) -> RegionTables:
-    """The :class:`RegionTables` of the settings' own region and its strips or mapped regions."""
+def build_regions(s: TerrainSettings, stress_scale: float = 1.0) -> tuple[tuple[Region, ...], RegionTables, bool]:
+    """The regions of the settings' own region and its strips or mapped regions: (the resolved :class:`Region` of
+    each row, the kernel's :class:`~mjrft.types.RegionTables` with every granular stress times ``stress_scale``
+    (:data:`~mjrft.laws.registry.STRESS_SLOTS`), whether the inertial regime applies: off for a scene file's
+    ``mjrft:inertial`` when no region has a dry law). Raises on the first bad region, naming it."""
     base = Region(None, s.medium, s.law, s.water_depth)
     laws, params, rhos, bounds, regions = [], [], [], [], []
     for k, reg in enumerate([base, *s.regions]):
@@ -203,6 +189,9 @@ def build_regions(s: TerrainSettings) -> RegionTables:
         else:
             raise ValueError(f"inertial=True needs a region with a dry law ({', '.join(DRY_LAWS)}); the terrain's "
                              f"laws are {', '.join(sorted({str(r.law) for r in regions}))}")
-    return RegionTables(regions, np.array(bounds, dtype=np.float64), np.array(laws, dtype=np.int64),
-                        np.ascontiguousarray(np.array(params, dtype=np.float64)), np.array(rhos, dtype=np.float64),
-                        rmap, rframe, inertial)
+    params = np.ascontiguousarray(np.array(params, dtype=np.float64))
+    if stress_scale != 1.0:
+        params[:, STRESS_SLOTS] *= stress_scale
+    tables = RegionTables(np.array(bounds, dtype=np.float64), np.array(laws, dtype=np.int64), params,
+                          np.array(rhos, dtype=np.float64), rmap, rframe, float(s.transition))
+    return tuple(regions), tables, inertial

@@ -3,7 +3,7 @@
 the coupler and everything after it read only that).
 
 :data:`CUSTOM_KEYS` are the ``mjrft:*`` keys a model may carry (:func:`check_custom_keys` warns about any other);
-:func:`_custom` reads them, once per :func:`resolve_settings`.
+:func:`custom_entries` reads them, once per :func:`resolve_settings`.
 """
 
 from __future__ import annotations
@@ -88,7 +88,7 @@ def check_custom_keys(cfg: dict, stacklevel: int = 3) -> None:
                           f"{hint}valid keys: {', '.join('mjrft:' + k for k in CUSTOM_KEYS)}", stacklevel=stacklevel)
 
 
-def _custom(model: mujoco.MjModel) -> dict:
+def custom_entries(model: mujoco.MjModel) -> dict:
     """The ``mjrft:*`` entries of the model's <custom> section (text as str, numeric as float)."""
     out = {}
     for i in range(model.ntext):
@@ -158,7 +158,7 @@ def resolve_settings(model: mujoco.MjModel, *, medium=None, law=None, bodies=Non
     counted as :func:`warnings.warn` counts from here: 2 names the caller); raises on the first bad or conflicting
     value, naming it."""
     _check_selection(bodies, geoms)
-    cfg = _custom(model)
+    cfg = custom_entries(model)
     check_custom_keys(cfg, stacklevel=stacklevel + 1)
 
     def pick(key, value):

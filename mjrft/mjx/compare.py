@@ -43,10 +43,10 @@ def record_states(model: mujoco.MjModel, terrain: GranularTerrain, steps: int, e
         if ctrl is not None:
             data.ctrl[:] = ctrl(data.time)
         mujoco.mj_step1(model, data)
-        u0 = terrain._u.copy()
+        u0 = terrain.terrain_state.u.copy()
         terrain.compute(data)
         if k % every == every - 1:
-            out.append(RecordedState(copy.copy(data), u0, terrain.wrench.copy(), terrain._u.copy()))
+            out.append(RecordedState(copy.copy(data), u0, terrain.wrench.copy(), terrain.terrain_state.u.copy()))
         saved = data.xfrc_applied.copy()
         data.xfrc_applied[:] += terrain.wrench
         mujoco.mj_step2(model, data)
@@ -85,12 +85,12 @@ def replay_steps(model: mujoco.MjModel, terrain_kwargs: dict, steps: int, every:
         if ctrl is not None:
             data.ctrl[:] = ctrl(data.time)
         if k % every == every - 1:
-            before, u = copy.copy(data), walker._u.copy()
+            before, u = copy.copy(data), walker.terrain_state.u.copy()
             rows = []
             for terrain in (implicit, explicit):
                 replay = copy.copy(before)
-                terrain._bind(replay)  # binding to another MjData forgets the memory: set it after
-                terrain._u[:] = u
+                terrain.bind(replay)  # binding to another MjData forgets the memory: set it after
+                terrain.terrain_state.u[:] = u
                 terrain.step(replay, 1)
                 rows.append((terrain.wrench.copy(), replay.qvel.copy()))
             out.append((before, u, rows[0][0], rows[1][0], rows[0][1]))

@@ -58,11 +58,14 @@ import numpy as np
 from mujoco import mjx
 from mujoco.mjx._src.smooth import solve_m
 
-from ..coupler import STRESS_SLOTS, GranularTerrain
+from ..build import build_model, remove_floor_contacts, water_depth
+from ..coupler import GranularTerrain
+from ..laws.registry import STRESS_SLOTS
 from ..errors import NonFiniteError, check_positive
 from ..implicit_step import HOLD_FRACTION
 from ..laws.registry import parameter_vector
 from ..media import get_medium
+from ..types import TerrainModel
 from .integrator import integrate
 from .laws import law_function
 
@@ -90,21 +93,22 @@ class SandState(NamedTuple):
     bad_time: jax.Array
 
 
-def _unsupported(terrain: GranularTerrain) -> list[str]:
-    """The options of ``terrain`` that the JAX path does not model."""
+def _unsupported(tm: TerrainModel) -> list[str]:
+    """The options of the terrain model ``tm`` that the JAX path does not model."""
     out = []
-    if len(terrain.regions) > 1:
-        out.append(f"{len(terrain.regions) - 1} extra region(s)")
-    if terrain.water_depth > 0:
-        out.append(f"water_depth = {terrain.water_depth:g} m")
-    if np.any(terrain._reg_rho > 0):
+    rg = tm.regions
+    if rg.law.shape[0] > 1:
+        out.append(f"{rg.law.shape[0] - 1} extra region(s)")
+    if water_depth(rg.params) > 0:
+        out.append(f"water_depth = {water_depth(rg.params):g} m")
+    if np.any(rg.rho > 0):
         out.append("buoyancy")
-    if terrain.inertial:
+    if tm.constants.inertial:
         out.append("the inertial regime (inertial=True)")
-    if terrain.surface_hfield is not None:
+    if tm.settings.surface_hfield is not None:
         out.append("a height-field surface")
-    if terrain.solidify > 0.0:
-        out.append(f"solidify = {terrain.solidify:g}")
+    if tm.constants.solid > 0.0:
+        out.append(f"solidify = {tm.constants.solid:g}")
     return out
 
 
@@ -121,55 +125,75 @@ class Sand:
     """
 
     def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, cull: int | None = None, **kwargs):
-        self._init_from(GranularTerrain(model, medium, law, **kwargs), cull)
+        if not isinstance(model, mujoco.MjModel):
+            raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
+        tm = build_model(model, medium, law, stacklevel=3, **kwargs)
+        self._init_from(model, tm, cull)
+        self.floor_contacts = remove_floor_contacts(model, tm)  # last: an error above leaves the model as it was
+
+    @classmethod
+    def from_model(cls, model: mujoco.MjModel, terrain_model: TerrainModel, cull: int | None = None) -> "Sand":
+        """The JAX terrain of the records ``terrain_model`` (:func:`mjrft.build.build_model`, or a CPU terrain's
+        :attr:`~mjrft.GranularTerrain.terrain_model`) on ``model``: the floor that became the surface loses its
+        contacts in ``model`` as in the constructor."""
+        if not isinstance(terrain_model, TerrainModel):
+            raise TypeError(f"terrain_model must be a mjrft.TerrainModel, got {type(terrain_model).__name__}")
+        self = cls.__new__(cls)
+        self._init_from(model, terrain_model, cull)
+        self.floor_contacts = remove_floor_contacts(model, terrain_model)
+        return self
 
     @classmethod
     def from_terrain(cls, terrain: GranularTerrain, cull: int | None = None) -> "Sand":
         """The JAX twin of an existing CPU terrain (same elements, medium, law, memory settings, stress scale)."""
-        self = cls.__new__(cls)
-        self._init_from(terrain, cull)
-        return self
-
-    def _init_from(self, terrain: GranularTerrain, cull) -> None:
         if not isinstance(terrain, GranularTerrain):
             raise TypeError(f"terrain must be a mjrft.GranularTerrain, got {type(terrain).__name__}")
-        missing = _unsupported(terrain)
+        self = cls.__new__(cls)
+        self._init_from(terrain.model, terrain.terrain_model, cull)
+        self.floor_contacts = terrain.floor_contacts
+        return self
+
+    def _init_from(self, model: mujoco.MjModel, tm: TerrainModel, cull) -> None:
+        missing = _unsupported(tm)
         if missing:
             raise NotImplementedError(f"mjrft.mjx does not model {', '.join(missing)}; supported: one region with "
                                       "law rft, rft3d or depth_only on a flat surface (mjrft.mjx.terrain docstring)")
-        self.law = terrain.law
-        self._stress = law_function(terrain.law)
-        self.terrain = terrain
-        self.model = terrain.model
-        n = terrain.n_elements
+        if int(tm.elements.body_root.shape[0]) != model.nbody:
+            raise ValueError(f"terrain_model was built on a model with {tm.elements.body_root.shape[0]} bodies, not "
+                             f"this one ({model.nbody})")
+        self.law = tm.settings.law
+        self._stress = law_function(self.law)
+        self.terrain_model = tm
+        self.model = model
+        n = tm.n_elements
         if cull is not None:
             if isinstance(cull, bool) or not isinstance(cull, (int, np.integer)) or not 1 <= cull <= n:
                 raise ValueError(f"cull must be None or an integer from 1 to the element count {n}, got {cull!r}")
             cull = int(cull)
         self.cull = cull
         self.n_elements = n
-        self.nbody = terrain.model.nbody
-        self.body_ids = np.asarray(terrain.body_ids)
-        self.surface = float(terrain.surface)
-        self.delta = float(terrain.yield_displacement)
-        self.tau = float(terrain.damping_time)
-        self.v_eps = float(terrain.v_eps)
-        self.params = np.array(terrain._reg_params[0], dtype=np.float64)
+        self.nbody = model.nbody
+        el, cs = tm.elements, tm.constants
+        self.body_ids = np.asarray(el.body_ids)
+        self.surface = float(tm.surface.height)
+        self.delta = float(cs.delta)
+        self.tau = float(cs.tau)
+        self.v_eps = float(cs.v_eps)
+        self.params = np.array(tm.regions.params[0], dtype=np.float64)
         # element tables (body frame); per element its body and the root of its kinematic tree
-        self.lpos = np.array(terrain._e_lpos)
-        self.lnrm = np.array(terrain._e_lnrm)
-        self.area = np.array(terrain.area)
-        self.elem_body = np.array(terrain.elem_body, dtype=np.int32)
-        self.elem_root = np.array(terrain._rootid[terrain.elem_body], dtype=np.int32)
+        self.lpos = np.array(el.lpos)
+        self.lnrm = np.array(el.lnrm)
+        self.area = np.array(el.area)
+        self.elem_body = np.array(el.body, dtype=np.int32)
+        self.elem_root = np.array(el.body_root[el.body], dtype=np.int32)
         onehot = np.zeros((self.nbody, n))
         onehot[self.elem_body, np.arange(n)] = 1.0
         self.onehot = onehot  # body-from-element sums as one matrix product (no scatter)
-        self.implicit = bool(terrain.implicit)
+        self.implicit = bool(cs.implicit)
         # the implicit step's bodies (those with elements), their kinematic roots and the dofs that move them
-        model = terrain.model
         rows = np.unique(self.elem_body)
         self.imp_rows = rows.astype(np.int32)
-        self.imp_root = np.asarray(terrain._rootid)[rows].astype(np.int32)
+        self.imp_root = np.asarray(el.body_root)[rows].astype(np.int32)
         mask = np.zeros((rows.size, model.nv))
         for i, b in enumerate(rows):
             while b > 0:  # the body and its ancestors: the dofs whose motion moves it

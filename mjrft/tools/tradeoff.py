@@ -103,7 +103,8 @@ from typing import Callable
 import mujoco
 import numpy as np
 
-from mjrft.coupler import DEFAULTS, GranularTerrain, _custom
+from mjrft.coupler import GranularTerrain
+from mjrft.settings import DEFAULTS, custom_entries
 from mjrft.errors import NonFiniteError, TerrainStabilityWarning, check_positive, unknown
 from mjrft.media import generic, get_medium
 
@@ -472,7 +473,7 @@ def _model_for(scenario: Scenario, timestep: float) -> mujoco.MjModel:
 
 
 def make_terrain(scenario: Scenario, model: mujoco.MjModel, config: Config) -> GranularTerrain:
-    law, medium = law_and_medium(config.law, _custom(model).get("medium", DEFAULTS["medium"]))
+    law, medium = law_and_medium(config.law, custom_entries(model).get("medium", DEFAULTS["medium"]))
     if config.law == "hybrid" and scenario.hybrid_extra is not None:
         medium = medium.with_extra(**scenario.hybrid_extra())
     return GranularTerrain(model, medium, law, resolution_scale=config.resolution_scale,

@@ -11,7 +11,7 @@ import pytest
 
 import mjrft
 from mjrft.batch import BatchedTerrain
-from mjrft.coupler import Region
+from mjrft.regions import Region
 from mjrft.models import hexapod_xml
 
 gymnasium = pytest.importorskip("gymnasium")
@@ -103,12 +103,12 @@ def test_set_regions_equals_a_fresh_terrain():
     regions = [Region(0.0, "glass3_cp", "rft"), Region(0.08, SAND, "wet", 0.01)]
     kw = dict(geoms=["g"], resolution=0.01, buoyancy=True)
     t = mjrft.GranularTerrain(m, "poppy_cp", "rft", **kw)
-    arrays = (t._reg_params, t._reg_law)
+    arrays = (t.terrain_model.regions.params, t.terrain_model.regions.law)
     t.set_regions(regions)
     fresh = mjrft.GranularTerrain(m, "poppy_cp", "rft", regions=regions, **kw)
     assert [(r.x_min, r.medium.name, r.law, r.water_depth) for r in t.regions] == \
            [(r.x_min, r.medium.name, r.law, r.water_depth) for r in fresh.regions]
-    assert t.water_depth == fresh.water_depth == 0.01 and t._top == fresh._top
+    assert t.water_depth == fresh.water_depth == 0.01 and t.terrain_model.surface.top == fresh.terrain_model.surface.top
     same(forces(t, d), forces(fresh, d))
     assert set(np.unique(t.region[t.depth > 0])) == {0, 1, 2}
     t.set_regions([(0.05, "poppy_lp", "rft"), (0.1, SAND, "wet")])  # as many regions: the same arrays, refilled
@@ -117,7 +117,7 @@ def test_set_regions_equals_a_fresh_terrain():
     t.set_regions(None)  # back to one region: the old region ids are gone
     assert t.region.max() == 0 and len(t.regions) == 1 and t.water_depth == 0.0
     same(forces(t, d), forces(mjrft.GranularTerrain(m, "poppy_cp", "rft", **kw), d))
-    assert t._reg_law.shape == arrays[1].shape == (1,)
+    assert t.terrain_model.regions.law.shape == arrays[1].shape == (1,)
 
 
 def test_set_surface_flat_and_height_field():
@@ -126,7 +126,7 @@ def test_set_surface_flat_and_height_field():
     t = mjrft.GranularTerrain(m, "poppy_cp", "rft", geoms=["g"], resolution=0.01)
     assert np.abs(forces(t, d)[0]).max() == 0  # above the surface
     t.set_surface(0.015)
-    assert t.surface == 0.015 and t._top == 0.015
+    assert t.surface == 0.015 and t.terrain_model.surface.top == 0.015
     same(forces(t, d), forces(mjrft.GranularTerrain(m, "poppy_cp", "rft", geoms=["g"], resolution=0.01, surface=0.015), d))
 
     m, d = box(hfield=True)
@@ -138,7 +138,7 @@ def test_set_surface_flat_and_height_field():
     new = 0.01 + 0.004 * np.arange(12.0).reshape(3, 4) / 11
     t.set_surface(new)
     np.testing.assert_allclose(t.surface_samples()[2], new, rtol=0, atol=0)
-    assert t.surface == pytest.approx(new.mean()) and t._top == new.max()
+    assert t.surface == pytest.approx(new.mean()) and t.terrain_model.surface.top == new.max()
     np.testing.assert_allclose(t.surface_height(x, y), new, rtol=0, atol=1e-15)
     # the model's hfield was rewritten: a terrain built on it now has the same surface (float32 samples)
     fresh = mjrft.GranularTerrain(m, "poppy_cp", "rft", geoms=["g"], resolution=0.01, surface="ground")
@@ -180,10 +180,10 @@ def test_stability_check_sees_the_scaled_stiffness():
     place(m, d, z=0.0, vel=(0.0, 0.0, -0.01))
     t = mjrft.GranularTerrain(m, "poppy_cp", "rft", geoms=["g"], resolution=0.01)
     forces(t, d)
-    stiff = t._stiff.copy()
+    stiff = t.terrain_state.stiff.copy()
     t.set_medium(stress_scale=3.0)
     forces(t, d)
-    same([t._stiff], [3 * stiff])  # the stiffness grows with the scale
+    same([t.terrain_state.stiff], [3 * stiff])  # the stiffness grows with the scale
     # a 1 g plate at a 10 ms step is beyond the limit: the warning names the scale
     m, d = box(mass=0.001, dt=0.01)
     place(m, d, z=0.0, vel=(0, 0, 0))

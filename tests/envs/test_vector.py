@@ -40,7 +40,7 @@ def hexapods(n, shared_model=True):
 
 
 def state(d, t):
-    return [d.time, d.qpos, d.qvel, d.act, d.ctrl, d.xfrc_applied, t.force, t.depth, t._u, t.wrench]
+    return [d.time, d.qpos, d.qvel, d.act, d.ctrl, d.xfrc_applied, t.force, t.depth, t.terrain_state.u, t.wrench]
 
 
 def assert_same(a, b):
@@ -157,7 +157,8 @@ def test_batched_bad_input():
     with pytest.raises(ValueError, match="parallel must be True or False"):
         BatchedTerrain(ters, dats, parallel="yes")
     # unlike terrains (a different dtype in one of the arrays the kernel gets) cannot share one compiled call
-    ters[1]._g_active = ters[1]._g_active.astype(np.int8)
+    st = ters[1].terrain_state
+    ters[1].terrain_state = st._replace(group_active=st.group_active.astype(np.int8))
     with pytest.raises(ValueError, match="environment 1's terrain arrays have different types from environment 0's"):
         batch.step(1)
 

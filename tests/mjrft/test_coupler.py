@@ -65,7 +65,7 @@ def test_uses_current_kinematics_and_wrench_is_brute_force_sum():
     t.step(d)
     # positions are kept for every element of a geom whose bounding box reaches the surface; the others
     # (culled: no element work at all) are exactly the geoms whose lowest element is above it
-    near = np.repeat(t._g_active, np.diff(t._g_start))
+    near = np.repeat(t.terrain_state.group_active, np.diff(t.terrain_model.elements.group_start))
     assert near.any() and not near.all()
     np.testing.assert_allclose(t.pos[near], pos[near], atol=1e-12)
     assert np.all(pos[~near, 2] > t.surface)
@@ -197,7 +197,7 @@ def test_geoms_far_above_are_culled():
     m, d = box(z=1.0)
     t = mjrft.GranularTerrain(m, "poppy_cp", "rft")
     t.step(d, 3)
-    assert not t._g_active.any()
+    assert not t.terrain_state.group_active.any()
     assert np.all(t.force == 0) and np.all(t.wrench == 0)
 
 
@@ -229,7 +229,7 @@ def test_cull_runs_are_compact_so_a_lying_capsule_works_near_its_bottom_only():
     t = mjrft.GranularTerrain(m, "poppy_cp", "rft", resolution=0.01, floor=None, surface=0.0)
     mujoco.mj_forward(m, d)
     t.compute(d, 0.0)
-    active = int(np.repeat(t._g_active, np.diff(t._g_start)).sum())
+    active = int(np.repeat(t.terrain_state.group_active, np.diff(t.terrain_model.elements.group_start)).sum())
     buried = int(np.count_nonzero(t.depth > 0))
     assert buried > 50 and active < 3 * buried < t.n_elements
 
@@ -239,7 +239,7 @@ def test_cull_runs_are_compact_so_a_lying_capsule_works_near_its_bottom_only():
         for g, gid in enumerate(g_geom):
             G = d.geom_xmat[gid]
             low = d.geom_xpos[gid, 2] + G[6:9] @ g_aabb[g, :3] - np.abs(G[6:9]) @ g_aabb[g, 3:]
-            n += int(g_start[g + 1] - g_start[g]) if low < t._top else 0
+            n += int(g_start[g + 1] - g_start[g]) if low < t.terrain_model.surface.top else 0
         return n
 
     gid = int(t.geom_ids[0])
@@ -253,10 +253,10 @@ def test_reset_on_time_going_backwards():
     m, d = box(z=0.0)
     t = mjrft.GranularTerrain(m, "poppy_cp", "rft", resolution=0.01)
     t.step(d, 200)
-    assert np.any(t._u != 0)
+    assert np.any(t.terrain_state.u != 0)
     mujoco.mj_resetData(m, d)
     t.step(d, 1)
-    assert np.all(np.abs(t._u) <= 1e-3)
+    assert np.all(np.abs(t.terrain_state.u) <= 1e-3)
 
 
 def test_sinkage_and_contact_outputs():
@@ -345,7 +345,7 @@ def test_flat_dry_pass_equals_general_loop(yield_displacement):
     walking hexapod whose legs enter and leave the sand (cull groups switching on and off included). Both
     terrains are implicit, so the implicit step's spring moments (summed per body in the batched pass, element by
     element in the general one) are compared too."""
-    from mjrft.coupler import RegionMap
+    from mjrft.regions import RegionMap
     from mjrft.models import hexapod_model
     m = hexapod_model()
     d = mujoco.MjData(m)
@@ -353,7 +353,8 @@ def test_flat_dry_pass_equals_general_loop(yield_displacement):
     general = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement, implicit=True,
                                     regions=[mjrft.Region(None, fast.medium, "rft")],
                                     region_map=RegionMap(np.ones((1, 1), dtype=np.int64), -10.0, -10.0, 20.0))
-    assert general._reg_law.shape[0] == 2 and fast._reg_law.shape[0] == 1 and general._reg_map.size == 1
+    assert general.terrain_model.regions.law.shape[0] == 2 and fast.terrain_model.regions.law.shape[0] == 1
+    assert general.terrain_model.regions.map.size == 1
     rows = fast.body_ids
     left = entered = springs = 0
     for k in range(400):
@@ -370,12 +371,12 @@ def test_flat_dry_pass_equals_general_loop(yield_displacement):
         np.testing.assert_array_equal(fast.vel[buried], general.vel[buried])
         np.testing.assert_array_equal(fast.normal[buried], general.normal[buried])
         np.testing.assert_allclose(fast.force, general.force, rtol=1e-12, atol=1e-15)
-        np.testing.assert_allclose(fast._u, general._u, rtol=1e-12, atol=1e-18)
+        np.testing.assert_allclose(fast.terrain_state.u, general.terrain_state.u, rtol=1e-12, atol=1e-18)
         np.testing.assert_allclose(fast.wrench, general.wrench, rtol=1e-10, atol=1e-12)
-        np.testing.assert_allclose(fast._stiff, general._stiff, rtol=1e-10, atol=1e-12)
-        np.testing.assert_allclose(fast._imp, general._imp, rtol=1e-10, atol=1e-12)
-        springs += int(np.count_nonzero(fast._imp[:, 0] > 0))
-        assert np.all(fast.force[~buried] == 0.0) and np.all(fast._u[~buried] == 0.0)
+        np.testing.assert_allclose(fast.terrain_state.stiff, general.terrain_state.stiff, rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(fast.terrain_state.imp, general.terrain_state.imp, rtol=1e-10, atol=1e-12)
+        springs += int(np.count_nonzero(fast.terrain_state.imp[:, 0] > 0))
+        assert np.all(fast.force[~buried] == 0.0) and np.all(fast.terrain_state.u[~buried] == 0.0)
         d.xfrc_applied[rows] = fast.wrench[rows]
         mujoco.mj_step2(m, d)
         d.xfrc_applied[rows] = 0.0
@@ -426,7 +427,7 @@ def test_group_inside_the_dry_strip_of_a_shoal_costs_and_gives_what_the_dry_scen
     dry = mjrft.GranularTerrain(m, resolution=0.008)
     shoal = mjrft.GranularTerrain(m, resolution=0.008, buoyancy=True, regions=[
         mjrft.Region(0.5, "sea_sand_saturated", "wet"), mjrft.Region(1.0, "sea_sand_saturated", "wet", 0.02)])
-    assert shoal._top == pytest.approx(0.02)
+    assert shoal.terrain_model.surface.top == pytest.approx(0.02)
     rows = dry.body_ids
     for k in range(300):
         d.ctrl[:] = 2 * np.pi * 2.0 * d.time + np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
@@ -434,7 +435,7 @@ def test_group_inside_the_dry_strip_of_a_shoal_costs_and_gives_what_the_dry_scen
         dry.compute(d)
         shoal.compute(d)
         np.testing.assert_array_equal(dry.force, shoal.force)
-        np.testing.assert_array_equal(dry._u, shoal._u)
+        np.testing.assert_array_equal(dry.terrain_state.u, shoal.terrain_state.u)
         np.testing.assert_array_equal(dry.wrench, shoal.wrench)
         assert np.all(shoal.region[shoal.depth > 0] == 0)
         d.xfrc_applied[rows] = dry.wrench[rows]

@@ -271,7 +271,7 @@ def test_resting_free_body_limit_matches_the_formula():
         m.opt.gravity[2] = -G * min(1.0, k / 700)
         t.step(d)
     below = t.depth > 0
-    phi = np.linalg.norm(t._u[below] + t.damping_time * t.vel[below], axis=1) / t.yield_displacement
+    phi = np.linalg.norm(t.terrain_state.u[below] + t.damping_time * t.vel[below], axis=1) / t.yield_displacement
     assert 0.3 < phi.min() <= phi.max() < 1.0  # below yield, all alike
     omega = math.sqrt(G / (phi.mean() * t.yield_displacement))
     zeta = t.damping_time * omega / 2
@@ -284,8 +284,8 @@ def test_resting_free_body_limit_matches_the_formula():
 
 
 def test_compiled_rate_matches_numpy():
-    """kernel.largest_rate (compiled: Cholesky + Jacobi, no BLAS) is lambda_max(W6 K6) of explicit springs."""
-    from mjrft import kernel
+    """stability.largest_rate (compiled: Cholesky + Jacobi, no BLAS) is lambda_max(W6 K6) of explicit springs."""
+    from mjrft import stability
 
     rng = np.random.default_rng(1)
     for _ in range(50):
@@ -301,7 +301,7 @@ def test_compiled_rate_matches_numpy():
         moments = np.array([k.sum(), *(k[:, None] * r).sum(0),
                             *[np.sum(k * r[:, i] * r[:, j]) for i, j in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]])
         expected = np.max(np.linalg.eigvals(jac @ minv_jac.T @ k6).real)
-        assert kernel.largest_rate(jac, minv_jac, moments) == pytest.approx(expected, rel=1e-8)
+        assert stability.largest_rate(jac, minv_jac, moments) == pytest.approx(expected, rel=1e-8)
 
 
 @pytest.mark.parametrize("env_id,gait,kwargs,timestep", [

@@ -15,7 +15,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import mjrft
-from mjrft import kernel
+from mjrft import stability
 
 from helpers import (G, LAWS, MEDIA_X, POPPY, assert_finite, chatter, enough, hinged_leg, plate, run, settled_depth,
                      turn_number)
@@ -39,9 +39,9 @@ def flap(dt=1e-3, implicit=True):
 
 
 def k6(moments):
-    """The 6x6 of springs in every direction with the given moments (kernel.add_k6), in numpy."""
+    """The 6x6 of springs in every direction with the given moments (stability.add_k6), in numpy."""
     out = np.zeros((6, 6))
-    kernel.add_k6(out, np.asarray(moments, dtype=float), 1.0)
+    stability.add_k6(out, np.asarray(moments, dtype=float), 1.0)
     return out
 
 
@@ -58,7 +58,7 @@ def test_applied_wrench_solves_the_linearly_implicit_system():
     mujoco.mj_step1(m, ds)
     mujoco.mj_fwdActuation(m, ds)
     mujoco.mj_fwdAcceleration(m, ds)
-    rows = [b for b in ti.body_ids if ti._imp[b, 0] > 0]
+    rows = [b for b in ti.body_ids if ti.terrain_state.imp[b, 0] > 0]
     assert len(rows) == 2  # both bodies have elements below yield
     J = np.zeros((6 * len(rows), m.nv))
     for i, b in enumerate(rows):
@@ -68,7 +68,7 @@ def test_applied_wrench_solves_the_linearly_implicit_system():
     W = J @ minv_jt.T
     Gm = np.zeros((6 * len(rows), 6 * len(rows)))
     for i, b in enumerate(rows):
-        Gm[6 * i:6 * i + 6, 6 * i:6 * i + 6] = k6(ti._imp[b])
+        Gm[6 * i:6 * i + 6, 6 * i:6 * i + 6] = k6(ti.terrain_state.imp[b])
     F = np.concatenate([te.wrench[b] for b in rows])
     expected = np.linalg.solve(np.eye(len(F)) + dt * Gm @ W, F - Gm @ (dt * J @ ds.qacc_smooth))
     applied = np.concatenate([ti.wrench[b] for b in rows])
@@ -76,7 +76,7 @@ def test_applied_wrench_solves_the_linearly_implicit_system():
     assert np.abs(applied - F).max() > 1e-3 * np.abs(F).max()  # the correction is not negligible here
     np.testing.assert_array_equal(ti.force, te.force)  # the elements' forces are the explicit evaluation's
     assert not np.array_equal(di.qvel, de.qvel)
-    assert np.all(ti._imp[ti.body_ids[0]] == ti._imp[ti.body_ids[0]])  # finite
+    assert np.all(ti.terrain_state.imp[ti.body_ids[0]] == ti.terrain_state.imp[ti.body_ids[0]])  # finite
 
 
 def rest_run(dt, implicit, mass=1.0, hx=0.05, seconds=1.0):

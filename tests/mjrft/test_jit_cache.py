@@ -8,7 +8,8 @@ import sys
 
 import pytest
 
-from mjrft import _jit_cache, batch, kernel
+from mjrft import _jit_cache, batch, kernel, stepping
+from mjrft.implicit_step import implicit_wrench
 from mjrft.laws.rft import rft_stress_batch
 
 #: a child process: the sand hexapod under fixed random actions, optionally after a standalone kernel call
@@ -43,9 +44,9 @@ def _child(first: str) -> dict:
 def test_callees_come_before_their_callers():
     order = _jit_cache.callees_first([batch.run_batch_serial, batch.run_batch_parallel])
     at = {id(f): i for i, f in enumerate(order)}
-    for callee, caller in ((kernel.terrain_kernel, kernel.run_steps), (kernel._scatter_batch, kernel.terrain_kernel),
-                           (rft_stress_batch, kernel.terrain_kernel), (kernel.implicit_wrench, kernel.run_steps),
-                           (kernel.run_steps, batch._step_one), (batch._step_one, batch.run_batch_parallel)):
+    for callee, caller in ((kernel.terrain_kernel, stepping.run_steps), (kernel._scatter_batch, kernel.terrain_kernel),
+                           (rft_stress_batch, kernel.terrain_kernel), (implicit_wrench, stepping.run_steps),
+                           (stepping.run_steps, batch._step_one), (batch._step_one, batch.run_batch_parallel)):
         assert at[id(callee)] < at[id(caller)], (callee, caller)
     assert len(order) == len(at)  # each once
 

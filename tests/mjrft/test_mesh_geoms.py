@@ -66,7 +66,7 @@ def push(m: mujoco.MjModel, top_depth: float, steps: int = 20, scale_mesh_area: 
         mesh = terrain.elem_body == m.body("mesh").id
         terrain.area[mesh] *= scale_mesh_area
         if flip_mesh_normals:
-            terrain._e_lnrm[mesh] *= -1.0
+            terrain.terrain_model.elements.lnrm[mesh] *= -1.0
         d = mujoco.MjData(m)
         quat = np.array([np.cos(0.15), np.sin(0.15) * 0.6, np.sin(0.15) * 0.8, 0.0])
         for name, x in (("prim", -0.3), ("mesh", 0.3)):

@@ -10,7 +10,7 @@ import pytest
 
 import mjrft
 from mjrft import laws
-from mjrft.coupler import Region, RegionMap
+from mjrft.regions import Region, RegionMap
 from mjrft.params import P_WATER_DRAG
 
 SAND = "sea_sand_saturated"
@@ -86,7 +86,7 @@ def test_strips_evaluate_each_elements_region_and_blend_at_boundaries():
 def test_one_region_does_no_region_work_and_unused_laws_cost_nothing():
     m, d = model()
     t = pure(m, medium="poppy_cp", law="rft", resolution=0.01)
-    assert t._reg_bounds.size == 0 and t._reg_map.size == 0 and len(t.regions) == 1
+    assert t.terrain_model.regions.bounds.size == 0 and t.terrain_model.regions.map.size == 0 and len(t.regions) == 1
     place(m, d, (0.5, 0.3, -0.005), (0.05, 0.0, -0.02))
     t.compute(d, DT)
     assert np.all(t.region == 0)
@@ -103,7 +103,7 @@ def test_region_map_cells_and_bilinear_blend():
     regions = [(SAND, "wet"), ("glass3_cp", "rft3d"), ("poppy_lp", "depth_only", 0.01)]
     t = pure(m, medium="poppy_cp", law="rft", resolution=0.01, regions=regions,
              region_map=RegionMap(ids, x_min=0.0, y_min=0.0, cell=0.05), transition=0.05)
-    assert t.regions[3].water_depth == 0.01 and t._reg_map.shape == (2, 3)
+    assert t.regions[3].water_depth == 0.01 and t.terrain_model.regions.map.shape == (2, 3)
     rw = t.region_weights
     centres = rw([0.025, 0.075, 0.125, 0.025, 0.075, 0.125], [0.025, 0.025, 0.025, 0.075, 0.075, 0.075])
     np.testing.assert_allclose(centres, np.eye(4)[ids.ravel()], atol=1e-12)
@@ -230,16 +230,19 @@ def test_custom_section_carries_regions_map_water_and_hfield():
                                transition=0.02, buoyancy=True, water_depth=0.005, drag_coefficient=1.0,
                                water_density=1025.0)
     assert t.surface_hfield == kw.surface_hfield == 0 and t.buoyancy and t.transition == 0.02
-    for a in ("_reg_law", "_reg_params", "_reg_rho", "_reg_map", "_reg_map_frame", "_hf_z", "_hf_frame"):
-        np.testing.assert_array_equal(getattr(t, a), getattr(kw, a), err_msg=a)
+    for group, a in (("regions", "law"), ("regions", "params"), ("regions", "rho"), ("regions", "map"),
+                     ("regions", "map_frame"), ("surface", "hfield_z"), ("surface", "hfield_frame")):
+        np.testing.assert_array_equal(getattr(getattr(t.terrain_model, group), a),
+                                      getattr(getattr(kw.terrain_model, group), a), err_msg=a)
     assert [r.water_depth for r in t.regions] == [0.005, 0.02, 0.0]
-    assert t._reg_params[1, P_WATER_DRAG] == 1025.0
-    assert t._reg_rho.tolist() == [1025.0, 1025.0, 0.0]  # water, wet sand under water; dry glass: none
+    assert t.terrain_model.regions.params[1, P_WATER_DRAG] == 1025.0
+    assert t.terrain_model.regions.rho.tolist() == [1025.0, 1025.0, 0.0]  # water, wet sand under water; dry glass: none
     # strips from <custom> text, keyword arguments override the file
     m2, _ = model(custom='<custom><text name="mjrft:regions" data="0.1 glass3_cp rft3d; 0.3 sea_sand_saturated '
                          'wet 0.01"/></custom>')
     t2 = mjrft.GranularTerrain(m2)
-    assert t2._reg_bounds.tolist() == [0.1, 0.3] and [r.law for r in t2.regions] == ["rft", "rft3d", "wet"]
+    assert t2.terrain_model.regions.bounds.tolist() == [0.1, 0.3]
+    assert [r.law for r in t2.regions] == ["rft", "rft3d", "wet"]
     assert mjrft.GranularTerrain(m2, regions=[]).regions[0].law == "rft" and \
         len(mjrft.GranularTerrain(m2, regions=[]).regions) == 1
 

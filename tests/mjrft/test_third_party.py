@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import mjrft
-from mjrft.coupler import AUTO_ELEMENTS, AUTO_MIN_RESOLUTION, FLOOR_PAIR_MARGIN, auto_resolution
+from mjrft.floor import FLOOR_PAIR_MARGIN
+from mjrft.selection import AUTO_ELEMENTS, AUTO_MIN_RESOLUTION, auto_resolution
 from mjrft.settings import resolve_settings
 from mjrft.errors import TerrainStabilityWarning
 from mjrft.geometry import discretize_geom, estimate_elements, geom_elements, mesh_element_count, surface_area
@@ -337,11 +338,12 @@ def test_bundled_and_many_triangle_meshes_estimate_exactly():
 def test_bundled_scenes_keep_every_geom_of_their_granular_bodies(name):
     """The collision-geoms-only rule changes no bundled scene: each selects every supported geom of the bodies its
     <custom> (or, for the kinematic rigs whose geoms collide with nothing, mjrft.tools.rigs) names."""
-    from mjrft.coupler import _SUPPORTED_GEOMS, _custom
+    from mjrft.selection import _SUPPORTED_GEOMS
+    from mjrft.settings import custom_entries
     from mjrft.models import model_path
 
     m = mujoco.MjModel.from_xml_path(model_path(name))
-    bodies = _custom(m).get("bodies", "plate" if name == "plate_rig" else "leg").split()
+    bodies = custom_entries(m).get("bodies", "plate" if name == "plate_rig" else "leg").split()
     ids = {mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, b) for b in bodies}
     every = [g for g in range(m.ngeom) if m.geom_bodyid[g] in ids and m.geom_type[g] in _SUPPORTED_GEOMS]
     terrain = mjrft.GranularTerrain(m, bodies=bodies, resolution=0.01)

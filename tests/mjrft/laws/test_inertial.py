@@ -133,8 +133,8 @@ def test_custom_keys_and_option_errors():
                                       '<text name="mjrft:medium" data="glass3_cp"/></custom>')
     t = mjrft.GranularTerrain(model)
     assert t.inertial and t.inertial_drag == 3.0
-    assert t._reg_params[0, P_INERTIA] == pytest.approx(3.0 * GLASS.rho_bulk)
-    assert mjrft.GranularTerrain(model, inertial=False)._reg_params[0, P_INERTIA] == 0.0
+    assert t.terrain_model.regions.params[0, P_INERTIA] == pytest.approx(3.0 * GLASS.rho_bulk)
+    assert mjrft.GranularTerrain(model, inertial=False).terrain_model.regions.params[0, P_INERTIA] == 0.0
     with pytest.raises(ValueError, match="grain"):
         mjrft.GranularTerrain(model, medium="generic", inertial=True)
     with pytest.raises(ValueError, match="dry law"):
@@ -156,7 +156,7 @@ def test_stability_limit_of_the_damper():
         if v < GLASS.critical_speed:  # at rest and below v_c: no damper, the quasi-static limit unchanged
             off = mjrft.GranularTerrain(model, **kw)
             off.compute(data)
-            assert t._inert[1, 0] == 0.0
+            assert t.terrain_state.inert[1, 0] == 0.0
             assert limits[v] == off.stable_timestep(data, "springs")[1]
     # above v_c: the damper of the whole plate (every buried bottom element, skin weight 1: 3 mm deep)
     model, data = _plate(10.0)
@@ -165,7 +165,7 @@ def test_stability_limit_of_the_damper():
     bottom = (t.depth > 0.001) & (t.normal[:, 2] < -0.99)
     c = 2 * inl.INERTIAL_DRAG * GLASS.rho_bulk * t.area[bottom].sum() * 10.0
     mass = model.body_mass[1]
-    assert t._inert[1, 0] == pytest.approx(c, rel=1e-9)
+    assert t.terrain_state.inert[1, 0] == pytest.approx(c, rel=1e-9)
     assert limits[10.0] < limits[1.0] < 2 * mass / (0.5 * c / 10.0)
     # the check treats the dampers as acting in every direction (conservative, docs/numerics.md): the plate's
     # bottom 1 mm below its CoM couples sliding with tilting, 14 % below the pure heave limit 2 m / c

@@ -128,7 +128,7 @@ def test_solid_element_is_a_spring_for_the_stability_check():
                     mujoco.mj_fwdPosition(model, data)
                     mujoco.mj_fwdVelocity(model, data)
                     terrain.compute(data, DT)
-        out[f] = (float(terrain._stiff[1, 0]), float(terrain.wrench[1, 2]))
+        out[f] = (float(terrain.terrain_state.stiff[1, 0]), float(terrain.wrench[1, 2]))
     (k_off, f_off), (k_on, f_on) = out[0.0], out[2.0]
     assert f_on > 1.4 * f_off
     assert k_on == pytest.approx(k_off, rel=0.1)

@@ -68,18 +68,18 @@ def test_drag_on_submerged_box_is_c_rho_v2_on_leading_area():
     w2 = force_at(t2, m, d, (0, 0, 0.025), (2 * v, 0, 0))
     np.testing.assert_allclose(w2[0], -1.0 * 1025.0 * 4 * v * v * (2 * hy * 2 * hz), rtol=1e-9)
     # the water drag is viscous: its linearised damping 2 |F| / v is reported, no granular stiffness
-    assert t2._damp[1] == pytest.approx(2 * abs(w2[0]) / (2 * v), rel=1e-9)
-    assert t2._stiff[1, 0] == 0
+    assert t2.terrain_state.damp[1] == pytest.approx(2 * abs(w2[0]) / (2 * v), rel=1e-9)
+    assert t2.terrain_state.stiff[1, 0] == 0
 
 
 def test_nothing_above_the_water_and_the_waterline_is_resolved():
     m, d = body()
     hw = 0.03
     t = mjrft.GranularTerrain(m, SAND, "wet", geoms=["g"], resolution=0.0025, water_depth=hw)
-    assert t.water_depth == hw and t._top == pytest.approx(hw)
+    assert t.water_depth == hw and t.terrain_model.surface.top == pytest.approx(hw)
     # entirely above the water: culled, nothing
     w = force_at(t, m, d, (0, 0, hw + 0.0051), (0.2, 0, -0.1))
-    assert np.all(w == 0) and not t._g_active.any()
+    assert np.all(w == 0) and not t.terrain_state.group_active.any()
     # straddling the water surface: elements above it feel nothing, elements a skin below it the full drag
     v = 0.2
     force_at(t, m, d, (0, 0, hw), (v, 0, 0))
@@ -288,9 +288,9 @@ def test_dry_scene_cost_structure_unchanged():
     """A dry scene culls at the sand surface (water raises the cull height only where there is water)."""
     m, d = body()
     dry = mjrft.GranularTerrain(m, "poppy_cp", "rft", geoms=["g"], regions=[(0.5, "glass3_cp", "rft")])
-    assert dry._top == dry.surface == 0.0 and dry.water_depth == 0.0
+    assert dry.terrain_model.surface.top == dry.surface == 0.0 and dry.water_depth == 0.0
     wet = mjrft.GranularTerrain(m, "poppy_cp", "rft", geoms=["g"], regions=[(0.5, SAND, "wet", 0.03)])
-    assert wet._top == pytest.approx(0.03)
+    assert wet.terrain_model.surface.top == pytest.approx(0.03)
     # an element above the dry strip's sand, under the water height of the other strip, feels nothing
     assert np.all(force_at(wet, m, d, (0, 0, 0.015), (0.1, 0, -0.1)) == 0)
     assert np.all(wet.force == 0)

@@ -204,8 +204,8 @@ def test_per_world_medium_and_surface_equal_the_cpu_terrain_changed_in_place():
     data, u0, w_own, _ = states[-1]
     terrain.set_medium("poppy_lp", stress_scale=1.2)
     terrain.set_surface(0.003)
-    terrain._bind(data)  # binding to another MjData forgets the memory: bind first, then restore it
-    terrain._u[:] = u0
+    terrain.bind(data)  # binding to another MjData forgets the memory: bind first, then restore it
+    terrain.terrain_state.u[:] = u0
     w_ref = terrain.compute(data).copy()
     assert relative_error(w_own, w_ref) > 0.05  # the change matters
     with jax.enable_x64(True):

@@ -1,0 +1,224 @@
+"""The records that the CPU, batched and GPU paths share: what a terrain is, and what it remembers.
+
+As MJX splits ``Model`` from ``Data``, mjrft splits a terrain in two:
+
+* :class:`TerrainModel` (frozen): everything that does not change while the robot moves: the resolved settings
+  (:class:`~mjrft.settings.TerrainSettings`), the surface elements of the selected geoms in cull groups
+  (:class:`ElementTables`), the sand surface (:class:`SurfaceTables`), the regions with one parameter row each
+  (:class:`RegionTables`, the row's layout in :mod:`mjrft.params`) and the scalar constants
+  (:class:`TerrainConstants`). :func:`mjrft.build.build_model` makes it from a ``mujoco.MjModel``;
+  changing the medium, the regions or the surface makes a new one (:func:`mjrft.build.with_regions`,
+  :func:`mjrft.build.with_surface`).
+* :class:`TerrainState`: what one world's terrain remembers and writes each step: each element's rest memory,
+  the per-element and per-body outputs of the last step, and the stepping loop's trackers and scratch
+  (:func:`mjrft.build.make_state`). The JAX path keeps its own per-world state (:class:`mjrft.mjx.SandState`).
+
+:class:`~mjrft.GranularTerrain` (numba), :class:`~mjrft.batch.BatchedTerrain` and :class:`mjrft.mjx.Sand` differ
+only in how they step these records; a test can hand the same :class:`TerrainModel` to two of them
+(``GranularTerrain.from_model``, ``Sand.from_model``).
+
+The compiled kernels read the model through :attr:`TerrainModel.tables` (its four numba-typed groups) and the
+MuJoCo data through :class:`MjViews` and :class:`StepViews`; their arguments come in those groups (model in, data
+in, state in and out), as mujoco_warp groups its kernels' arguments.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .geometry import Elements
+    from .settings import TerrainSettings
+
+
+class ElementTables(NamedTuple):
+    """Model: the surface elements of the selected geoms (:func:`mjrft.elements.build_elements`).
+
+    Per element: ``lpos`` (n, 3) its centre and ``lnrm`` (n, 3) its outward unit normal in its body's frame,
+    ``area`` (n,) m^2, ``geom`` and ``body`` (n,) its geom and body ids. Per cull group (a run of at most
+    :data:`mjrft.elements.CULL_GROUP` consecutive elements of one geom, compact in space, which the kernel skips
+    while it lies above the surface): ``group_geom``, ``group_body``, ``group_start`` (its first element; one
+    past the last at the end) and ``group_aabb`` (the box of its element points in the geom frame: centre, half
+    sizes). ``body_ids``: the bodies that own elements, sorted; ``geom_ids``: the geoms with exposed elements,
+    in element order; ``body_root`` (nbody,): each body's kinematic root (``mjModel.body_rootid``)."""
+
+    lpos: np.ndarray
+    lnrm: np.ndarray
+    area: np.ndarray
+    geom: np.ndarray
+    body: np.ndarray
+    body_ids: np.ndarray
+    geom_ids: np.ndarray
+    group_geom: np.ndarray
+    group_body: np.ndarray
+    group_start: np.ndarray
+    group_aabb: np.ndarray
+    body_root: np.ndarray
+
+
+class SurfaceTables(NamedTuple):
+    """Model: the free sand surface. ``height`` (m): the flat surface's height (with a height field, the mean of
+    its samples, for display); ``hfield_z`` (nrow, ncol): the height field's world heights, row j along the
+    hfield geom's y, column i along its x ((0, 0) for a flat surface); ``hfield_frame`` (8,): the hfield geom's
+    x, y, the cos and sin of its yaw, its half sizes rx, ry and 1 / cell_x, 1 / cell_y; ``top`` (m): the highest
+    sand or water surface anywhere, below which the kernel evaluates elements."""
+
+    height: float
+    hfield_z: np.ndarray
+    hfield_frame: np.ndarray
+    top: float
+
+
+class RegionTables(NamedTuple):
+    """Model: the regions, row 0 the terrain's own medium and law, row k its ``k``-th extra region
+    (:func:`mjrft.regions.build_regions`). ``bounds``: the strips' x_min (sorted); ``law``: law ids; ``params``
+    (nregion, P_SIZE): each region's parameter row (:mod:`mjrft.params`; stresses times the stress scale);
+    ``rho``: the buoyancy's water density (0: none); ``map`` (ny, nx) / ``map_frame`` (x_min, y_min, cell_x,
+    cell_y): a region map (empty for strips); ``transition`` (m): the width over which neighbours blend."""
+
+    bounds: np.ndarray
+    law: np.ndarray
+    params: np.ndarray
+    rho: np.ndarray
+    map: np.ndarray
+    map_frame: np.ndarray
+    transition: float
+
+
+class TerrainConstants(NamedTuple):
+    """Model: the scalar constants. The rest memory's ``delta`` (yield displacement, m; 0: the viscous ramp),
+    ``tau`` (damping time, s) and ``v_eps`` (the viscous ramp's speed, m/s); the solidify option's factor
+    ``solid`` (0: off) and ``stick`` speed (m/s); whether the step is ``implicit`` in the grains' springs and
+    whether the ``inertial`` regime is on in some region."""
+
+    delta: float
+    tau: float
+    v_eps: float
+    solid: float
+    stick: float
+    implicit: bool
+    inertial: bool
+
+
+class TerrainTables(NamedTuple):
+    """The part of a :class:`TerrainModel` that the compiled kernels read (:attr:`TerrainModel.tables`)."""
+
+    elements: ElementTables
+    surface: SurfaceTables
+    regions: RegionTables
+    constants: TerrainConstants
+
+
+@dataclass(frozen=True, eq=False)
+class TerrainModel:
+    """What a terrain is (module docstring): made by :func:`mjrft.build.build_model`, read by every path.
+
+    ``settings``: the resolved settings; ``elements``, ``surface``, ``regions``, ``constants``: the tables the
+    kernels read; ``region_list``: the resolved :class:`~mjrft.regions.Region` of each row of ``regions``;
+    ``geometry``: the elements as the geometry cut them (:class:`~mjrft.geometry.Elements`: positions, normals,
+    areas in their body's frame); ``stress_scale``: the factor already applied to every granular stress of
+    ``regions.params`` (:data:`mjrft.laws.registry.STRESS_SLOTS`)."""
+
+    settings: TerrainSettings
+    elements: ElementTables
+    surface: SurfaceTables
+    regions: RegionTables
+    constants: TerrainConstants
+    region_list: tuple
+    geometry: Elements
+    stress_scale: float = 1.0
+
+    @cached_property
+    def tables(self) -> TerrainTables:
+        """The kernels' view: ``(elements, surface, regions, constants)`` (one object per model, so that a caller can
+        tell a new model from the same one by identity)."""
+        return TerrainTables(self.elements, self.surface, self.regions, self.constants)
+
+    @property
+    def n_elements(self) -> int:
+        return int(self.elements.area.shape[0])
+
+
+class MjViews(NamedTuple):
+    """Data in: the views of an ``mjData`` that the kernel reads after ``mj_step1`` (positions, orientations,
+    centres of mass and ``cvel``)."""
+
+    geom_xpos: np.ndarray
+    geom_xmat: np.ndarray
+    xpos: np.ndarray
+    xmat: np.ndarray
+    xipos: np.ndarray
+    cvel: np.ndarray
+    subtree_com: np.ndarray
+
+
+class StepViews(NamedTuple):
+    """Data in and out of the stepping loop (:func:`mjrft.stepping.run_steps`): ``xfrc_applied`` (the wrench is
+    added for ``mj_step2`` and taken out again), ``qacc_smooth`` (the implicit step's), ``actuator_force`` and
+    ``actuator_velocity`` (the actuators' power)."""
+
+    xfrc_applied: np.ndarray
+    qacc_smooth: np.ndarray
+    actuator_force: np.ndarray
+    actuator_velocity: np.ndarray
+
+
+class TerrainState(NamedTuple):
+    """What one terrain remembers and writes (module docstring), all arrays, zeroed by
+    :func:`mjrft.build.make_state`. ``n`` elements, ``g`` cull groups, ``nbody`` bodies, ``nb`` bodies with elements.
+
+    Memory: ``u`` (n, 3) each element's elastic displacement (the rest memory, m); ``group_active`` (g,) whether a
+    cull group was within reach on its last step. Element outputs of the last step: ``pos``, ``vel``, ``normal``
+    (n, 3; velocity and normal of elements within reach), ``depth`` (n,), ``force`` (n, 3), ``region`` (n,).
+    Body outputs: ``wrench`` (nbody, 6: force, torque about the body's centre of mass, world frame), the
+    moments (nbody, 10) of the element stiffness ``stiff``, of the inertial dampers ``inert``, of the depth
+    stiffness ``dstiff`` and (implicit step, else (0, 10)) of the implicit springs ``imp``, and the damping
+    ``damp`` (nbody,). The stepping loop's: ``saved`` (nbody, 6) what other code had in ``xfrc_applied``;
+    ``stiff_max`` (nbody, TRACK_SLOTS, 10), ``damp_max``, ``inert_max``, ``dstiff_max``: the stability checks'
+    trackers (:mod:`mjrft.stability`); ``power`` (1,): the actuators' mean power over the last step call.
+    Scratch: ``scr_f`` (13, n) and ``scr_i`` (2, n) the batched law's gather, and the implicit step's
+    ``imp_jac``, ``imp_minv_jac`` (6 nb, nv), ``imp_blocks`` (nb, 6, 6), ``imp_a`` (6 nb, 6 nb), ``imp_rhs``
+    (12 nb + 6), ``imp_rows`` (nb) (all empty with ``implicit=False``)."""
+
+    u: np.ndarray
+    group_active: np.ndarray
+    pos: np.ndarray
+    vel: np.ndarray
+    normal: np.ndarray
+    depth: np.ndarray
+    force: np.ndarray
+    region: np.ndarray
+    wrench: np.ndarray
+    stiff: np.ndarray
+    damp: np.ndarray
+    inert: np.ndarray
+    dstiff: np.ndarray
+    imp: np.ndarray
+    saved: np.ndarray
+    stiff_max: np.ndarray
+    damp_max: np.ndarray
+    inert_max: np.ndarray
+    dstiff_max: np.ndarray
+    power: np.ndarray
+    scr_f: np.ndarray
+    scr_i: np.ndarray
+    imp_jac: np.ndarray
+    imp_minv_jac: np.ndarray
+    imp_blocks: np.ndarray
+    imp_a: np.ndarray
+    imp_rhs: np.ndarray
+    imp_rows: np.ndarray
+
+    def forget(self) -> None:
+        """Zero the memory and the last step's outputs (a reset): what :meth:`mjrft.GranularTerrain.reset` does."""
+        self.u[:] = 0.0
+        self.force[:] = 0.0
+        self.depth[:] = 0.0
+        self.wrench[:] = 0.0
+        self.group_active[:] = False
+        self.stiff_max[:] = 0.0
+        self.inert_max[:] = 0.0
