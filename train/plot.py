@@ -102,7 +102,8 @@ def _read_text(path: Path, what: str) -> str:
         with open(path, newline="") as fh:
             text = fh.read()
     except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: {what} is not a text file (byte {exc.start} is not UTF-8: binary or damaged)") from None
+        raise ValueError(f"{path}: {what} is not a text file (byte {exc.start} is not UTF-8: binary or "
+                         f"damaged)") from None
     except OSError as exc:
         raise ValueError(f"{path}: {what} cannot be read ({exc.strerror or exc})") from None
     if "\0" in text:
@@ -250,7 +251,8 @@ def load_run(path, label: str | None = None) -> Run:
     monitor = read_monitor(path / MONITOR)
     runs = cfg.get("runs") if isinstance(cfg.get("runs"), list) else []
     trained = cfg.get("num_timesteps")
-    ended = bool(runs) and isinstance(runs[-1], dict) and runs[-1].get("status") in ("finished", "interrupted", "crashed")
+    ended = bool(runs) and isinstance(runs[-1], dict) and runs[-1].get("status") in ("finished", "interrupted",
+                                                                                     "crashed")
     if ended and isinstance(trained, int) and monitor.steps[-1] > trained:
         warnings.warn(f"{path / MONITOR}: its episodes add up to {int(monitor.steps[-1])} env steps, more than the "
                       f"{trained} the run trained: it holds episodes a killed run finished after its last checkpoint "

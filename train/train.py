@@ -16,8 +16,10 @@ Run folder (``out_dir``):
 ``checkpoints/step_<N>.zip``                    periodic checkpoints, N = ``num_timesteps`` (10 digits)
 ``checkpoints/step_<N>_vecnormalize.npz``       their VecNormalize statistics (only with ``normalize``)
 ``checkpoints/step_<N>_replay_buffer.npz``      SAC's replay buffer, kept for the newest checkpoint only
+``checkpoints/step_<N>_monitor.json``           the length of ``monitor.csv`` when the checkpoint was saved
 ``monitor.csv``                                 one row per finished episode (return, length, wall time);
-                                                a resumed run appends to it
+                                                a resumed run appends to it (after dropping what a killed
+                                                run recorded past the checkpoint it resumes from)
 ``logs/from_<N>/progress.csv``                  SB3's training log of the run that started at step N
 ``warnings.csv``                                every warning the environments raised while training (step,
                                                 env, category, message); each kind is printed once, with
@@ -46,8 +48,13 @@ Choices:
   difference. ``n_envs`` (PPO only: SAC's replay buffer is laid out per environment), ``checkpoint_every``,
   ``vec_env``, ``device`` and ``torch_threads`` may be changed on purpose by giving them: each change is
   said (``report``, else a warning) and recorded in the run's entry of ``runs`` (``changed``: from, to),
-  and the top-level keys hold the values in use. The environments are re-seeded with
-  ``seed + num_timesteps`` so a resumed run does not replay the episodes it already saw.
+  and the top-level keys hold the values in use (the saved run's package versions, when they differ, are
+  kept as ``versions_before``). The environments are re-seeded with ``seed + num_timesteps`` so a
+  resumed run does not replay the episodes it already saw.
+* A resume first drops what the previous run recorded after the checkpoint it resumes from (a killed or
+  crashed run lost those steps, and they are trained again): ``monitor.csv`` is cut back to its length at
+  that checkpoint (``checkpoints/step_<N>_monitor.json``), and the rows after step N leave
+  ``logs/*/progress.csv`` and ``warnings.csv``; the run says so and counts them in its entry's ``dropped``.
 * SAC's ``buffer_size`` defaults to ``min(1_000_000, timesteps)``: a checkpoint stores the whole
   buffer array, so a 1e6 buffer for a 50k-step run would write ~0.5 GB per checkpoint for nothing.
 * The ``n_envs`` environments are stepped as ``vec_env`` says (:mod:`mjrft.train.vecenv`: subprocesses,
@@ -419,8 +426,8 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int | N
         settings = {k: _saved_setting(saved, k) if v is None else v for k, v in given.items()}
     else:
         if env_id is None and resume and config_path.is_file():
-            raise ValueError(f"{out_dir} holds no checkpoint to resume from (its run saved none before it stopped); "
-                             f"start it again with its settings: mjrft train --config {config_path} --out {out_dir}")
+            raise ValueError(f"{out_dir} holds no checkpoint to resume from; start its run again with its settings: "
+                             f"mjrft train --config {config_path} --out {out_dir}")
         if env_id is None:
             raise ValueError(f"env id is required to start a new run in {out_dir} (valid choices: "
                              f"{', '.join(_mjrft_env_ids())})")
@@ -438,11 +445,11 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int | N
             if _jsonable(settings[name]) != _jsonable(_saved_setting(saved, name)):
                 changes[name] = (_saved_setting(saved, name), settings[name])
         if algo == "sac" and "n_envs" in changes:
-            raise ValueError(f"n_envs {settings['n_envs']} differs from the SAC run being resumed ({changes['n_envs'][0]} in "
-                             f"{saved['_path']}): its replay buffer is laid out per environment; omit --n-envs")
-    timesteps, n_envs, seed = settings["timesteps"], settings["n_envs"], settings["seed"]
-    checkpoint_every, device, torch_threads = settings["checkpoint_every"], settings["device"], settings["torch_threads"]
-    kind = settings["vec_env"]
+            raise ValueError(f"n_envs {settings['n_envs']} differs from the SAC run being resumed "
+                             f"({changes['n_envs'][0]} in {saved['_path']}): its replay buffer is laid out per "
+                             f"environment; omit --n-envs")
+    timesteps, n_envs, seed, kind = (settings[k] for k in ("timesteps", "n_envs", "seed", "vec_env"))
+    checkpoint_every, device, torch_threads = (settings[k] for k in ("checkpoint_every", "device", "torch_threads"))
     cls = algo_class(algo)
 
     # validate the env kwargs and the env in this process (clear error before any worker starts)
@@ -802,7 +809,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"({', '.join(named_configs())}), a .yaml/.json file, or a run's config.json; "
                              "the options below override its values")
     parser.add_argument("--env", dest="env_id", default=None,
-                        help="environment id, e.g. mjrft/HexapodSand-v0 (required for a new run without --config)")
+                        help="environment id, e.g. mjrft/HexapodSand-v0: a MuJoCo env with continuous actions "
+                             "(required for a new run without --config)")
     parser.add_argument("--algo", default=None, help="ppo or sac (default ppo; on resume the saved one)")
     parser.add_argument("--timesteps", type=_int_arg, default=None,
                         help="total environment steps of the run (resuming continues up to this; default 1e5, on "
@@ -814,7 +822,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="random seed (default 0; on resume the saved one, a different one is refused)")
     parser.add_argument("--out", default="runs/mjrft", help="run folder (default runs/mjrft)")
     parser.add_argument("--checkpoint-every", type=_int_arg, default=None,
-                        help="steps between checkpoints (default 10000; on resume the saved one)")
+                        help="steps between checkpoints (default 10000; on resume the saved one, a different one is "
+                             "recorded as a change)")
     parser.add_argument("--hp", action="append", default=[], metavar="KEY=VALUE",
                         help="SB3 hyper-parameter, repeatable: --hp n_steps=512 --hp learning_rate=1e-4 "
                              "--hp 'policy_kwargs={\"net_arch\": [64, 64]}'")
@@ -822,12 +831,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="VecNormalize observations and rewards (statistics saved with the model)")
     parser.add_argument("--vec-env", default=None, choices=KINDS,
                         help="how the environments are stepped: subproc, dummy, batched or auto (default; "
-                             "mjrft.train.vecenv; on resume the saved kind)")
+                             "mjrft.train.vecenv; on resume the saved kind, another is recorded as a change)")
     parser.add_argument("--device", default=None,
-                        help="torch device: cpu (default; on resume the saved one), cuda, auto")
+                        help="torch device: cpu (default), cuda, auto (on resume the saved one, another is recorded "
+                             "as a change)")
     parser.add_argument("--torch-threads", type=_int_arg, default=None,
                         help="torch CPU threads (default 1: fastest for these small MLP policies; 0: torch's own "
-                             "setting; on resume the saved number)")
+                             "setting; on resume the saved number, another is recorded as a change)")
     parser.add_argument("--no-resume", dest="resume", action="store_false",
                         help="start over even if the folder has checkpoints")
     parser.add_argument("--trust", action="store_true",

@@ -48,7 +48,7 @@ def main(args) -> int:
 
         check_viewer_display()
     print(f"mjrft demo: RHex-class hexapod, gait {args.gait}, on {args.medium}, {args.seconds:g} s simulated "
-          "(the first run compiles the terrain kernels, up to a minute)", flush=True)
+          "(the first run compiles the terrain kernels first: a minute or two)", flush=True)
     with WarningNotes() as notes:  # the warnings become notes under the summary
         summary = rollout(ENV_ID, args.gait, seconds=args.seconds, rrd_path=out, log_every=args.log_every,
                           seed=args.seed, env_kwargs={"medium": args.medium}, spawn_viewer=args.spawn_viewer,
