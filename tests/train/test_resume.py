@@ -165,3 +165,27 @@ def test_the_eval_command_train_prints_works_for_a_gymnasium_mujoco_env(tmp_path
     assert "episode" in table and "mean" in table and "fall rate" in table
     rows = [line.split() for line in table.splitlines() if line.split() and line.split()[0].isdigit()]
     assert len(rows) == 10 and all(np.isfinite(float(r[1])) for r in rows)
+
+
+def test_a_folder_without_a_checkpoint_names_the_command_that_restarts_its_run(tmp_path, capsys):
+    out = tmp_path / "run"
+    train(ENV, "ppo", 64, n_envs=1, seed=4, out_dir=out, checkpoint_every=32, hyperparams=HP)
+    for ckpt in (out / "checkpoints").iterdir():  # as if killed before its first checkpoint
+        ckpt.unlink()
+    with pytest.raises(SystemExit):
+        _cli("--out", out)
+    err = capsys.readouterr().err
+    command = err.strip().split("start its run again with its settings: ")[-1]
+    assert command == f"mjrft train --config {out / 'config.json'} --out {out}", err
+    assert _cli(*command.split()[2:]) == 0  # the command it names: the same settings, the config said replaced
+    said = capsys.readouterr().out
+    assert "holds no checkpoint to resume from: a new run starts there and replaces its config.json" in said
+    cfg = load_config(out / "config.json")
+    assert (cfg["seed"], cfg["hyperparams"]["n_steps"], cfg["num_timesteps"], len(cfg["runs"])) == (4, 32, 64, 1)
+
+
+def test_sac_refuses_another_number_of_envs_on_resume(tmp_path):
+    hp = {"learning_starts": 20, "batch_size": 16, "policy_kwargs": {"net_arch": [16]}}
+    train(ENV, "sac", 40, out_dir=tmp_path, checkpoint_every=20, hyperparams=hp)
+    with pytest.raises(ValueError, match=r"n_envs 2 differs from the SAC run being resumed \(1 in .*laid out per"):
+        train(None, None, 80, n_envs=2, out_dir=tmp_path)
