@@ -136,7 +136,7 @@ FILES = [
     ("train --config big.yaml --timesteps 0", {"big.yaml": b"env_id: mjrft/HexapodSand-v0\ntimesteps: 1e5\n"},
      "timesteps must be an integer >= 1, got 0"),
     ("plot run --out c.png", {"run/monitor.csv": b"r,l,t\n1,2,3\n", "run/logs/from_0000000000/progress.csv":
-                              b"time/total_timesteps,rollout/ep_rew_mean\n512,x\n"}, "progress.csv line 2"),
+                              b"\x89PNG\r\n\x1a\n\x00\xff"}, "progress.csv: training log is not a text file"),
     ("train --env nosuch/Env-v0 --out new/run", {}, "unknown env id"),
     (f"sweep --env {ENV} --gait cut.zip --grid medium=poppy_lp --out sw", {"cut.zip": b"PK\x03\x04"},
      "cut.zip: not a readable zip file"),

@@ -387,7 +387,15 @@ def load_vecnormalize(path, trust: bool = False) -> VecNormalizeStats:
     """VecNormalize statistics from ``*_vecnormalize.npz``, or (``trust=True`` only) an SB3 ``.pkl``."""
     path = Path(path)
     if path.suffix == ".pkl":
-        return VecNormalizeStats.of(_unpickle(path, "VecNormalize statistics", trust))
+        saved = _unpickle(path, "VecNormalize statistics", trust)
+        rms = [getattr(saved, "ret_rms", None)]
+        obs = getattr(saved, "obs_rms", None)
+        rms += list(obs.values()) if isinstance(obs, dict) else [obs]
+        if not all(hasattr(r, a) for r in rms for a in ("mean", "var", "count")) or not all(
+                hasattr(saved, a) for a in ("norm_obs", "norm_reward", "clip_obs", "clip_reward", "gamma", "epsilon")):
+            raise ArtefactError(f"{path}: the pickle holds {_what_object(saved)}, not stable-baselines3's VecNormalize "
+                                f"statistics")
+        return VecNormalizeStats.of(saved)
     arrays = _load_npz(path, "VecNormalize statistics", VECNORM_FORMAT)
     try:
         if "obs_keys" in arrays:
@@ -402,6 +410,13 @@ def load_vecnormalize(path, trust: bool = False) -> VecNormalizeStats:
                                  epsilon=float(arrays["epsilon"]), norm_obs_keys=norm_keys)
     except KeyError as exc:
         raise ArtefactError(f"{path}: VecNormalize statistics lack {exc.args[0]!r}") from None
+
+
+def _what_object(obj) -> str:
+    """``a dict``, ``the class collections.OrderedDict``: what an unpickled object is, for an error message."""
+    if isinstance(obj, type):
+        return f"the class {obj.__module__}.{obj.__qualname__}"
+    return f"a {type(obj).__module__}.{type(obj).__qualname__}".replace("a builtins.", "a ")
 
 
 def _unpickle(path: Path, what: str, trust: bool):
@@ -442,6 +457,8 @@ def load_replay_buffer(model, path, trust: bool = False) -> None:
     buffer = model.replay_buffer
     if path.suffix == ".pkl":
         saved = _unpickle(path, "replay buffer", trust)
+        if not all(hasattr(saved, a) for a in ("n_envs", "pos", "full", "buffer_size", "observations", "actions")):
+            raise ArtefactError(f"{path}: the pickle holds {_what_object(saved)}, not a stable-baselines3 replay buffer")
         arrays = {"n_envs": np.array(saved.n_envs), "pos": np.array(saved.pos), "full": np.array(saved.full),
                   "buffer_size": np.array(saved.buffer_size)}
         for name in _BUFFER_ARRAYS:

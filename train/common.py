@@ -84,6 +84,26 @@ def check_env_id(env_id: str) -> str:
     return env_id
 
 
+def check_mujoco_env(env, env_id: str) -> None:
+    """Refuse an env that mjrft's commands cannot train, load without unpickling and evaluate: one that is not a
+    MuJoCo env (its unwrapped env holds an ``mujoco.MjModel``) with array (``Box``) observations and continuous
+    (``Box``) actions. The error names what the env has and what mjrft takes."""
+    import mujoco
+    from gymnasium import spaces
+
+    problems = []
+    if not isinstance(getattr(env.unwrapped, "model", None), mujoco.MjModel):
+        problems.append(f"it is not a MuJoCo environment ({type(env.unwrapped).__name__})")
+    for what, space, want in (("actions", env.action_space, "continuous"),
+                              ("observations", env.observation_space, "an array")):
+        if not isinstance(space, spaces.Box):
+            problems.append(f"its {what} are {space}, not {want} (Box)")
+    if problems:
+        raise ValueError(f"{env_id}: {'; '.join(problems)}. mjrft trains and evaluates MuJoCo robots with continuous "
+                         f"actions: mjrft's environments (mjrft/HexapodSand-v0, ...), gymnasium's MuJoCo robots on "
+                         f"sand (mjrft/HopperSand-v5, ...) or on rigid ground (Hopper-v5, ...)")
+
+
 def valid_env_kwargs(env_id: str) -> list[str]:
     """Keyword arguments the environment ``env_id`` accepts (plus gymnasium.make's ``max_episode_steps``)."""
     import gymnasium

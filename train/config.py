@@ -27,7 +27,8 @@ Keys (all but ``env_id`` optional; :data:`DEFAULTS` gives the defaults):
 ``vec_env``            how the environments are stepped (:mod:`mjrft.train.vecenv`): ``auto``, ``subproc``,
                        ``dummy`` or ``batched``. Each kind adds up the physics in its own order, and PPO
                        amplifies the last-bit differences, so a recipe names the kind that reproduces its
-                       policy bit for bit (with the same kind, seed and n_envs a run is repeatable).
+                       policy bit for bit on the machine that trained it (with the same kind, seed, n_envs
+                       and torch threads a run repeats itself there; on another CPU it need not).
 ``description``        free text (why the recipe is as it is)
 =====================  =================================================================================
 """

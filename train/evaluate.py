@@ -14,13 +14,15 @@ Metrics (one row per episode; the summary holds their mean and standard deviatio
 ``return``          sum of the env's rewards
 ``steps``           env steps; ``seconds`` = steps x ``env.dt``
 ``speed``           forward speed (m/s): torso displacement along +x over the episode / its duration
-                    (``info["x_position"]`` at reset and at the last step)
+                    (``info["x_position"]`` at reset and at the last step; for an env without it, the first
+                    coordinate of its root joint, ``qpos[0]``)
 ``cot``             cost of transport (dimensionless): actuator energy ``sum(info["power"]) x dt``
                     divided by ``m g |dx|`` (m: total mass, dx: the x displacement); ``|dx|`` is floored
                     at 1 mm/s x duration, the same floor as the env's per-step ``info["cost_of_transport"]``
 ``sink_mean_mm``    mean sinkage (mm) of the feet that are in the sand: the average of ``info["sinkage"]``
                     (deepest element of each foot/leg body) over every step and every foot whose sinkage
-                    is > 0 (a foot in the air does not dilute it); 0 when no foot ever entered the sand
+                    is > 0 (a foot in the air does not dilute it); 0 when no foot ever entered the sand (or the
+                    env reports no ``sinkage``, e.g. gymnasium's own MuJoCo robots on rigid ground)
 ``sink_peak_mm``    the largest ``info["sinkage"]`` over the episode and the feet (mm)
 ``slip``            foot slip (m/s): the mean horizontal speed of the foot surface that is in contact
                     with the ground, weighted by contact area and time. On sand the grains are at rest
@@ -28,7 +30,8 @@ Metrics (one row per episode; the summary holds their mean and standard deviatio
                     ``sum(area |v_xy|) / sum(area)`` over the buried elements of the foot/leg bodies
                     (``terrain.depth > 0``, ``terrain.vel``, ``terrain.area``, ``terrain.elem_body``) at every
                     step. On rigid ground: the mean horizontal speed of the foot's material point at each
-                    foot-floor contact (MuJoCo contacts, velocity from ``mj_jac``). 0 without contact.
+                    foot-floor contact (MuJoCo contacts, velocity from ``mj_jac``). 0 without contact, and for
+                    an env whose feet mjrft does not know (gymnasium's robots on rigid ground)
 ``fell``            the episode ended by termination (unhealthy: fallen over or sunk), not by the time limit;
                     the fall rate is the fraction of such episodes
 ==================  =====================================================================================
@@ -57,8 +60,8 @@ from mjrft.tools.outputs import number
 from mjrft.tools.rerun_log import LOG_EVERY
 
 from .artefacts import TRUST_HELP
-from .common import (ALGOS, check_env_id, check_int, default_hyperparams, int_arg, make_env, parse_kwargs,
-                     progress_bar)
+from .common import (ALGOS, check_env_id, check_int, check_mujoco_env, default_hyperparams, int_arg, make_env,
+                     parse_kwargs, progress_bar)
 from .train import MODEL_NAME, VECNORM_SUFFIX, find_config, list_checkpoints, load_config, side_file, vecnormalize_file
 
 G = 9.81
@@ -167,10 +170,35 @@ def _check_vecnormalize(path: Path) -> None:
     """A model of a run trained with ``normalize`` needs its VecNormalize statistics next to it."""
     from .artefacts import ArtefactError
 
-    cfg_path = find_config(path)
-    if cfg_path is not None and load_config(cfg_path).get("normalize") and vecnormalize_file(path) is None:
+    cfg = run_config(path)
+    if cfg is not None and cfg.get("normalize") and vecnormalize_file(path) is None:
         raise ArtefactError(f"{side_file(path, VECNORM_SUFFIX)}: missing, but {path.name} was trained with "
-                            f"normalised observations ({cfg_path} says normalize: true)")
+                            f"normalised observations ({find_config(path)} says normalize: true)")
+
+
+#: damaged config.json files already reported in this process (each is said once)
+_REPORTED_CONFIGS: set = set()
+
+
+def run_config(model_path) -> dict | None:
+    """The ``config.json`` of the run a model zip belongs to; None when it has none, and None (with one warning
+    naming the file, once) when it is damaged: the model stays usable, its algorithm read from the zip, its
+    env given with ``--env``. Resuming such a run is refused (:func:`mjrft.train.train.train`)."""
+    import warnings
+
+    from .artefacts import ArtefactError, SkippedArtefactWarning
+
+    cfg_path = find_config(model_path)
+    if cfg_path is None:
+        return None
+    try:
+        return load_config(cfg_path)
+    except ArtefactError as exc:
+        if str(cfg_path.resolve()) not in _REPORTED_CONFIGS:
+            _REPORTED_CONFIGS.add(str(cfg_path.resolve()))
+            warnings.warn(f"{exc}; the model is used without it (its algorithm read from the zip; give the env "
+                          f"with --env)", SkippedArtefactWarning, stacklevel=3)
+        return None
 
 
 def _newest_model(folder: Path) -> tuple[Path, str]:
@@ -215,10 +243,12 @@ def trained_env(policy) -> tuple[str, dict]:
 
     if isinstance(policy, str) and is_gait_spec(policy):
         raise ValueError(f"give the env id (--env) for the gait {policy!r}")
-    cfg_path = find_config(model_file(policy))
-    if cfg_path is None:
-        raise ValueError(f"{str(policy)!r} has no config.json of its run to take the env from; give the env id (--env)")
-    cfg = load_config(cfg_path)
+    model = model_file(policy)
+    cfg = run_config(model)
+    if cfg is None:
+        what = "readable " if find_config(model) is not None else ""
+        raise ValueError(f"{str(policy)!r} has no {what}config.json of its run to take the env from; give the env "
+                         f"id (--env)")
     return cfg["env_id"], dict(cfg.get("env_kwargs") or {})
 
 
@@ -247,8 +277,7 @@ def load_policy(policy, device: str = "cpu", *, env=None, trust: bool = False) -
         mjx_policy = load_mjx_policy(policy)
         return LoadedPolicy(str(policy), "brax-ppo", model=mjx_policy, config=mjx_policy.meta)
     path, note = resolve_model(policy)
-    cfg_path = find_config(path)
-    config = load_config(cfg_path) if cfg_path else None
+    config = run_config(path)
     algo = config["algo"] if config and "algo" in config else algo_of_zip(path)
     vn_path = vecnormalize_file(path)
     vecnorm = load_vecnormalize(vn_path, trust) if vn_path is not None else None
@@ -270,8 +299,7 @@ def policy_config(policy) -> dict | None:
 
         meta = read_meta(policy)
         return {"env_id": meta["env_id"], "env_kwargs": meta.get("env_kwargs") or {}}
-    cfg_path = find_config(resolve_model(policy)[0])
-    return load_config(cfg_path) if cfg_path else None
+    return run_config(resolve_model(policy)[0])
 
 
 # ---------------------------------------------------------------------------------------------- metrics
@@ -297,15 +325,19 @@ class _Meter:
         sand = _granular_wrapper(env)  # a third-party env on sand: its selected bodies are the feet
         if sand is not None:
             self.foot_ids, terrain = np.asarray(sand.body_ids, dtype=np.int64), sand.terrain
-        else:
-            self.foot_ids = np.array([u.model.body(n).id for n in u.foot_names], dtype=np.int64)
+        else:  # mjrft's envs name their feet; another MuJoCo env has none to measure
+            self.foot_ids = np.array([u.model.body(n).id for n in getattr(u, "foot_names", ())], dtype=np.int64)
             terrain = getattr(u, "terrain", None)
         self.terrain = terrain
         self.foot_elems = None if terrain is None else np.flatnonzero(np.isin(terrain.elem_body, self.foot_ids))
         self._jac = np.zeros((3, u.model.nv))
 
+    def _x(self, info) -> float:
+        """The torso's x: ``info["x_position"]``, else the first coordinate of the root joint (``qpos[0]``)."""
+        return float(info["x_position"]) if "x_position" in info else float(self.env.data.qpos[0])
+
     def start(self, info) -> None:
-        self.x0 = float(info["x_position"])
+        self.x0 = self._x(info)
         self.x = self.x0
         self.ret = 0.0
         self.steps = 0
@@ -322,10 +354,10 @@ class _Meter:
             self.diverged = str(info["diverged"])
         self.ret += float(reward)
         self.steps += 1
-        self.x = float(info["x_position"])
+        self.x = self._x(info)
         power = info["power"] if "power" in info else self._power()
         self.energy += float(power) * self.dt
-        sink = np.asarray(info["sinkage"], dtype=float)
+        sink = np.asarray(info.get("sinkage", ()), dtype=float)
         inside = sink > 0
         self.sink_sum += float(sink[inside].sum())
         self.sink_n += int(inside.sum())
@@ -421,7 +453,9 @@ def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed
     if env_id is None:
         from mjrft.envs import ENV_IDS
 
-        raise ValueError(f"give the env id for policy {str(policy_or_spec)!r} (valid choices: "
+        damaged = is_file and not cfg and find_config(model_file(policy_or_spec)) is not None
+        why = " (its run's config.json cannot be read)" if damaged else ""
+        raise ValueError(f"give the env id for policy {str(policy_or_spec)!r}{why} (valid choices: "
                          f"{', '.join(sorted(ENV_IDS))})")
     check_env_id(env_id)
     kwargs = {**(cfg.get("env_kwargs") or {}), **(env_kwargs or {})}
@@ -430,6 +464,7 @@ def evaluate(policy_or_spec, env_id: str | None = None, episodes: int = 10, seed
     env = make_env(env_id, kwargs)
     rows = []
     try:
+        check_mujoco_env(env, env_id)
         if loaded is None:
             loaded = load_policy(policy_or_spec, device=device, env=env, trust=trust)
         policy = loaded.bind(env)
@@ -575,7 +610,7 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    from mjrft.tools.outputs import output_file
+    from mjrft.tools.outputs import WarningNotes, output_file
 
     env_kwargs = parse_kwargs(args.env_kwargs, "env kwarg")
     if args.backend == "mjx":
@@ -583,14 +618,16 @@ def main(args) -> int:
     for option in ("csv", "json", "rrd"):
         if getattr(args, option):
             output_file(getattr(args, option), f"--{option}")
-    announce_model(args.policy)
-    rows, summary = evaluate(args.policy, args.env_id, args.episodes, args.seed, env_kwargs,
-                             deterministic=not args.stochastic, rrd=args.rrd, device=args.device,
-                             log_every=args.log_every, progress=args.progress, trust=args.trust)
+    with WarningNotes() as notes:  # the warnings become notes under the table, as for mjrft demo
+        announce_model(args.policy)
+        rows, summary = evaluate(args.policy, args.env_id, args.episodes, args.seed, env_kwargs,
+                                 deterministic=not args.stochastic, rrd=args.rrd, device=args.device,
+                                 log_every=args.log_every, progress=args.progress, trust=args.trust)
     kw = ", ".join(f"{k}={v}" for k, v in summary["env_kwargs"].items())
     print(f"{summary['policy']} on {summary['env_id']}" + (f" ({kw})" if kw else "")
           + f", {len(rows)} episode(s), seed {args.seed}, {'deterministic' if not args.stochastic else 'stochastic'}")
     print(format_table(rows, summary))
+    notes.print()
     for path, writer in ((args.csv, write_csv), (args.json, write_json)):
         if path:
             writer(path, rows, summary)

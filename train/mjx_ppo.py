@@ -71,6 +71,28 @@ def require_extra() -> None:
     if missing:
         raise ValueError(f"MJX training and MJX policies need the optional extra mjrft[mjx] ({', '.join(missing)} "
                          "not installed): pip install 'mjrft[mjx]' (Python >= 3.11; docs/gpu.md)")
+    import_mjx_quietly()
+
+
+#: what ``import mujoco.mjx`` prints when its optional Warp backend (NVIDIA Warp) is not installed
+WARP_NOTICES = ("Failed to import warp:", "Failed to import mujoco_warp:")
+
+
+def import_mjx_quietly() -> None:
+    """Import ``mujoco.mjx`` (Brax imports it too) without the lines it prints when NVIDIA Warp is not installed
+    (:data:`WARP_NOTICES`): mjrft runs MJX's JAX implementation, which does not use Warp. Anything else the
+    import prints is passed on."""
+    import io
+    import sys
+
+    if "mujoco.mjx" in sys.modules:
+        return
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        import mujoco.mjx  # noqa: F401
+    for line in printed.getvalue().splitlines():
+        if not line.startswith(WARP_NOTICES):
+            print(line)
 
 
 # ---------------------------------------------------------------------- recipes

@@ -96,11 +96,41 @@ def _float(text: str) -> float:
     return float(text) if text.strip() else math.nan
 
 
+def _read_text(path: Path, what: str) -> str:
+    """The text of ``path``; one ValueError naming the file when it is not a text file (binary, another encoding)."""
+    try:
+        with open(path, newline="") as fh:
+            text = fh.read()
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: {what} is not a text file (byte {exc.start} is not UTF-8: binary or "
+                         f"damaged)") from None
+    except OSError as exc:
+        raise ValueError(f"{path}: {what} cannot be read ({exc.strerror or exc})") from None
+    if "\0" in text:
+        raise ValueError(f"{path}: {what} is not a text file (it holds NUL bytes: binary or damaged)")
+    return text
+
+
+def _left_out(path, skipped: list[tuple[int, str]], what: str) -> None:
+    """Warn once for the lines of ``path`` that were left out (line number, reason), naming the first."""
+    if skipped:
+        lineno, why = skipped[0]
+        more = f" (and {len(skipped) - 1} more)" if len(skipped) > 1 else ""
+        warnings.warn(f"{path}: {len(skipped)} {what} left out; line {lineno} {why}{more}", RuntimeWarning,
+                      stacklevel=3)
+
+
 def read_monitor(path) -> Monitor:
-    """The episodes of a ``monitor.csv`` (``r``, ``l`` and the optional ``speed`` column)."""
+    """The episodes of a ``monitor.csv`` (``r``, ``l`` and the optional ``speed`` column).
+
+    A line that is not an episode row (a field count other than the header's, a return or length that is not
+    a number) is left out with one warning naming the file, how many and the first; a binary file, a file
+    without the ``r`` and ``l`` columns or without any episode is an error naming the file.
+    """
     path = Path(path)
-    with open(path, newline="") as fh:
-        lines = [(i, line) for i, line in enumerate(fh, 1) if line.strip() and not line.startswith("#")]
+    text = _read_text(path, "monitor file")
+    lines = [(i, line) for i, line in enumerate(text.splitlines(keepends=True), 1)
+             if line.strip() and not line.startswith("#")]
     if not lines:
         raise ValueError(f"{path} is empty: no header line r,l,t")
     if len(lines) > 1 and not lines[-1][1].endswith("\n"):  # the process was stopped while writing it
@@ -112,47 +142,86 @@ def read_monitor(path) -> Monitor:
     if missing:
         raise ValueError(f"{path} has columns {','.join(header)}; a monitor file has r, l and t (missing: "
                          f"{', '.join(missing)})")
-    rows = []
+    col = {name: k for k, name in enumerate(header)}
+    returns, lengths, speed, skipped = [], [], [], []
     for (lineno, line), cells in zip(lines[1:], csv.reader(line for _, line in lines[1:])):
         if cells == header:  # a header repeated by a writer that restarted the file's table
             continue
         if len(cells) != len(header):
-            raise ValueError(f"{path} line {lineno} has {len(cells)} fields, the header {','.join(header)} has "
-                             f"{len(header)}")
-        rows.append(cells)
-    if not rows:
+            skipped.append((lineno, f"has {len(cells)} fields, the header {len(header)}"))
+            continue
+        try:
+            r, n = _float(cells[col["r"]]), float(cells[col["l"]])
+            v = _float(cells[col["speed"]]) if "speed" in col else math.nan
+        except ValueError:
+            skipped.append((lineno, f"holds a value that is not a number: {line.strip()[:80]!r}"))
+            continue
+        if not (math.isfinite(n) and n >= 0 and n.is_integer()):
+            skipped.append((lineno, f"has episode length {cells[col['l']]!r}, not a whole number of steps"))
+            continue
+        returns.append(r)
+        lengths.append(int(n))
+        speed.append(v)
+    _left_out(path, skipped, "line(s) that are not episode rows")
+    if not returns:
         raise ValueError(f"{path} has no finished episode yet")
-    col = {name: k for k, name in enumerate(header)}
-    try:
-        returns = np.array([_float(r[col["r"]]) for r in rows])
-        lengths = np.array([int(float(r[col["l"]])) for r in rows], dtype=np.int64)
-        speed = np.array([_float(r[col["speed"]]) for r in rows]) if "speed" in col else None
-    except ValueError as exc:
-        raise ValueError(f"{path}: a value is not a number ({exc})") from None
-    if speed is not None and not np.isfinite(speed).any():
-        speed = None
-    return Monitor(returns, lengths, speed)
+    speeds = np.array(speed) if "speed" in col else None
+    if speeds is not None and not np.isfinite(speeds).any():
+        speeds = None
+    return Monitor(np.array(returns), np.array(lengths, dtype=np.int64), speeds)
+
+
+def _log_start(path: Path) -> int:
+    """N of ``logs/from_<N>/progress.csv``."""
+    return int(path.parent.name.removeprefix("from_"))
 
 
 def read_progress(run_dir) -> tuple[np.ndarray, np.ndarray] | None:
     """SB3's ``rollout/ep_rew_mean`` against ``time/total_timesteps`` from every ``logs/from_<N>/progress.csv``
-    of the run (resumes in order of N), or None when no file has both columns with values."""
+    of the run (resumes in order of N), or None when no file has both columns with values.
+
+    A run resumed from the checkpoint at step N trains again what a killed run logged after N: the rows of an
+    earlier log after the start of the next one are left out, with a warning (``mjrft train`` itself drops
+    them when it resumes). Rows with another field count than the header's, or values that are not
+    numbers, are left out with a warning naming the file; a binary file is an error naming it.
+    """
+    logs = sorted(Path(run_dir).glob("logs/from_*/progress.csv"),
+                  key=lambda p: (_log_start(p) if p.parent.name.removeprefix("from_").isdigit() else -1, p.name))
     steps, means = [], []
-    for path in sorted(Path(run_dir).glob("logs/from_*/progress.csv")):
-        with open(path, newline="") as fh:
-            text = fh.read()
+    for k, path in enumerate(logs):
+        text = _read_text(path, "training log")
         if text and not text.endswith("\n"):  # a line cut by a stopped process
             text = text[: text.rfind("\n") + 1]
-        reader = csv.DictReader(io.StringIO(text))
-        for row in reader:
-            s, m = row.get("time/total_timesteps", ""), row.get("rollout/ep_rew_mean", "")
-            if s and m:
-                try:
-                    steps.append(float(s))
-                    means.append(float(m))
-                except ValueError:
-                    raise ValueError(f"{path} line {reader.line_num}: time/total_timesteps {s!r} or "
-                                     f"rollout/ep_rew_mean {m!r} is not a number") from None
+        nxt = next((_log_start(p) for p in logs[k + 1:] if p.parent.name.removeprefix("from_").isdigit()), None)
+        rows = list(csv.reader(io.StringIO(text)))
+        if not rows:
+            continue
+        header, skipped, later = rows[0], [], 0
+        col = {name: i for i, name in enumerate(header)}
+        for lineno, cells in enumerate(rows[1:], 2):
+            if len(cells) != len(header):
+                skipped.append((lineno, f"has {len(cells)} fields, the header {len(header)}"))
+                continue
+            if "time/total_timesteps" not in col or "rollout/ep_rew_mean" not in col:
+                continue
+            s, m = cells[col["time/total_timesteps"]], cells[col["rollout/ep_rew_mean"]]
+            if not (s and m):
+                continue
+            try:
+                step, mean = float(s), float(m)
+            except ValueError:
+                skipped.append((lineno, f"has time/total_timesteps {s!r} or rollout/ep_rew_mean {m!r}, not a number"))
+                continue
+            if nxt is not None and step > nxt:
+                later += 1
+                continue
+            steps.append(step)
+            means.append(mean)
+        _left_out(path, skipped, "row(s) that do not fit the header")
+        if later:
+            warnings.warn(f"{path}: {later} row(s) after step {nxt} left out: the run was resumed from the checkpoint "
+                          f"at step {nxt}, so what it logged after it was lost and trained again", RuntimeWarning,
+                          stacklevel=2)
     if not steps:
         return None
     order = np.argsort(steps, kind="stable")
@@ -160,7 +229,12 @@ def read_progress(run_dir) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def load_run(path, label: str | None = None) -> Run:
-    """A run folder's episodes, training log and env (module doc); errors name a missing folder or file."""
+    """A run folder's episodes, training log and env (module doc); errors name a missing folder or file.
+
+    When the run's last entry in ``config.json`` has ended and its finished episodes add up to more env steps
+    than it trained, the monitor holds episodes that a killed run finished after its last checkpoint (lost
+    with it): a warning says so (``mjrft train`` drops them when it resumes).
+    """
     path = Path(path)
     if not path.is_dir():
         raise ValueError(f"run folder {str(path)!r} does not exist" if not path.exists()
@@ -168,14 +242,22 @@ def load_run(path, label: str | None = None) -> Run:
     if not (path / MONITOR).is_file():
         raise ValueError(f"run folder {str(path)!r} has no {MONITOR} (no episode finished yet, or not a folder "
                          f"written by 'mjrft train')")
-    env_id, env_kwargs = None, {}
+    env_id, env_kwargs, cfg = None, {}, {}
     if (path / CONFIG).is_file():
         from .artefacts import read_json
 
         cfg = read_json(path / CONFIG, "run config")
         env_id, env_kwargs = cfg.get("env_id"), dict(cfg.get("env_kwargs") or {})
-    return Run(path, label or path.resolve().name, read_monitor(path / MONITOR), read_progress(path), env_id,
-               env_kwargs)
+    monitor = read_monitor(path / MONITOR)
+    runs = cfg.get("runs") if isinstance(cfg.get("runs"), list) else []
+    trained = cfg.get("num_timesteps")
+    ended = bool(runs) and isinstance(runs[-1], dict) and runs[-1].get("status") in ("finished", "interrupted",
+                                                                                     "crashed")
+    if ended and isinstance(trained, int) and monitor.steps[-1] > trained:
+        warnings.warn(f"{path / MONITOR}: its episodes add up to {int(monitor.steps[-1])} env steps, more than the "
+                      f"{trained} the run trained: it holds episodes a killed run finished after its last checkpoint "
+                      f"(lost with it), drawn as they are", RuntimeWarning, stacklevel=2)
+    return Run(path, label or path.resolve().name, monitor, read_progress(path), env_id, env_kwargs)
 
 
 def rolling_mean(values, window: int) -> np.ndarray:
@@ -384,8 +466,11 @@ def add_arguments(parser) -> None:
 
 
 def main(args) -> int:
-    result = plot_runs(args.runs, args.out, args.baseline, args.labels, args.window, args.csv, args.episodes,
-                       args.seed)
+    from mjrft.tools.outputs import WarningNotes
+
+    with WarningNotes() as notes:  # left-out lines, a gait baseline's terrain warnings: notes, as for mjrft demo
+        result = plot_runs(args.runs, args.out, args.baseline, args.labels, args.window, args.csv, args.episodes,
+                           args.seed)
     for run in result.runs:
         m = run.monitor
         tail = m.returns[-args.window:]
@@ -400,5 +485,6 @@ def main(args) -> int:
         parts = [f"return {number(b.ret, '.4g')}" if b.ret is not None else "",
                  f"speed {number(b.speed, '.3f')} m/s" if b.speed is not None else ""]
         print(f"baseline {b.label}: {', '.join(p for p in parts if p)}")
+    notes.print()
     print(f"wrote {result.out}" + (f" and {result.csv}" if result.csv else ""))
     return 0

@@ -51,7 +51,7 @@ from mjrft.tools.outputs import number
 from mjrft.tools.rerun_log import LOG_EVERY
 
 from .artefacts import TRUST_HELP
-from .common import check_env_id, check_int, make_env, parse_kwargs, progress_bar
+from .common import check_env_id, check_int, check_mujoco_env, make_env, parse_kwargs, progress_bar
 from .evaluate import DIVERGED_EXIT, announce_model, load_policy, resolve_model, trained_env
 
 
@@ -60,7 +60,13 @@ def _make_env(env_id: str, env_kwargs: dict):
     kwargs = dict(env_kwargs or {})
     # the rollout's own length governs; lift the registration's time limit out of the way
     kwargs.setdefault("max_episode_steps", NO_LIMIT)
-    return make_env(env_id, kwargs)
+    env = make_env(env_id, kwargs)
+    try:
+        check_mujoco_env(env, env_id)
+    except ValueError:
+        env.close()
+        raise
+    return env
 
 
 NO_LIMIT = 2 ** 62
@@ -113,6 +119,7 @@ def rollout(env_id_or_env, policy_or_spec, seconds: float | None = None, rrd_pat
         if env_kwargs:
             raise ValueError("env_kwargs apply only when the env is given by id")
         env = env_id_or_env
+        check_mujoco_env(env, type(env.unwrapped).__name__)
     logger = None
     try:
         u = env.unwrapped
@@ -224,7 +231,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args) -> int:
-    from mjrft.tools.outputs import output_file
+    from mjrft.tools.outputs import WarningNotes, output_file
 
     output_file(args.rrd, "--rrd")
     if args.spawn_viewer:
@@ -232,14 +239,16 @@ def main(args) -> int:
 
         check_viewer_display()
     env_id, env_kwargs = args.env, parse_kwargs(args.env_kwargs)
-    announce_model(args.policy)
-    if env_id is None:
-        env_id, saved_kwargs = trained_env(args.policy)
-        env_kwargs = {**saved_kwargs, **env_kwargs}
-    summary = rollout(env_id, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
-                      seed=args.seed, env_kwargs=env_kwargs, spawn_viewer=args.spawn_viewer, progress=args.progress,
-                      trust=args.trust, viewer_bind=args.viewer_bind)
+    with WarningNotes() as notes:  # the warnings become notes under the summary, as for mjrft demo
+        announce_model(args.policy)
+        if env_id is None:
+            env_id, saved_kwargs = trained_env(args.policy)
+            env_kwargs = {**saved_kwargs, **env_kwargs}
+        summary = rollout(env_id, args.policy, seconds=args.seconds, rrd_path=args.rrd, log_every=args.log_every,
+                          seed=args.seed, env_kwargs=env_kwargs, spawn_viewer=args.spawn_viewer,
+                          progress=args.progress, trust=args.trust, viewer_bind=args.viewer_bind)
     print(format_summary(summary))
+    notes.print("  ")
     print(f"wrote {summary['rrd']} ({summary['frames']} frames, every {args.log_every} env steps)")
     print(open_hint(summary["rrd"]))
     return DIVERGED_EXIT if summary["diverged"] else 0

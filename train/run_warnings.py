@@ -15,19 +15,14 @@ and time), from every worker process, each with its own source line. Training in
 from __future__ import annotations
 
 import csv
-import re
 import warnings
 from pathlib import Path
 
 import gymnasium
 
+from mjrft.tools.outputs import warning_kind
+
 WARNINGS_CSV = "warnings.csv"
-_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
-
-
-def warning_kind(category: str, message: str) -> str:
-    """The kind of a warning: its category and message with every number replaced by ``#``."""
-    return f"{category}: {_NUMBER.sub('#', message)}"
 
 
 class CaptureWarnings(gymnasium.Wrapper):

@@ -16,8 +16,10 @@ Run folder (``out_dir``):
 ``checkpoints/step_<N>.zip``                    periodic checkpoints, N = ``num_timesteps`` (10 digits)
 ``checkpoints/step_<N>_vecnormalize.npz``       their VecNormalize statistics (only with ``normalize``)
 ``checkpoints/step_<N>_replay_buffer.npz``      SAC's replay buffer, kept for the newest checkpoint only
+``checkpoints/step_<N>_monitor.json``           the length of ``monitor.csv`` when the checkpoint was saved
 ``monitor.csv``                                 one row per finished episode (return, length, wall time);
-                                                a resumed run appends to it
+                                                a resumed run appends to it (after dropping what a killed
+                                                run recorded past the checkpoint it resumes from)
 ``logs/from_<N>/progress.csv``                  SB3's training log of the run that started at step N
 ``warnings.csv``                                every warning the environments raised while training (step,
                                                 env, category, message); each kind is printed once, with
@@ -40,11 +42,19 @@ Choices:
   ``status``: ``finished``, ``interrupted`` (Ctrl-C, SIGTERM) or ``crashed`` (an exception, with its
   ``error``); an entry still ``running`` when the next run starts belonged to a process that was killed
   outright and becomes ``crashed``.
-* Resuming uses the saved configuration (env id, env kwargs, algorithm, hyper-parameters,
-  ``normalize``); passing different values raises a ``ValueError`` naming the difference. The
-  environments are re-seeded with ``seed + num_timesteps`` so a resumed run does not replay the
-  episodes it already saw. ``n_envs`` may change when resuming PPO, not SAC (its replay buffer is
-  laid out per environment).
+* Resuming uses the saved configuration: every setting left out (``None``; an option not given on the
+  command line) is the one ``config.json`` recorded, the budget ``timesteps`` included. A different env id,
+  algorithm, env kwarg, hyper-parameter, ``normalize`` or ``seed`` raises a ``ValueError`` naming the
+  difference. ``n_envs`` (PPO only: SAC's replay buffer is laid out per environment), ``checkpoint_every``,
+  ``vec_env``, ``device`` and ``torch_threads`` may be changed on purpose by giving them: each change is
+  said (``report``, else a warning) and recorded in the run's entry of ``runs`` (``changed``: from, to),
+  and the top-level keys hold the values in use (the saved run's package versions, when they differ, are
+  kept as ``versions_before``). The environments are re-seeded with ``seed + num_timesteps`` so a
+  resumed run does not replay the episodes it already saw.
+* A resume first drops what the previous run recorded after the checkpoint it resumes from (a killed or
+  crashed run lost those steps, and they are trained again): ``monitor.csv`` is cut back to its length at
+  that checkpoint (``checkpoints/step_<N>_monitor.json``), and the rows after step N leave
+  ``logs/*/progress.csv`` and ``warnings.csv``; the run says so and counts them in its entry's ``dropped``.
 * SAC's ``buffer_size`` defaults to ``min(1_000_000, timesteps)``: a checkpoint stores the whole
   buffer array, so a 1e6 buffer for a 50k-step run would write ~0.5 GB per checkpoint for nothing.
 * The ``n_envs`` environments are stepped as ``vec_env`` says (:mod:`mjrft.train.vecenv`: subprocesses,
@@ -74,8 +84,9 @@ from mjrft.errors import unknown
 from mjrft.tools.outputs import output_dir
 
 from .common import (ALGOS, FORKSERVER_PRELOAD, NOT_HYPERPARAMS, MujocoWarning, _jsonable,  # noqa: F401
-                     algo_class, check_env_id, check_int, default_hyperparams, int_arg, make_env, make_training_env,
-                     parse_kwargs, parse_value, route_mujoco_warnings, start_method, valid_env_kwargs)
+                     algo_class, check_env_id, check_int, check_mujoco_env, default_hyperparams, int_arg, make_env,
+                     make_training_env, parse_kwargs, parse_value, route_mujoco_warnings, start_method,
+                     valid_env_kwargs)
 from .config import DEFAULTS, load_training_config, named_configs
 from .vecenv import KINDS, check_kind, make_vec_env, resolve_kind
 
@@ -90,6 +101,11 @@ BUFFER_SUFFIX = "_replay_buffer.npz"
 #: the pickled side files SB3's own ``save`` writes (loaded only with ``trust=True``)
 PICKLE_VECNORM_SUFFIX = "_vecnormalize.pkl"
 PICKLE_BUFFER_SUFFIX = "_replay_buffer.pkl"
+#: beside a checkpoint: the length of monitor.csv when it was saved (a resume from it drops what came after)
+MARK_SUFFIX = "_monitor.json"
+MONITOR_NAME = "monitor.csv"
+WARNINGS_NAME = "warnings.csv"
+LOGS_DIR = "logs"
 SAC_MAX_BUFFER = 1_000_000
 _CKPT_RE = re.compile(r"^step_(\d+)\.zip$")
 
@@ -254,6 +270,9 @@ def save_checkpoint(model, out_dir, final: bool = False) -> Path:
         buffer = getattr(model, "replay_buffer", None) if target == ckpt else None
         if buffer is not None:
             atomic_write(side_file(target, BUFFER_SUFFIX), lambda tmp: save_replay_buffer(buffer, tmp))
+        monitor = Path(out_dir) / MONITOR_NAME
+        if target == ckpt and monitor.is_file():  # every episode finished so far is in it (a row is flushed at once)
+            write_json(side_file(ckpt, MARK_SUFFIX), {"num_timesteps": step, "monitor_bytes": monitor.stat().st_size})
         atomic_write(target, model.save)
         for suffix in (PICKLE_VECNORM_SUFFIX, PICKLE_BUFFER_SUFFIX):  # superseded by the files just written
             side_file(target, suffix).unlink(missing_ok=True)
@@ -302,42 +321,64 @@ def _check_same(saved: dict, name: str, given, saved_value) -> None:
                          f"{saved['_path']}); use a new --out folder or pass resume=False (--no-resume) to start over")
 
 
-def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 100_000, n_envs: int = 1,
-          seed: int = 0, out_dir="runs/mjrft", env_kwargs: dict | None = None, checkpoint_every: int = 10_000,
-          resume: bool = True, *, hyperparams: dict | None = None, normalize: bool | None = None,
-          device: str = "cpu", torch_threads: int | None = 1, progress_bar: bool = False, verbose: int = 0,
-          callback=None, config_name: str | None = None, vec_env: str = "auto", trust: bool = False,
-          report=None) -> TrainResult:
+#: the settings of a new run left ``None``
+NEW_RUN = {"timesteps": DEFAULTS["timesteps"], "n_envs": DEFAULTS["n_envs"], "seed": DEFAULTS["seed"],
+           "checkpoint_every": DEFAULTS["checkpoint_every"], "vec_env": DEFAULTS["vec_env"], "device": "cpu",
+           "torch_threads": 1}
+#: settings that a resumed run may change when they are given (each change is said and recorded in the run's
+#: entry of config.json); env id, algorithm, env kwargs, hyper-parameters, normalize and seed must match the run
+CHANGEABLE = ("n_envs", "checkpoint_every", "vec_env", "device", "torch_threads")
+
+
+def _saved_setting(saved: dict, name: str):
+    """A setting of the saved run (its default when an older config.json lacks it; saved torch_threads null: 0)."""
+    value = saved.get(name)
+    if value is None:
+        return 0 if name == "torch_threads" and name in saved else NEW_RUN[name]
+    return value
+
+
+def train(env_id: str | None = None, algo: str | None = None, timesteps: int | None = None,
+          n_envs: int | None = None, seed: int | None = None, out_dir="runs/mjrft", env_kwargs: dict | None = None,
+          checkpoint_every: int | None = None, resume: bool = True, *, hyperparams: dict | None = None,
+          normalize: bool | None = None, device: str | None = None, torch_threads: int | None = None,
+          progress_bar: bool = False, verbose: int = 0, callback=None, config_name: str | None = None,
+          vec_env: str | None = None, trust: bool = False, report=None) -> TrainResult:
     """Train ``algo`` on ``env_id`` until ``num_timesteps`` reaches ``timesteps``; resumable (see module doc).
 
+    Every setting left ``None`` is, when the folder holds a run to resume, the one its ``config.json`` saved
+    (those of :data:`CHANGEABLE` may be given to change them, the others must match), else the default given
+    below.
+
     Args:
-        env_id: registered gymnasium id (``mjrft.envs.ENV_IDS``); ``None`` on resume takes the saved one.
-        algo: ``"ppo"`` or ``"sac"``; ``None``: the saved one on resume, else ``"ppo"``.
-        timesteps: total environment steps of the run folder (over all environments and resumes).
-        n_envs: environments stepped together (see ``vec_env``).
-        seed: seeds the algorithm (torch, numpy) and the environments (``seed + i`` for env ``i``).
+        env_id: registered gymnasium id of a MuJoCo env (``mjrft.envs.ENV_IDS``, gymnasium's MuJoCo robots).
+        algo: ``"ppo"`` or ``"sac"`` (default ``"ppo"``).
+        timesteps: total environment steps of the run folder (over all environments and resumes; default 1e5).
+        n_envs: environments stepped together (see ``vec_env``; default 1).
+        seed: seeds the algorithm (torch, numpy) and the environments (``seed + i`` for env ``i``; default 0).
         out_dir: run folder (created).
         env_kwargs: keyword arguments of the environment (``max_episode_steps`` sets the time limit).
-        checkpoint_every: save a checkpoint each time the step count crosses a multiple of this.
+        checkpoint_every: save a checkpoint each time the step count crosses a multiple of this (default 10,000).
         resume: continue from the newest checkpoint in ``out_dir`` if there is one (else start over,
             replacing the folder's config and checkpoints).
         hyperparams: constructor arguments of the SB3 algorithm (``n_steps``, ``learning_rate``, ...).
         normalize: wrap the environments in ``VecNormalize`` (observations and rewards); default False.
-        device: torch device (``"cpu"``, ``"cuda"``, ``"auto"``).
-        torch_threads: torch CPU threads while training (restored afterwards); ``None`` leaves torch's
-            setting. Default 1: the policies are small MLPs, and on a busy 2-core machine one thread ran
-            SAC's updates 3.7x faster than two (measured: 100 SAC steps 2.2 s vs 8.2 s).
+        device: torch device (``"cpu"``, the default, ``"cuda"``, ``"auto"``).
+        torch_threads: torch CPU threads while training (restored afterwards); 0 leaves torch's setting.
+            Default 1: the policies are small MLPs, and on a busy 2-core machine one thread ran SAC's updates
+            3.7x faster than two (measured: 100 SAC steps 2.2 s vs 8.2 s).
         progress_bar: SB3's progress bar (tqdm + rich).
         verbose: SB3 verbosity (1 prints the training log).
         callback: extra SB3 callback(s) (a ``BaseCallback`` or a list).
         vec_env: how the ``n_envs`` environments are stepped: ``"subproc"``, ``"dummy"``, ``"batched"`` or
-            ``"auto"`` (:mod:`mjrft.train.vecenv`); any kind gives the same episodes for the same seed.
+            ``"auto"`` (the default; :mod:`mjrft.train.vecenv`); any kind gives the same episodes for the same seed.
         config_name: the training configuration the settings came from (``mjrft train --config``),
             recorded as ``config`` in ``config.json``.
         trust: on resume, also load checkpoint files that can only be unpickled (SB3's ``.pkl`` side files, a
             zip with custom classes; :mod:`mjrft.train.artefacts`). Only for files from a trusted source.
         report: called with a line of text for what the run decides on its own (the checkpoint it resumes
-            from, an unreadable checkpoint skipped, a missing replay buffer); None: those become warnings.
+            from, a setting changed on resume, an unreadable checkpoint skipped, a missing replay buffer);
+            None: those become warnings.
 
     Returns:
         :class:`TrainResult`; ``interrupted`` is True when a ``KeyboardInterrupt`` stopped training (the
@@ -345,13 +386,15 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         being built saves no model and records the run as interrupted).
     """
     out_dir = Path(out_dir)
-    timesteps = _check_int("timesteps", timesteps, 1)
-    n_envs = _check_int("n_envs", n_envs, 1)
-    seed = _check_int("seed", seed, 0)
-    checkpoint_every = _check_int("checkpoint_every", checkpoint_every, 1)
-    if torch_threads is not None:
-        torch_threads = _check_int("torch_threads", torch_threads, 1)
-    check_kind(vec_env)
+    given = {"timesteps": timesteps, "n_envs": n_envs, "seed": seed, "checkpoint_every": checkpoint_every,
+             "vec_env": vec_env, "device": device, "torch_threads": torch_threads}
+    for name, minimum in (("timesteps", 1), ("n_envs", 1), ("seed", 0), ("checkpoint_every", 1), ("torch_threads", 0)):
+        if given[name] is not None:
+            given[name] = _check_int(name, given[name], minimum)
+    if vec_env is not None:
+        check_kind(vec_env)
+    if device is not None and not isinstance(device, str):
+        raise ValueError(f"device must be a torch device name such as 'cpu' or 'cuda', got {device!r}")
     if algo is not None:
         algo_class(algo)
     if env_id is not None:
@@ -362,6 +405,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
     config_path = out_dir / CONFIG_NAME
     checkpoints = list_checkpoints(out_dir) if resume else []
     saved = None
+    changes = {}  # setting -> (saved value, value of this run): what a resume changes on purpose
     if checkpoints:
         if not config_path.is_file():
             raise ValueError(f"{out_dir} has checkpoints but no {CONFIG_NAME}; cannot resume (use another --out)")
@@ -371,6 +415,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         _check_same(saved, "algorithm", None if algo is None else algo.lower(), saved["algo"])
         _check_same(saved, "env kwargs", env_kwargs or None, saved["env_kwargs"])
         _check_same(saved, "normalize", normalize, saved["normalize"])
+        _check_same(saved, "seed", given["seed"], saved.get("seed", DEFAULTS["seed"]))
         env_id, algo, env_kwargs = saved["env_id"], saved["algo"], saved["env_kwargs"]
         normalize = saved["normalize"]
         if hyperparams:
@@ -378,18 +423,42 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
                 _check_same(saved, f"hyper-parameter {k}", v, saved["hyperparams"].get(k))
         ctor_kwargs = dict(saved.get("hyperparams_given", {}))
         effective = saved["hyperparams"]
+        settings = {k: _saved_setting(saved, k) if v is None else v for k, v in given.items()}
     else:
+        if env_id is None and resume and config_path.is_file():
+            raise ValueError(f"{out_dir} holds no checkpoint to resume from; start its run again with its settings: "
+                             f"mjrft train --config {config_path} --out {out_dir}")
         if env_id is None:
             raise ValueError(f"env id is required to start a new run in {out_dir} (valid choices: "
                              f"{', '.join(_mjrft_env_ids())})")
+        if resume and config_path.is_file():
+            _notify(report, f"{out_dir} holds no checkpoint to resume from: a new run starts there and replaces its "
+                            f"{CONFIG_NAME}", UserWarning)
+        settings = {k: NEW_RUN[k] if v is None else v for k, v in given.items()}
         algo = (algo or "ppo").lower()
         env_kwargs = dict(env_kwargs or {})
         normalize = bool(normalize)
-        ctor_kwargs, effective = resolve_hyperparams(algo, hyperparams, timesteps)
+        ctor_kwargs, effective = resolve_hyperparams(algo, hyperparams, settings["timesteps"])
+    settings["vec_env"] = resolve_kind(settings["vec_env"], env_id, settings["n_envs"])
+    if saved:
+        for name in CHANGEABLE:
+            if _jsonable(settings[name]) != _jsonable(_saved_setting(saved, name)):
+                changes[name] = (_saved_setting(saved, name), settings[name])
+        if algo == "sac" and "n_envs" in changes:
+            raise ValueError(f"n_envs {settings['n_envs']} differs from the SAC run being resumed "
+                             f"({changes['n_envs'][0]} in {saved['_path']}): its replay buffer is laid out per "
+                             f"environment; omit --n-envs")
+    timesteps, n_envs, seed, kind = (settings[k] for k in ("timesteps", "n_envs", "seed", "vec_env"))
+    checkpoint_every, device, torch_threads = (settings[k] for k in ("checkpoint_every", "device", "torch_threads"))
     cls = algo_class(algo)
 
-    # validate the env kwargs in this process (clear error before any worker starts)
+    # validate the env kwargs and the env in this process (clear error before any worker starts)
     probe = make_env(env_id, env_kwargs)
+    try:
+        check_mujoco_env(probe, env_id)
+    except ValueError:
+        probe.close()
+        raise
     if n_envs > 1:  # compile (or load) the numba kernels once here, not in every worker at the same time
         import numpy as np
 
@@ -406,7 +475,6 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         start_step = int(model.num_timesteps)
         if report is not None:
             report(f"resuming {out_dir} from {resumed_from.relative_to(out_dir)} at {start_step} steps (target {timesteps})")
-    kind = resolve_kind(vec_env, env_id, n_envs)
     history = list(saved.get("runs", [])) if saved else []
     config = {
         "env_id": env_id,
@@ -444,15 +512,32 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         for _, old in list_checkpoints(out_dir):
             for p in (old, *_side_files(old)):
                 p.unlink(missing_ok=True)
-        for p in (out_dir / MODEL_NAME, *_side_files(out_dir / MODEL_NAME), out_dir / "monitor.csv"):
+        for p in (out_dir / MODEL_NAME, *_side_files(out_dir / MODEL_NAME), out_dir / MONITOR_NAME,
+                  out_dir / WARNINGS_NAME):
             p.unlink(missing_ok=True)
+        for log in (out_dir / LOGS_DIR).glob("from_*/progress.csv"):
+            log.unlink()
+            _rmdir_if_empty(log.parent)
     _remove_stray_tmp(out_dir)
+    dropped = _drop_lost_records(out_dir, resumed_from, start_step) if resumed_from is not None else {}
     for old in history:  # a run that never recorded its end was killed (SIGKILL, power loss)
         if old.get("status") == "running":
             old.update(status="crashed", note="the process ended without recording its end (killed, or the "
                                               "machine stopped); steps after its last checkpoint were lost")
     run = {"started": _now(), "from_step": start_step, "target": timesteps, "n_envs": n_envs, "seed": seed,
            "status": "running", "pid": os.getpid()}
+    if changes:  # settings this resume changes on purpose (given, and not the saved ones): recorded and said
+        run["changed"] = {k: {"from": _jsonable(old), "to": _jsonable(new)} for k, (old, new) in changes.items()}
+        said = ", ".join(f"{k} {old!r} -> {new!r}" for k, (old, new) in changes.items())
+        _notify(report, f"resuming with changed settings: {said} (recorded in {config_path}, runs[-1].changed)",
+                UserWarning)
+    if dropped:  # what a killed (or crashed) run recorded after the checkpoint this run resumes from
+        run["dropped"] = dropped
+        what = ", ".join(f"{n} {name}" for name, n in dropped.items())
+        _notify(report, f"dropped what the previous run recorded after step {start_step} (its steps after that "
+                        f"checkpoint were lost): {what}", UserWarning)
+    if saved and saved.get("versions") and saved["versions"] != config["versions"]:
+        run["versions_before"] = saved["versions"]  # the packages changed: the bits of the run may too
     config["runs"].append(run)
     write_json(config_path, config)
 
@@ -473,7 +558,7 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
 
     try:
         venv = make_vec_env(env_id, n_envs, env_seed, env_kwargs, out_dir / "monitor.csv", kind=kind)
-        if torch_threads is not None:
+        if torch_threads:
             torch.set_num_threads(torch_threads)
         if model is not None:
             if vecnorm_stats is not None:
@@ -521,6 +606,8 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int = 1
         raise
     finally:
         torch.set_num_threads(threads_before)
+        if model is not None and getattr(model, "_logger", None) is not None:
+            model.logger.close()  # the progress.csv of this run
         if venv is not None:
             try:
                 venv.close()
@@ -541,6 +628,89 @@ def _catch_sigterm():
     return signal.signal(signal.SIGTERM, _sigterm)
 
 
+def _rmdir_if_empty(folder: Path) -> None:
+    try:
+        folder.rmdir()
+    except OSError:
+        pass
+
+
+def _keep_rows(path: Path, column: str, last_step: int) -> int:
+    """Rewrite the CSV ``path`` (atomically) without the rows whose ``column`` is a step after ``last_step``;
+    returns how many were dropped (0 and the file untouched when it lacks the column or has none)."""
+    import csv
+    import io
+
+    try:
+        text = path.read_text()
+    except (OSError, UnicodeDecodeError):
+        return 0
+    lines = text.splitlines(keepends=True)
+    if not lines:
+        return 0
+    header = next(csv.reader([lines[0]]))
+    if column not in header:
+        return 0
+    k = header.index(column)
+    keep, dropped = [lines[0]], 0
+    for line, cells in zip(lines[1:], csv.reader(lines[1:])):
+        try:
+            late = float(cells[k]) > last_step
+        except (IndexError, ValueError):
+            late = False  # not a row of steps: left for the readers to report
+        dropped += late
+        if not late:
+            keep.append(line)
+    if dropped:
+        atomic_write(path, lambda tmp: Path(tmp).write_text("".join(keep)))
+    return dropped
+
+
+def _drop_lost_records(out_dir: Path, checkpoint: Path, step: int) -> dict:
+    """Remove from the run folder's records what a previous run wrote after the checkpoint this run resumes
+    from: those steps were lost with that run (killed, or crashed), and the resumed run trains them again.
+
+    * ``monitor.csv``: cut back to its length when the checkpoint was saved (``step_<N>_monitor.json``);
+    * ``logs/from_<M>/progress.csv``: the rows after ``step`` (a log of a run that started at or after it:
+      all of it);
+    * ``warnings.csv``: the rows after ``step``.
+
+    Returns ``{what: count}`` of what was dropped (empty when nothing was lost).
+    """
+    from .artefacts import ArtefactError, read_json
+
+    dropped = {}
+    monitor, mark = out_dir / MONITOR_NAME, side_file(checkpoint, MARK_SUFFIX)
+    if monitor.is_file() and mark.is_file():
+        try:
+            size = int(read_json(mark, "monitor mark")["monitor_bytes"])
+        except (ArtefactError, KeyError, TypeError, ValueError):
+            size = None
+        if size is not None and 0 < size < monitor.stat().st_size:
+            with open(monitor, "rb+") as fh:
+                fh.seek(size)
+                episodes = sum(1 for line in fh.read().split(b"\n") if line.strip())
+                fh.truncate(size)
+                fh.flush()
+                os.fsync(fh.fileno())
+            dropped["episodes of monitor.csv"] = episodes
+    rows = 0
+    for log in sorted((out_dir / LOGS_DIR).glob("from_*/progress.csv")):
+        m = re.match(r"from_(\d+)$", log.parent.name)
+        if m and int(m.group(1)) >= step:
+            rows += max(0, len(log.read_bytes().splitlines()) - 1)
+            log.unlink()
+            _rmdir_if_empty(log.parent)
+        elif m:
+            rows += _keep_rows(log, "time/total_timesteps", step)
+    if rows:
+        dropped["rows of logs/*/progress.csv"] = rows
+    warned = _keep_rows(out_dir / WARNINGS_NAME, "step", step) if (out_dir / WARNINGS_NAME).is_file() else 0
+    if warned:
+        dropped["rows of warnings.csv"] = warned
+    return dropped
+
+
 def _remove_stray_tmp(out_dir: Path) -> None:
     """Delete the temporary files of :func:`atomic_write` that a killed process left behind."""
     for folder in (out_dir, out_dir / CHECKPOINT_DIR):
@@ -550,9 +720,9 @@ def _remove_stray_tmp(out_dir: Path) -> None:
 
 
 def _side_files(model_path) -> list[Path]:
-    """The VecNormalize statistics and replay buffer files of a model zip (mjrft's and SB3's pickled ones)."""
+    """The VecNormalize statistics, replay buffer (mjrft's and SB3's pickled ones) and monitor mark of a model zip."""
     return [side_file(model_path, s) for s in (VECNORM_SUFFIX, BUFFER_SUFFIX, PICKLE_VECNORM_SUFFIX,
-                                               PICKLE_BUFFER_SUFFIX)]
+                                               PICKLE_BUFFER_SUFFIX, MARK_SUFFIX)]
 
 
 def vecnormalize_file(model_path) -> Path | None:
@@ -639,16 +809,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              f"({', '.join(named_configs())}), a .yaml/.json file, or a run's config.json; "
                              "the options below override its values")
     parser.add_argument("--env", dest="env_id", default=None,
-                        help="environment id, e.g. mjrft/HexapodSand-v0 (required for a new run without --config)")
+                        help="environment id, e.g. mjrft/HexapodSand-v0: a MuJoCo env with continuous actions "
+                             "(required for a new run without --config)")
     parser.add_argument("--algo", default=None, help="ppo or sac (default ppo; on resume the saved one)")
     parser.add_argument("--timesteps", type=_int_arg, default=None,
-                        help="total environment steps of the run (resuming continues up to this; default 1e5)")
+                        help="total environment steps of the run (resuming continues up to this; default 1e5, on "
+                             "resume the saved budget)")
     parser.add_argument("--n-envs", type=_int_arg, default=None,
-                        help="parallel environments (default 1)")
-    parser.add_argument("--seed", type=_int_arg, default=None, help="random seed (default 0)")
+                        help="parallel environments (default 1; on resume the saved number, a different one is "
+                             "recorded as a change)")
+    parser.add_argument("--seed", type=_int_arg, default=None,
+                        help="random seed (default 0; on resume the saved one, a different one is refused)")
     parser.add_argument("--out", default="runs/mjrft", help="run folder (default runs/mjrft)")
     parser.add_argument("--checkpoint-every", type=_int_arg, default=None,
-                        help="steps between checkpoints (default 10000)")
+                        help="steps between checkpoints (default 10000; on resume the saved one, a different one is "
+                             "recorded as a change)")
     parser.add_argument("--hp", action="append", default=[], metavar="KEY=VALUE",
                         help="SB3 hyper-parameter, repeatable: --hp n_steps=512 --hp learning_rate=1e-4 "
                              "--hp 'policy_kwargs={\"net_arch\": [64, 64]}'")
@@ -656,10 +831,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="VecNormalize observations and rewards (statistics saved with the model)")
     parser.add_argument("--vec-env", default=None, choices=KINDS,
                         help="how the environments are stepped: subproc, dummy, batched or auto (default; "
-                             "mjrft.train.vecenv)")
-    parser.add_argument("--device", default="cpu", help="torch device: cpu (default), cuda, auto")
-    parser.add_argument("--torch-threads", type=_int_arg, default=1,
-                        help="torch CPU threads (default 1: fastest for these small MLP policies)")
+                             "mjrft.train.vecenv; on resume the saved kind, another is recorded as a change)")
+    parser.add_argument("--device", default=None,
+                        help="torch device: cpu (default), cuda, auto (on resume the saved one, another is recorded "
+                             "as a change)")
+    parser.add_argument("--torch-threads", type=_int_arg, default=None,
+                        help="torch CPU threads (default 1: fastest for these small MLP policies; 0: torch's own "
+                             "setting; on resume the saved number, another is recorded as a change)")
     parser.add_argument("--no-resume", dest="resume", action="store_false",
                         help="start over even if the folder has checkpoints")
     parser.add_argument("--trust", action="store_true",
@@ -673,10 +851,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def run_settings(args) -> dict:
-    """The run's settings from ``--config`` (if given) overridden by the options given on the command line."""
-    # without a file, None leaves env id, algorithm and normalisation to a resumed run's saved ones
-    cfg = load_training_config(args.config) if args.config else {**DEFAULTS, "env_id": None, "algo": None,
-                                                                   "normalize": None}
+    """The run's settings from ``--config`` (if given) overridden by the options given on the command line.
+
+    Without a file a setting not given is None: :func:`train` takes it from the run it resumes (else its default).
+    """
+    cfg = load_training_config(args.config) if args.config else {**{k: None for k in DEFAULTS}, "hyperparams": {},
+                                                                   "env_kwargs": {}, "env_id": None}
     given = {"env_id": args.env_id, "algo": args.algo, "timesteps": args.timesteps, "n_envs": args.n_envs,
              "seed": args.seed, "checkpoint_every": args.checkpoint_every, "normalize": args.normalize,
              "vec_env": args.vec_env}

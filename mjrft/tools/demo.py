@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import warnings
 
 from mjrft.tools.rerun_log import LOG_EVERY
 
@@ -39,10 +38,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args) -> int:
-    from mjrft.errors import TerrainStabilityWarning, ValidityRangeWarning
     from mjrft.train.rollout import format_summary, open_hint, rollout
 
-    from mjrft.tools.outputs import output_file
+    from mjrft.tools.outputs import WarningNotes, output_file
 
     out = os.path.abspath(output_file(args.out))
     if args.spawn_viewer:
@@ -50,22 +48,13 @@ def main(args) -> int:
 
         check_viewer_display()
     print(f"mjrft demo: RHex-class hexapod, gait {args.gait}, on {args.medium}, {args.seconds:g} s simulated "
-          "(the first run compiles the terrain kernels, up to a minute)", flush=True)
-    terrain_warnings = (TerrainStabilityWarning, ValidityRangeWarning)
-    with warnings.catch_warnings(record=True) as caught:
-        for category in terrain_warnings:
-            warnings.simplefilter("always", category)
+          "(the first run compiles the terrain kernels first: a minute or two)", flush=True)
+    with WarningNotes() as notes:  # the warnings become notes under the summary
         summary = rollout(ENV_ID, args.gait, seconds=args.seconds, rrd_path=out, log_every=args.log_every,
                           seed=args.seed, env_kwargs={"medium": args.medium}, spawn_viewer=args.spawn_viewer,
                           viewer_bind=args.viewer_bind)
     print(format_summary(summary))
-    for w in caught:  # the terrain's own warnings become notes under the summary; others are shown as usual
-        if not issubclass(w.category, terrain_warnings):
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    for category, what in ((TerrainStabilityWarning, "terrain stability"), (ValidityRangeWarning, "validity range")):
-        mine = [w for w in caught if issubclass(w.category, category)]
-        if mine:
-            print(f"  note: {len(mine)} {what} warning(s), first: {str(mine[0].message).removeprefix('mjrft: ')}")
+    notes.print("  ")
     print(f"wrote {out} ({summary['frames']} frames: robot, sand, contact stresses, forces, per-leg lift/thrust/sinkage)")
     print(open_hint(out))
     return 0

@@ -11,14 +11,22 @@ removes the folders these checks created that are still empty.
 ``number(x, spec, scale)`` formats a printed number: a value below ``NOISE`` x ``scale`` (floating-point
 round-off, e.g. the 1e-16 N drag of a plate pushed straight down) and a negative zero such as
 ``-0.000`` print as zero.
+
+``WarningNotes`` collects the warnings a command raises while it works and prints them after its output
+as short notes, one line per kind of warning with its count and first message (``note: 3 terrain
+stability warning(s), first: ...``), instead of Python's default lines with the source file and line
+of each (``mjrft demo``, ``rollout``, ``eval`` and ``plot`` use it).
 """
 
 from __future__ import annotations
 
 import os
+import re
+import sys
 import tempfile
+import warnings
 
-__all__ = ["NOISE", "number", "output_dir", "output_file", "remove_empty_created"]
+__all__ = ["NOISE", "WarningNotes", "number", "output_dir", "output_file", "remove_empty_created", "warning_kind"]
 
 NOISE = 1e-9  # relative size below which a printed value is round-off
 
@@ -81,3 +89,61 @@ def output_file(path, option: str = "--out") -> str:
         raise ValueError(f"{option} {path!r} cannot be written: permission denied")
     _probe(os.path.dirname(os.path.abspath(path)), option, path)
     return path
+
+
+# ---------------------------------------------------------------------------------------------- warnings
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def warning_kind(category: str, message: str) -> str:
+    """The kind of a warning: its category and message with every number replaced by ``#`` (the same body's
+    stability warning at any time is one kind)."""
+    return f"{category}: {_NUMBER.sub('#', message)}"
+
+
+def _what(category: type) -> str:
+    """``TerrainStabilityWarning`` -> ``terrain stability``, ``RuntimeWarning`` -> ``runtime``."""
+    name = category.__name__.removesuffix("Warning") or category.__name__
+    return " ".join(w.lower() if not w.isupper() else w for w in re.findall(r"[A-Z]+(?![a-z])|[A-Z]?[a-z0-9]+", name))
+
+
+class WarningNotes:
+    """Collects the warnings raised inside ``with WarningNotes() as notes:``; ``notes.lines()`` (or
+    ``notes.print()``) gives one note per kind (:func:`warning_kind`) in the order each kind first came,
+    ``note: N <category> warning(s), first: <message>``.
+
+    Every warning of ``counted`` (and its subclasses: mjrft's terrain, validity-range, sand-contact and gait
+    warnings are ``UserWarning`` / ``RuntimeWarning``) is counted each time it is raised; other categories
+    follow the filters in force (Python's defaults hide ``DeprecationWarning`` outside ``__main__``).
+    """
+
+    def __init__(self, counted=(UserWarning, RuntimeWarning)):
+        self.counted = tuple(counted)
+        self.caught: list = []
+
+    def __enter__(self) -> WarningNotes:
+        self._context = warnings.catch_warnings(record=True)
+        self.caught = self._context.__enter__()
+        for category in self.counted:
+            warnings.simplefilter("always", category)
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> bool:
+        self._context.__exit__(exc_type, exc, tb)
+        if exc_type is not None:  # the command failed: what was noted so far still goes out (on stderr)
+            self.print(file=sys.stderr)
+        return False
+
+    def lines(self, indent: str = "") -> list[str]:
+        kinds: dict[str, list] = {}
+        for w in self.caught:
+            kinds.setdefault(warning_kind(w.category.__name__, str(w.message)), []).append(w)
+        out = []
+        for found in kinds.values():
+            first = str(found[0].message).removeprefix("mjrft: ")
+            out.append(f"{indent}note: {len(found)} {_what(found[0].category)} warning(s), first: {first}")
+        return out
+
+    def print(self, indent: str = "", file=None) -> None:
+        for line in self.lines(indent):
+            print(line, file=file)

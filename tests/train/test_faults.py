@@ -3,7 +3,7 @@ process killed while it writes a checkpoint. Every failure is one error naming t
 unpickled without ``trust``; resuming and evaluating fall back to the newest file that loads and say
 so; nothing is lost beyond the last complete checkpoint.
 
-The runs train PPO / SAC on gymnasium's Pendulum (a few hundred steps) so that the suite stays fast.
+The runs train PPO / SAC on gymnasium's InvertedPendulum (MuJoCo; a few hundred steps) so that the suite stays fast.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from mjrft.train.artefacts import ArtefactError, NeedsTrustError  # noqa: E402
 from mjrft.train.evaluate import load_policy, resolve_model  # noqa: E402
 from mjrft.train.train import list_checkpoints, load_config, side_file, train  # noqa: E402
 
-ENV = "Pendulum-v1"
+ENV = "InvertedPendulum-v5"
 PPO_HP = {"n_steps": 64, "batch_size": 32, "n_epochs": 1, "policy_kwargs": {"net_arch": [16]}}
 
 
@@ -95,7 +95,7 @@ def test_mjrft_files_load_without_unpickling_anything(run, monkeypatch):
     monkeypatch.setattr(cloudpickle, "loads", refuse)
     loaded = load_policy(run)
     assert loaded.model.num_timesteps == 256 and loaded.vecnormalize is not None
-    obs = np.array([1.0, 0.0, 0.5], dtype=np.float32)
+    obs = np.array([0.05, 0.0, 0.5, -0.1], dtype=np.float32)
     assert loaded.predict(obs)[0].shape == (1,)
     assert sorted(p.suffix for p in run.iterdir() if p.name.startswith("model")) == [".npz", ".zip"]
 
@@ -181,11 +181,20 @@ def test_damaged_vecnormalize_statistics_are_one_error_naming_them(copy, damage)
 
 @pytest.mark.parametrize("text", ["", "{\"env_id\": ", "[1, 2]", "{\"seed\": 1}"])
 def test_a_damaged_config_json_is_one_error_naming_it(copy, text):
+    """Resuming needs the run's config: one error naming it. A good model stays usable without it: one warning
+    naming the config (once, however many of the folder's models are checked), the algorithm read from the zip."""
     (copy / "config.json").write_text(text)
-    for call in (lambda: load_policy(copy), lambda: train(None, None, 512, 1, 0, copy, None)):
-        with pytest.raises(ArtefactError) as e:
-            call()
-        _one_line(e.value, copy / "config.json")
+    with pytest.raises(ArtefactError) as e:
+        train(None, None, 512, 1, 0, copy, None)
+    _one_line(e.value, copy / "config.json")
+    from mjrft.train import evaluate as evaluate_module
+
+    evaluate_module._REPORTED_CONFIGS.clear()
+    with pytest.warns(artefacts.SkippedArtefactWarning) as caught:
+        policy = load_policy(copy)  # model.zip and four checkpoints are checked against the config
+    mine = [str(w.message) for w in caught if issubclass(w.category, artefacts.SkippedArtefactWarning)]
+    assert len(mine) == 1 and str(copy / "config.json") in mine[0], mine
+    assert policy.kind == "ppo" and policy.source == str(copy / "model.zip") and policy.vecnormalize is not None
 
 
 # ---------------------------------------------------------------------------------------------- newest complete model
@@ -246,7 +255,7 @@ def test_sac_resumes_with_an_empty_buffer_when_its_file_is_damaged(tmp_path):
     train(ENV, "sac", 60, 1, 0, tmp_path, {}, checkpoint_every=30, hyperparams=hp)
     buf = side_file(list_checkpoints(tmp_path)[-1][1], "_replay_buffer.npz")
     saved = np.load(buf)
-    assert bool(saved["full"]) and saved["observations"].shape == (60, 1, 3)  # buffer_size = the budget
+    assert bool(saved["full"]) and saved["observations"].shape == (60, 1, 4)  # buffer_size = the budget
     _truncate(buf)
     said = []
     result = train(None, None, 90, 1, 0, tmp_path, None, checkpoint_every=30, report=said.append)
@@ -271,7 +280,7 @@ def test_a_replay_buffer_and_vecnormalize_statistics_round_trip(tmp_path):
     for name in ("observations", "next_observations", "actions", "rewards", "dones", "timeouts"):
         assert np.array_equal(getattr(b.replay_buffer, name), getattr(a.replay_buffer, name)), name
     stats = artefacts.load_vecnormalize(tmp_path / "vn.npz")
-    obs = np.array([[0.3, -0.2, 4.0]], dtype=np.float32)
+    obs = np.array([[0.3, -0.2, 4.0, 0.1]], dtype=np.float32)
     assert np.array_equal(stats.normalize_obs(obs), venv.normalize_obs(obs))
     assert stats.obs_rms.count == venv.obs_rms.count and stats.ret_rms.var == venv.ret_rms.var
     # another buffer layout: refused with the reason
@@ -324,7 +333,7 @@ KILL_SCRIPT = textwrap.dedent("""
             return real(path, half)
         return real(path, write)
     t.atomic_write = killing_write
-    t.train("Pendulum-v1", "ppo", 256, 1, 0, sys.argv[1], {}, checkpoint_every=64, normalize=True,
+    t.train("InvertedPendulum-v5", "ppo", 256, 1, 0, sys.argv[1], {}, checkpoint_every=64, normalize=True,
             hyperparams={"n_steps": 64, "batch_size": 32, "n_epochs": 1, "policy_kwargs": {"net_arch": [16]}})
 """)
 
@@ -355,9 +364,11 @@ def test_save_checkpoint_writes_only_data_files(tmp_path):
     model = load_policy(tmp_path).model
     assert model is not None
     names = sorted(p.name for p in (tmp_path / "checkpoints").iterdir())
-    assert names == ["step_0000000064.zip", "step_0000000064_vecnormalize.npz"]
-    with np.load(tmp_path / "checkpoints" / names[1], allow_pickle=False) as npz:
-        assert str(npz["format"]) == artefacts.VECNORM_FORMAT and npz["obs_mean"].shape == (3,)
+    assert names == ["step_0000000064.zip", "step_0000000064_monitor.json", "step_0000000064_vecnormalize.npz"]
+    with np.load(tmp_path / "checkpoints" / names[2], allow_pickle=False) as npz:
+        assert str(npz["format"]) == artefacts.VECNORM_FORMAT and npz["obs_mean"].shape == (4,)
+    mark = json.loads((tmp_path / "checkpoints" / names[1]).read_text())  # the monitor's length at the checkpoint
+    assert mark == {"num_timesteps": 64, "monitor_bytes": (tmp_path / "monitor.csv").stat().st_size}
 
 
 # ---------------------------------------------------------------------------------------------- validate

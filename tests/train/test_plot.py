@@ -234,17 +234,19 @@ def test_a_torn_last_line_and_damaged_files_of_a_run(tmp_path):
     with pytest.warns(RuntimeWarning, match=f"line {N_EPISODES + 3} is incomplete"):
         run = load_run(tmp_path / "a")
     np.testing.assert_array_equal(run.monitor.returns, returns)
-    # a torn line in the middle is an error naming the file and the line
+    # a torn line in the middle is left out with a warning naming the file and the line; the rest is read
     with open(monitor, "a") as fh:
         fh.write("\n1.0,8,0.1,0.02\n")
-    with pytest.raises(ValueError, match=f"monitor.csv line {N_EPISODES + 3} has 2 fields"):
-        load_run(tmp_path / "a")
-    # a bad number in progress.csv, a corrupt config.json: the file is named
+    with pytest.warns(RuntimeWarning, match=f"monitor.csv: 1 line.* left out; line {N_EPISODES + 3} has 2 fields"):
+        run = load_run(tmp_path / "a")
+    np.testing.assert_array_equal(run.monitor.returns, [*returns, 1.0])
+    # a bad number in progress.csv: that row is left out, the file and line named; a corrupt config.json: an error
     write_run(tmp_path / "b")
     progress = tmp_path / "b" / "logs" / "from_0000000000" / "progress.csv"
     progress.write_text(progress.read_text().replace("512,5.12", "512,nan?"))
-    with pytest.raises(ValueError, match=f"{progress} line 2: .*'nan\\?' is not a number"):
-        load_run(tmp_path / "b")
+    with pytest.warns(RuntimeWarning, match=f"{progress}: 1 row.* left out; line 2 .*'nan\\?', not a number"):
+        run = load_run(tmp_path / "b")
+    assert 512 not in run.progress[0] and len(run.progress[0]) > 0
     write_run(tmp_path / "c")
     (tmp_path / "c" / "config.json").write_text('{"env_id": ')
     with pytest.raises(ValueError, match="config.json: run config is not valid JSON"):

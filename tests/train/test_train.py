@@ -356,9 +356,12 @@ def test_training_shows_each_kind_of_warning_once_and_logs_all(tmp_path, capsys)
     from mjrft.train.run_warnings import WARNINGS_CSV, warning_kind
     from mjrft.train.train import train
 
+    import mujoco
+
     class Warns(gym.Env):
         observation_space = gym.spaces.Box(-1, 1, (2,))
         action_space = gym.spaces.Box(-1, 1, (1,))
+        model = mujoco.MjModel.from_xml_string("<mujoco/>")  # mjrft train takes MuJoCo envs only
 
         def reset(self, seed=None, options=None):
             super().reset(seed=seed)
