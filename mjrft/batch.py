@@ -31,7 +31,7 @@ Each environment's arithmetic is the same in either mode: serial and parallel re
 Errors. A non-finite state or force stops that environment inside the failing step (nothing is
 written to its ``xfrc_applied``, as in :meth:`GranularTerrain.step`); the other environments finish
 their steps, every environment runs its terrain's bookkeeping (memory, stability check every
-``STABILITY_CHECK_EVERY`` steps, with the coupler's ``TerrainStabilityWarning``), and then a
+``STABILITY_CHECK_EVERY`` steps or ``STABILITY_CHECK_SPAN``, with the coupler's ``TerrainStabilityWarning``), and then a
 :class:`~mjrft.errors.NonFiniteError` is raised whose message starts ``environment <index>:`` and
 carries the coupler's body and time; its ``env_indices`` attribute lists every failed environment.
 """

@@ -51,7 +51,8 @@ from .surface import region_weights_many, surface_heights
 from .types import MjViews, StepViews, TerrainModel, TerrainState
 from .watch import StabilityWatch, ValidityWatch
 
-STABILITY_CHECK_EVERY = 50
+STABILITY_CHECK_EVERY = 50  # physics steps between the checks ...
+STABILITY_CHECK_SPAN = 0.05  # ... or this much simulated time (s), whichever comes first
 _STEP_FUNCTIONS = mujoco_step_functions()  # None -> the plain Python stepping loop is used
 _IMPLICIT_FUNCTIONS = mujoco_functions(*IMPLICIT_FUNCTIONS)  # None -> implicit=True is refused
 _NO_IMPLICIT = np.zeros(4, dtype=np.int64)
@@ -227,7 +228,7 @@ class GranularTerrain:
     :class:`~mjrft.errors.ValidityRangeWarning`, naming the law, the quantity, the value and the range:
     for the medium's grain size (and 3D-RFT's bulk density and internal friction) at construction,
     and for the deepest and the fastest buried element of the last step every
-    ``STABILITY_CHECK_EVERY`` steps, alongside the stability check.
+    ``STABILITY_CHECK_EVERY`` steps or ``STABILITY_CHECK_SPAN`` of simulated time, alongside the stability check.
 
     Your own robot. A third-party model goes on sand unchanged with
     ``GranularTerrain(model, floor="auto")``: collision geoms only, the floor's top as the surface (its
@@ -306,6 +307,7 @@ class GranularTerrain:
         self._t_begin = 0.0
         self._last_time = -np.inf
         self._steps = 0
+        self._check_time = -np.inf  # the simulation time of the last check
         self._hf_geom_z = None  # the hfield geom's height (set_surface of a height field)
         # last: a constructor that raises leaves the model as it was
         self.floor_contacts = remove_floor_contacts(model, tm)  # the floor's (contype, conaffinity) before
@@ -496,6 +498,7 @@ class GranularTerrain:
         """Forget every element's memory (call after changing the state by hand)."""
         self.terrain_state.forget()
         self._last_time = -np.inf
+        self._check_time = -np.inf
 
     # ------------------------------------------------------------------ changing the terrain in place
     def set_medium(self, medium=None, stress_scale=None) -> None:
@@ -667,8 +670,10 @@ class GranularTerrain:
             raise mujoco_reset_error(self.model, data, since)
 
     def _finish(self, data, status, body, dt, nstep) -> None:
-        """After ``nstep`` evaluations on ``data``: note its time; raise on a non-finite result; run the
-        stability check every STABILITY_CHECK_EVERY steps."""
+        """After ``nstep`` evaluations on ``data``: note its time; raise on a non-finite result; run the checks
+        (:meth:`mjrft.watch.StabilityWatch.check`, the validity ranges) on the first call after a reset and
+        then every ``STABILITY_CHECK_EVERY`` steps or ``STABILITY_CHECK_SPAN`` of simulated time, whichever comes
+        first (every step at a timestep of 50 ms or more)."""
         self._last_time = data.time
         if _reset_count(self._warning_numbers) != self._resets_seen:
             self._check_mujoco_reset(data, f"between t = {self._t_begin:.6g} s and the end of {nstep} step(s)")
@@ -677,7 +682,9 @@ class GranularTerrain:
             raise nonfinite_error(self.model, status, body, data.time)
         before = self._steps
         self._steps += nstep
-        if before == 0 or before // STABILITY_CHECK_EVERY != self._steps // STABILITY_CHECK_EVERY:
+        if (before // STABILITY_CHECK_EVERY != self._steps // STABILITY_CHECK_EVERY
+                or not data.time - self._check_time < STABILITY_CHECK_SPAN - 1e-12):
+            self._check_time = data.time
             st = self.terrain_state
             self._stability.check(data, dt, self.terrain_model, st)
             if self._validity.dynamic:

@@ -27,6 +27,10 @@ SPIKE_GROWTH = 2.0  # growth of a perturbation in a single step that warns even 
 # steps, each change larger than CHATTER_AMPLITUDE of the force, oscillates with the step's period 2, not the physics'
 CHATTER_STEPS = 50
 CHATTER_AMPLITUDE = 0.05
+# ... or, at timesteps above CHATTER_SPAN / CHATTER_STEPS, for CHATTER_SPAN of simulated time (at least
+# CHATTER_MIN_STEPS steps): at a 20 ms step, 50 steps would be a second of alternating forces before a warning
+CHATTER_SPAN = 0.2
+CHATTER_MIN_STEPS = 10
 CHATTER_SLOT = HELD_STEPS + 1  # the slot of ``stiff_max`` (nbody, TRACK_SLOTS, 10) that track_chatter keeps
 TRACK_SLOTS = HELD_STEPS + 2
 
@@ -95,25 +99,44 @@ def track_chatter(wrench, bodies, stiff_max):
         c[3], c[4], c[5] = dx, dy, dz
 
 
-def chattering(stiff_max, bodies) -> list[tuple[int, int, float, float]]:
+def chatter_steps(dt: float) -> int:
+    """How many consecutive reversals make a body chatter at timestep ``dt``: ``CHATTER_STEPS``, or the steps of
+    ``CHATTER_SPAN`` of simulated time when that is fewer (at least ``CHATTER_MIN_STEPS``)."""
+    span = math.ceil(CHATTER_SPAN / dt - 1e-9) if dt > 0 else CHATTER_STEPS
+    return max(CHATTER_MIN_STEPS, min(CHATTER_STEPS, span))
+
+
+def chattering(stiff_max, bodies, steps: int = CHATTER_STEPS) -> list[tuple[int, int, float, float]]:
     """(body, steps, relative change, force in N) of each of ``bodies`` that :func:`track_chatter` saw reverse
-    its force's change on at least ``CHATTER_STEPS`` consecutive steps since the last call; clears those records."""
+    its force's change on at least ``steps`` consecutive steps since the last call (:func:`chatter_steps`); clears
+    those records."""
     out = []
     for b in bodies:
         c = stiff_max[b, CHATTER_SLOT]
-        if c[7] >= CHATTER_STEPS:
+        if c[7] >= steps:
             out.append((int(b), int(c[7]), float(c[8]), float(c[9])))
         c[7:] = 0.0
     return out
 
 
 def chatter_warning(body: str, time: float, dt: float, steps: int, change: float, force: float,
-                    implicit: bool) -> TerrainStabilityWarning:
+                    implicit: bool, springs_limit: float = math.inf, depth_limit: float = math.inf
+                    ) -> TerrainStabilityWarning:
     """The :class:`TerrainStabilityWarning` for ``body`` (its name) whose granular force alternated for ``steps``
-    steps by ``change`` (relative) of ``force`` (N) at timestep ``dt``: what it is and the cure."""
-    cure = ("halve the timestep (GranularWrapper: substeps) until it stops" if implicit else
-            "use the implicit granular step (GranularTerrain(..., implicit=True)) or a timestep below the "
-            "springs' stability limit (terrain.stable_timestep(data, 'springs'))")
+    steps by ``change`` (relative) of ``force`` (N) at timestep ``dt``: what it is and the cure that holds at this
+    step, from the body's explicit limits now (s) of its springs and of its depth stiffness."""
+    if dt > depth_limit:
+        cure = (f"use a timestep below {depth_limit:.3g} s (GranularWrapper: substeps), the limit of its depth "
+                "stiffness, which is explicit in every mode (the implicit step does not remove it)")
+    elif not implicit and dt > springs_limit:
+        cure = ("use the implicit granular step (GranularTerrain(..., implicit=True)), which removes the springs' "
+                f"limit, or a timestep below {springs_limit:.3g} s (terrain.stable_timestep(data, 'springs'))")
+    elif implicit:
+        cure = ("halve the timestep (GranularWrapper: substeps) until it stops: the elements that slide or enter "
+                "the grains stay explicit in the implicit step")
+    else:
+        cure = ("use the implicit granular step (GranularTerrain(..., implicit=True)) or halve the timestep until it "
+                "stops")
     return TerrainStabilityWarning(
         f"mjrft: body '{body}' chatters at timestep {dt:g} s: its granular force ({force:.3g} N) reversed its change "
         f"on {steps} consecutive steps, by up to {100 * change:.3g} % of it, before t = {time:.4g} s; this "
@@ -428,18 +451,26 @@ def unstable_mode(jac, minv_jac, held, spike, inert, yield_displacement: float, 
 
 
 def stability_warning(body: str, time: float, dt: float, s0: float, damp: float, lam: float, lam_c: float,
-                      yield_displacement: float, damping_time: float) -> TerrainStabilityWarning:
+                      yield_displacement: float, damping_time: float,
+                      depth_limit: float = math.inf) -> TerrainStabilityWarning:
     """The :class:`TerrainStabilityWarning` for ``body`` (its name) whose :func:`unstable_mode` is
-    (``s0``, ``lam``, ``lam_c``) at timestep ``dt``; ``damp`` its damping (N s/m)."""
+    (``s0``, ``lam``, ``lam_c``) at timestep ``dt``; ``damp`` its damping (N s/m); ``depth_limit`` the explicit limit
+    of its depth stiffness (s), which the implicit step does not remove: beyond it the advice is the timestep."""
     K, c = spring(lam, lam_c, yield_displacement, damping_time)
     what = (f"damping {s0:.3g} N s/m" if yield_displacement == 0 else
             f"stiffness {s0:.3g} N/m, damping {damp:.3g} N s/m")
     mode = f"effective mass {s0 / lam:.3g} kg in its stiffest mode" if lam > 0 else "no stiffness"
     if lam_c > 0:
         mode += f"; inertial-regime damping rate {lam_c:.3g} 1/s"
+    if dt > depth_limit:
+        cure = (f"reduce the timestep below {depth_limit:.3g} s: the body's depth stiffness (explicit in every mode) "
+                f"limits it there too, so the implicit step (implicit=True) alone would not make this step stable")
+    else:
+        cure = ("reduce the timestep, increase yield_displacement, or step the grains' springs implicitly "
+                "(GranularTerrain(..., implicit=True), which removes this limit"
+                + (f"; the body's depth stiffness, explicit in every mode, allows up to {depth_limit:.3g} s)"
+                   if math.isfinite(depth_limit) else ")"))
     return TerrainStabilityWarning(
         f"mjrft: timestep {dt:g} s exceeds the stability limit {max_stable_dt(K, c, 1.0):.3g} s of the "
-        f"granular stiffness on body '{body}' at t = {time:.4g} s ({what}, {mode}); reduce the timestep, "
-        "increase yield_displacement, or step the grains' springs implicitly (GranularTerrain(..., implicit=True), "
-        "stable at any timestep)" + (" (the inertial regime's explicit limit is dt < 2 / its rate)"
-                                     if lam_c > 0 else ""))
+        f"granular stiffness on body '{body}' at t = {time:.4g} s ({what}, {mode}); {cure}"
+        + (" (the inertial regime's explicit limit is dt < 2 / its rate)" if lam_c > 0 else ""))

@@ -17,8 +17,8 @@ import numpy as np
 from .errors import TerrainStabilityWarning, ValidityRangeWarning
 from .laws import validity
 from .mujoco_c import mujoco_functions
-from .stability import (_stable_dts, _stable_timestep_pair, _stable_timesteps, chatter_warning, chattering,
-                        stability_warning, unstable_mode)
+from .stability import (_stable_dts, _stable_timestep_pair, _stable_timesteps, chatter_steps, chatter_warning,
+                        chattering, stability_warning, unstable_mode)
 from .types import TerrainModel, TerrainState
 
 _JACOBIAN_FUNCTIONS = mujoco_functions("mj_jacBodyCom", "mj_solveM")  # None -> through the bindings
@@ -85,15 +85,26 @@ class StabilityWatch:
 
     # ------------------------------------------------------------------ the checks
     def check(self, data: mujoco.MjData, dt: float, tm: TerrainModel, st: TerrainState) -> None:
-        """The checks of the steps since the last call (what :meth:`mjrft.GranularTerrain.step` runs every
-        ``STABILITY_CHECK_EVERY`` steps): the springs' explicit limit (not with the implicit step, which it does
-        not bound), the depth stiffness's, and chatter."""
+        """The checks of the steps since the last call (what :meth:`mjrft.GranularTerrain.step` runs on schedule):
+        the springs' explicit limit (not with the implicit step, which it does not bound), the depth stiffness's
+        (explicit in every mode), and chatter; each warning's advice is the one that holds at this step."""
+        depth = self.depth_limits(data, tm, st)
         if not tm.constants.implicit:
-            self.check_springs(data, dt, tm, st)
-        self.check_depth_springs(data, dt, tm, st)
-        self.check_chatter(data, dt, tm, st)
+            self.check_springs(data, dt, tm, st, depth)
+        self.check_depth_springs(data, dt, tm, depth)
+        self.check_chatter(data, dt, tm, st, depth)
 
-    def check_springs(self, data, dt: float, tm: TerrainModel, st: TerrainState) -> None:
+    def depth_limits(self, data, tm: TerrainModel, st: TerrainState) -> np.ndarray:
+        """Each body's explicit limit (s) of the depth stiffness of its stiffest step since the last call (``inf``
+        without one); clears that record."""
+        peak = st.dstiff_max.copy()
+        st.dstiff_max[:] = 0.0
+        limits = np.full(self.model.nbody, np.inf)
+        if np.any(peak[self.body_ids, 0] > 0):
+            self.limits_into(data, limits, tm, st, peak, vertical=True)
+        return limits
+
+    def check_springs(self, data, dt: float, tm: TerrainModel, st: TerrainState, depth: np.ndarray) -> None:
         """Warn once per body when dt exceeds the explicit stability limit (:mod:`mjrft.stability`, docs/numerics.md):
         for a stiffness held ``HELD_STEPS`` steps, or a single step that amplifies by ``SPIKE_GROWTH``;
         with the inertial regime on, its largest damping rate since the last check is added to both
@@ -114,18 +125,13 @@ class StabilityWatch:
                                  dt)
             if mode is not None:
                 self._warn(int(b), tm, lambda name: stability_warning(
-                    name, data.time, dt, mode[0], damp[b], mode[1], mode[2], cs.delta, cs.tau))
+                    name, data.time, dt, mode[0], damp[b], mode[1], mode[2], cs.delta, cs.tau, depth[b]))
 
-    def check_depth_springs(self, data, dt: float, tm: TerrainModel, st: TerrainState) -> None:
+    def check_depth_springs(self, data, dt: float, tm: TerrainModel, limits: np.ndarray) -> None:
         """Warn once per body when dt exceeds the explicit limit of the depth stiffness ``|F| / depth`` of its
         elements (vertical springs, docs/numerics.md, "Depth stiffness"), ``dt <= sqrt(2) / omega`` with
-        ``omega^2 = lambda_max(W6 Kd6)``, for the stiffest step since the last check."""
-        peak = st.dstiff_max.copy()
-        st.dstiff_max[:] = 0.0
-        if not np.any(peak[self.body_ids, 0] > 0):
-            return
-        limits = np.full(self.model.nbody, np.inf)
-        self.limits_into(data, limits, tm, st, peak, vertical=True)
+        ``omega^2 = lambda_max(W6 Kd6)``, for the stiffest step since the last check (``limits``:
+        :meth:`depth_limits`)."""
         for b in self.body_ids:
             if dt > limits[b] and b not in self.warned:
                 self._warn(int(b), tm, lambda name: TerrainStabilityWarning(
@@ -134,15 +140,21 @@ class StabilityWatch:
                     "depth, explicitly in every mode: a light body on a large area sunk shallow); use a smaller "
                     "timestep (GranularWrapper: substeps)"))
 
-    def check_chatter(self, data, dt: float, tm: TerrainModel, st: TerrainState) -> None:
+    def check_chatter(self, data, dt: float, tm: TerrainModel, st: TerrainState, depth: np.ndarray) -> None:
         """Warn once per body whose granular force alternated from step to step since the last check
-        (:func:`mjrft.stability.track_chatter`, docs/numerics.md, "Chatter"), in either mode."""
-        for b, steps, change, force in chattering(st.stiff_max, self.body_ids):
-            if b not in self.chatter_warned:
-                self.chatter_warned.add(b)
-                name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
-                warnings.warn(chatter_warning(name, data.time, dt, steps, change, force, tm.constants.implicit),
-                              stacklevel=5)
+        (:func:`mjrft.stability.track_chatter`, for :func:`~mjrft.stability.chatter_steps` steps), in either mode;
+        the cure named is the one that holds at this step (``depth``: the bodies' depth-stiffness limits)."""
+        found = [c for c in chattering(st.stiff_max, self.body_ids, chatter_steps(dt))
+                 if c[0] not in self.chatter_warned]
+        if not found:
+            return
+        springs = np.full(self.model.nbody, np.inf)
+        self.limits_into(data, springs, tm, st, st.stiff, vertical=False)
+        for b, steps, change, force in found:
+            self.chatter_warned.add(b)
+            name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
+            warnings.warn(chatter_warning(name, data.time, dt, steps, change, force, tm.constants.implicit,
+                                          springs[b], depth[b]), stacklevel=5)
 
     def _warn(self, b: int, tm: TerrainModel, warning_of) -> None:
         """Warn once about body ``b``: ``warning_of(its name)`` is the :class:`TerrainStabilityWarning`; a stress

@@ -3,8 +3,8 @@
 
 :class:`mjrft.GranularTerrain` checks a scene against these: the static quantities (the medium's grain
 size, and for ``rft3d`` its bulk density and internal friction) at construction, the dynamic ones
-(the deepest buried element and the fastest buried element) every ``STABILITY_CHECK_EVERY`` steps,
-and warns once per terrain per (law, quantity) with :class:`mjrft.errors.ValidityRangeWarning`
+(the deepest buried element and the fastest buried element) at each of the terrain's checks (every
+``STABILITY_CHECK_EVERY`` steps or ``STABILITY_CHECK_SPAN`` of simulated time), and warns once per terrain per (law, quantity) with :class:`mjrft.errors.ValidityRangeWarning`
 naming the law, the quantity, the value and the range. Outside a range the law still runs: its
 force there is an extrapolation of the source's fit.
 
