@@ -6,6 +6,7 @@ import ast
 import importlib
 import importlib.util
 import pathlib
+import re
 import subprocess
 import sys
 import tomllib
@@ -187,3 +188,89 @@ def test_train_modules_import_each_other_in_one_direction():
     cycles = [c for c in map(cycle_from, graph) if c]
     assert not cycles, f"import cycles in mjrft.train: {cycles}"
     assert graph["common"] <= {"run_warnings"}  # the shared helpers depend on (almost) nothing
+
+
+# ------------------------------------------------------------------------------------------------
+# self-contained: nothing points outside the repository, and the paths it names exist
+# ------------------------------------------------------------------------------------------------
+TEXT_SUFFIXES = (".py", ".md", ".json", ".yaml", ".toml", ".txt", ".csv", ".xml", ".cfg")
+#: what a user of the package does not have: the development machines' folders and their copies of the papers
+#: (written in pieces so that this file does not match itself)
+OUTSIDE = re.compile("|".join(["granular" + "-physics", "shared/" + "seeds", "shared/" + "reference", r"\.\./" + "shared",
+                               "/" + "work/"]))
+#: a path the repository names (the installed mjrft.envs, mjrft.train and mjrft.models live in envs/, train/, models/)
+PATH_MENTION = re.compile(r"(?<![\w/.-])((?:mjrft|envs|train|models|benchmarks|docs|tests)/[\w/.-]*\w\.(?:py|md|json|yaml))\b")
+THIS_FILE = pathlib.Path(__file__).resolve()
+INSTALLED_AS = {"mjrft/envs/": "envs/", "mjrft/train/": "train/", "mjrft/models/": "models/"}
+#: paths named on purpose although they do not exist: (file, path) -> why
+MADE_UP_PATHS = {("tests/test_docs.py", "docs/x.md"): "the link pattern's example text"}
+
+
+def repository_text_files() -> list[pathlib.Path]:
+    """The repository's tracked text files (every file under its folders when git is not at hand)."""
+    try:
+        out = subprocess.run(["git", "ls-files", "-z"], cwd=REPO, capture_output=True, text=True, timeout=60, check=True)
+        names = [n for n in out.stdout.split("\0") if n]
+    except (OSError, subprocess.SubprocessError):
+        names = [str(p.relative_to(REPO)) for p in REPO.rglob("*") if p.is_file()
+                 and not {".git", ".venv", "__pycache__"} & set(p.relative_to(REPO).parts)]
+    return [REPO / n for n in sorted(names) if n.endswith(TEXT_SUFFIXES) or n == "Makefile"]
+
+
+def outside_references(text: str, captured_output: bool = False) -> list[str]:
+    """The references to files outside the repository in ``text``. ``captured_output``: a committed result, whose
+    captured warnings may name the folder its command ran in; only references to the papers' copies count there."""
+    return [m.group(0) for m in OUTSIDE.finditer(text) if not (captured_output and m.group(0) == "/" + "work/")]
+
+
+def test_nothing_refers_to_files_outside_the_repository():
+    found = []
+    for path in repository_text_files():
+        rel = path.relative_to(REPO)
+        captured = rel.parts[:2] == ("benchmarks", "results")
+        for n, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+            if outside_references(line, captured):
+                found.append(f"{rel}:{n}: {line.strip()[:120]}")
+    assert not found, ("references to files outside the repository (cite the paper instead: authors, title, "
+                       "figure/table):\n" + "\n".join(found))
+
+
+def test_the_outside_check_sees_each_kind():
+    for text in ("see granular" + "-physics.md sec. 1", "/" + "work/shared/" + "seeds/003_*", "../" + "shared/x",
+                 "shared/" + "reference/y"):
+        assert outside_references(text), text
+    assert outside_references("/" + "work/main/envs/base.py:240: Warning") and not outside_references(
+        "/" + "work/main/envs/base.py:240: Warning", captured_output=True)
+    assert not outside_references("Li, Zhang & Goldman, Science 2013, suppl. table S2")
+
+
+def stale_paths(text: str, where: str) -> list[str]:
+    out = []
+    for p in PATH_MENTION.findall(text):
+        on_disk = p
+        for installed, folder in INSTALLED_AS.items():
+            if p.startswith(installed):
+                on_disk = folder + p[len(installed):]
+        if not (REPO / on_disk).exists() and (where, p) not in MADE_UP_PATHS:
+            out.append(p)
+    return out
+
+
+def test_named_paths_exist():
+    """Every path of a repository file that code, docs, tests and benchmark scripts name exists (a renamed module
+    leaves no stale name behind); committed results are what their commands printed, and are not checked."""
+    found = []
+    for path in repository_text_files():
+        rel = path.relative_to(REPO)
+        if rel.parts[:2] == ("benchmarks", "results") or rel.suffix in (".csv", ".xml") or path == THIS_FILE:
+            continue  # THIS_FILE plants stale paths to test the check
+        for n, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+            found += [f"{rel}:{n}: {p}" for p in stale_paths(line, str(rel))]
+    assert not found, "paths that do not exist:\n" + "\n".join(found)
+
+
+def test_the_path_check_sees_a_stale_path():
+    assert stale_paths("see ``mjrft/tradeoff.py`` and mjrft/tools/presets.py", "x.py") == ["mjrft/tradeoff.py"]
+    assert stale_paths("mjrft/envs/base.py, mjrft/validation/data/li2013.json", "x.py") == [
+        "mjrft/validation/data/li2013.json"]
+    assert not stale_paths("[a](docs/x.md#y)", "tests/test_docs.py")

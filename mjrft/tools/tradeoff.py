@@ -841,7 +841,7 @@ def write_markdown(rows: list[Row], path, title: str = "Speed/accuracy trade stu
             "rigid-ground twin with the same controller; rigs: the rig without terrain; 1 ms x 10), measured "
             "interleaved in one run. Errors against the reference (finest resolution, 0.5 ms, the medium's own Li "
             "fit): peak and RMS of the net granular force (relative), final position and late-run sinkage (robots "
-            "only). See `mjrft/tradeoff.py`.\n\n" + markdown_table(rows) + "\n" + recommendation_text(rows))
+            "only). See `mjrft.tools.tradeoff`.\n\n" + markdown_table(rows) + "\n" + recommendation_text(rows))
     with open(path, "w") as fh:
         fh.write(text)
         fh.flush()
