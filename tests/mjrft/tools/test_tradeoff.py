@@ -14,7 +14,7 @@ import pytest
 from mjrft.tools import cli, presets
 from mjrft.tools import tradeoff as T
 from mjrft.media import MEDIA, generic
-from mjrft.settings import resolve_settings
+from mjrft.settings import element_size_scale, resolve_settings
 
 C = T.Config
 # a tiny grid: the model's resolution, 4x and 2x coarser, and a reference at half the resolution and 0.5 ms
@@ -265,6 +265,16 @@ def gymnasium():
     import mjrft.envs  # noqa: F401  (registers the ids)
 
     return gym
+
+
+def test_one_rule_scales_the_element_size_only_when_no_resolution_is_given():
+    """The preset's scale and the terrain's resolution_scale follow mjrft.settings.element_size_scale."""
+    assert element_size_scale(None, 4.0) == 4.0 and element_size_scale(0.01, 4.0) == 1.0
+    with pytest.raises(ValueError, match="resolution_scale must be finite and > 0"):
+        element_size_scale(None, 0.0)
+    for name, p in presets.PRESETS.items():
+        assert presets.resolve(name).resolution_scale == element_size_scale(None, p["resolution_scale"])
+        assert presets.resolve(name, resolution=0.01).resolution_scale == element_size_scale(0.01, p["resolution_scale"])
 
 
 def test_env_presets(gymnasium):
