@@ -13,6 +13,7 @@ import pytest
 
 from mjrft.tools import cli, presets
 from mjrft.tools import tradeoff as T
+from mjrft.tools.tradeoff import measure
 from mjrft.media import MEDIA, generic
 from mjrft.settings import element_size_scale, resolve_settings
 
@@ -99,7 +100,7 @@ def test_humanoid_stands_on_one_foot():
     """The humanoid scenario's posture controller: weight on the right board, left foot out of the grains."""
     sc = T.SCENARIOS["humanoid"]
     cfg = C("resolution x4", "resolution", 4.0)
-    model = T._model_for(sc, cfg.timestep)
+    model = measure._model_for(sc, cfg.timestep)
     data = mujoco.MjData(model)
     terrain = T.make_terrain(sc, model, cfg)
     trace = T.record(sc, model, data, terrain, cfg)
@@ -215,7 +216,7 @@ def test_cli_bad_input(capsys):
 
 def test_cli_writes_outputs(monkeypatch, tmp_path, capsys):
     monkeypatch.setitem(T.SCENARIOS, "plate", replace(PLATE, duration=0.2))
-    monkeypatch.setattr(T, "default_grid", lambda sc, quick=False: [TINY[1], TINY[3]])
+    monkeypatch.setattr(measure, "default_grid", lambda sc, quick=False: [TINY[1], TINY[3]])  # run_study's grid
     out = tmp_path / "bench"
     assert cli.main(["bench", "--scenarios", "plate", "--quick", "--out", str(out)]) == 0
     for name in ("trade_study.md", "trade_study.csv", "trade_study.png"):
