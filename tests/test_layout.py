@@ -156,7 +156,9 @@ def test_every_allowed_import_is_there_and_has_its_reason():
      ["mjrft.train.rollout", "mjrft.train.rollout.rollout"]),
     ("mjrft.tools.probe", "import importlib\nm = importlib.import_module('mjrft.envs.biped')\n", ["mjrft.envs.biped"]),
     ("mjrft.envs.probe", "def f():\n    from ..train import common\n", ["mjrft.train", "mjrft.train.common"]),
-])
+], ids=["core imports tools, envs, train", "core imports models in a function", "models import tools in a function",
+        "models import envs", "tools import envs", "tools make an env by its gymnasium id", "tools import train",
+        "tools import_module an env", "envs import train in a function"])
 def test_the_check_sees_an_import_against_the_layers(module, source, above):
     assert against_layers(module, imported_modules(source, module)) == above
 
