@@ -1,7 +1,7 @@
 """The full speed/accuracy trade study; writes benchmarks/results/trade_study.{md,csv,png}.
 
 Every configuration of every scenario (resolution, law, timestep, frame skip, presets; see
-``mjrft/tradeoff.py``) runs side by side with the bare MuJoCo model, interleaved, and is compared with
+:mod:`mjrft.tools.tradeoff`) runs side by side with the bare MuJoCo model, interleaved, and is compared with
 the converged reference. Prints the table and the preset choice. A few minutes on 2 cores.
 
     python benchmarks/trade_study.py [--scenarios hexapod,plate] [--repeats 3] [--out benchmarks/results]

@@ -131,7 +131,7 @@ def _region_row(k: int, reg: Region, s: TerrainSettings) -> tuple[Medium, int, n
     except UnknownNameError:
         raise unknown(f"{where}medium", reg.medium, MEDIA) from None
     try:
-        lid = get_law(reg.law).id
+        law = get_law(reg.law)
     except UnknownNameError:
         raise unknown(f"{where}law", reg.law, LAW_IDS) from None
     wc = wet_constants(med)
@@ -142,12 +142,12 @@ def _region_row(k: int, reg: Region, s: TerrainSettings) -> tuple[Medium, int, n
     p = parameter_vector(med)
     p[P_WATER_DEPTH] = hw
     p[P_WATER_DRAG] = cd * rho
-    if s.inertial and get_law(reg.law).dry:
+    if s.inertial and law.dry:
         try:
             set_inertial(p, med, s.inertial_drag)
         except ValueError as exc:
             raise ValueError(f"{where}inertial=True: {exc}") from None
-    return med, lid, p, hw, (rho if s.buoyancy and (hw > 0 or lid in _SATURATED_LAWS) else 0.0)
+    return med, law.id, p, hw, (rho if s.buoyancy and (hw > 0 or law.id in _SATURATED_LAWS) else 0.0)
 
 
 def _next_strip(k: int, x_min, bounds: list, transition: float) -> float:

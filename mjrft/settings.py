@@ -128,6 +128,13 @@ def _resolve_surface(model: mujoco.MjModel, cfg: dict, floor, surface, geom_ids)
     return floor_id, surface, hfield, hf_z, hf_frame, tuple(notes)
 
 
+def element_size_scale(resolution, resolution_scale) -> float:
+    """The factor that applies to the model's own element size: ``resolution_scale`` (checked, > 0) when no
+    ``resolution`` is given, 1 when one is (it is the element size itself). The one statement of that rule: the
+    terrain's settings and the environments' presets (:func:`mjrft.tools.presets.resolve`) apply it."""
+    return check_positive("resolution_scale", resolution_scale) if resolution is None else 1.0
+
+
 def _resolve_resolution(model: mujoco.MjModel, cfg: dict, resolution, scale, geom_ids,
                         stacklevel: int) -> tuple[float, bool]:
     """(element size in m, whether it was chosen by ``"auto"``): the ``resolution`` argument as given, else
@@ -137,6 +144,7 @@ def _resolve_resolution(model: mujoco.MjModel, cfg: dict, resolution, scale, geo
     if resolution is not None and scale != 1.0:
         raise ValueError(f"resolution={resolution!r} and resolution_scale={scale!r} both set the element size; pass "
                          "resolution_scale (a factor on the model's own resolution) or resolution, not both")
+    scale = element_size_scale(resolution, scale)
     if resolution is None:
         resolution = cfg.get("resolution", DEFAULTS["resolution"])
     auto = isinstance(resolution, str) and resolution.strip().lower() == "auto"

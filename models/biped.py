@@ -103,6 +103,24 @@ JOINTS = tuple(RANGES)
 CLEARANCE = 0.0005
 
 
+def biped_leg_ik(x: float, z: float, thigh: float, link: float, shank: float) -> tuple[float, float]:
+    """Hip angle and total knee bend putting the ankle at (x, z) from the hip (x forward, z up).
+
+    The two knee servos share the bend equally, so the chain thigh-link-shank is symmetric and the
+    ankle lies at distance ``r = (thigh + shank) cos(k / 2) + link`` (for thigh = shank) along the
+    knee link's direction. Positive hip angle swings the leg backward; positive knee flexes.
+    """
+    r = math.hypot(x, z)
+    leg = 0.5 * (thigh + shank)
+    c = (r - link) / (2.0 * leg)
+    if not -1.0 <= c <= 1.0:
+        raise ValueError(f"point ({x:.3f}, {z:.3f}) m is out of the biped leg's reach "
+                         f"({link:.3f} to {link + 2 * leg:.3f} m from the hip)")
+    k = 2.0 * math.acos(c)
+    phi = math.atan2(-x, -z)
+    return phi - k / 2.0, k
+
+
 def _wedge_vertices(length: float, width: float, size: float) -> np.ndarray:
     """Triangular prism in the foot (ankle) frame: sole at z = -size/2, apex up."""
     h = size * WEDGE_HEIGHT_RATIO

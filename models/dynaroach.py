@@ -1,7 +1,7 @@
 """DynaRoACH (Zhang et al., "Ground fluidization promotes rapid running of a lightweight robot"): the 25 g
 hexapod with swing-and-lift legs.
 
-What the paper states (``/work/shared/seeds/003_*``):
+What the paper states (Zhang, Qian, Li, Masarati, Hoover, Birkmeyer, Pullin, Fearing & Goldman, IJRR 2013):
 
 * 10 cm long, 25 g; six C-shaped legs of radius 1 cm (sec. 2.1.1), 0.7 cm wide (fig. 7 caption:
   "original foot width of 0.7 cm"), projected area ~1.4 cm^2 each (sec. 3.2; a 2 cm chord x 0.7 cm);

@@ -52,6 +52,8 @@ Granular bodies: ``left_foot right_foot``; element size 2 cm.
 
 from __future__ import annotations
 
+import math
+
 import mujoco
 
 from .scene import (
@@ -99,6 +101,27 @@ JOINTS = {
     "elbow": ("0 1 0", (-2.5, 0.1), 200.0, 6.0, 30.0),
 }
 ARMATURE, DAMPING = 0.05, 0.5
+
+
+def humanoid_leg_ik(x: float, y: float, z: float, thigh: float, shank: float) -> dict[str, float]:
+    """Joint angles of one humanoid leg putting the ankle at (x, y, z) from the hip, foot flat.
+
+    Chain: hip_roll (x) then hip_pitch, knee, ankle_pitch (y, in the rolled plane) then ankle_roll.
+    Roll > 0 moves the foot toward +y; pitch > 0 swings the leg backward; knee > 0 flexes it.
+    """
+    roll = math.atan2(y, -z)
+    zs = -math.hypot(y, z)
+    r = math.hypot(x, zs)
+    reach = (thigh + shank) * 0.9995
+    if r > reach:  # fully stretched: keep the direction, stop at the reach
+        x, zs, r = x * reach / r, zs * reach / r, reach
+    # law of cosines for the knee
+    c = (thigh ** 2 + shank ** 2 - r ** 2) / (2.0 * thigh * shank)
+    knee = math.pi - math.acos(min(max(c, -1.0), 1.0))
+    phi = math.atan2(-x, -zs)
+    a = math.asin(min(max(shank * math.sin(knee) / max(r, 1e-9), -1.0), 1.0))
+    hip = phi - a
+    return {"hip_roll": roll, "hip_pitch": hip, "knee": knee, "ankle_pitch": -(hip + knee), "ankle_roll": -roll}
 
 
 def foot_boxes(length: float, width: float, cutout: bool) -> list[tuple[tuple, tuple]]:

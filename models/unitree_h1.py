@@ -46,7 +46,8 @@ import mujoco
 import numpy as np
 
 from mjrft.geometry import discretize_geom
-from mjrft.tools.gaits import humanoid_leg_ik
+
+from .humanoid import humanoid_leg_ik
 
 H1_DIR = os.path.join(os.path.dirname(__file__), "third_party", "unitree_h1")
 SCENE = os.path.join(H1_DIR, "scene.xml")
@@ -84,7 +85,7 @@ def pelvis_roll(d: mujoco.MjData) -> float:
 def leg_ik(x: float, h: float) -> tuple[float, float]:
     """Hip pitch and knee angles (rad, the model's signs) that put the ankle ``x`` ahead of and ``h`` below the
     hip pitch axis in the pelvis' sagittal plane (``leg_ik(0, h)`` with h of the keyframe gives -0.4, 0.8):
-    :func:`mjrft.tools.gaits.humanoid_leg_ik` with no sideways offset."""
+    :func:`mjrft.models.humanoid.humanoid_leg_ik` with no sideways offset."""
     joints = humanoid_leg_ik(x, 0.0, -h, THIGH, SHANK)
     return joints["hip_pitch"], joints["knee"]
 

@@ -27,3 +27,19 @@ def run_both():
         return ended
 
     return run
+
+
+@pytest.fixture(scope="session")
+def quick_run():
+    """``quick_run(name)``: the quick-settings result of validation case ``name``, run once per session and shared by
+    the test modules of tests/mjrft/tools/validation/."""
+    from mjrft.tools import validation
+
+    results = {}
+
+    def run(name: str):
+        if name not in results:
+            results[name] = validation.run_case(name, quick=True)
+        return results[name]
+
+    return run

@@ -1,13 +1,18 @@
 """Helpers shared by the test modules (plain functions and constants; the fixtures are in conftest.py): bodies
 pressed into the grains and stepped one at a time, as tests/mjrft/test_extremes.py and tests/mjrft/test_implicit.py
-use them."""
+use them; the registration of the validation cases' tests (:class:`CaseTests`) and what they read from a case's
+result, as the modules of tests/mjrft/tools/validation/ use them."""
 
 from __future__ import annotations
 
+import functools
+import re
 import warnings
+from typing import Callable
 
 import mujoco
 import numpy as np
+import pytest
 
 import mjrft
 from mjrft.media import MEDIA
@@ -115,3 +120,102 @@ def hinged_leg(dt, implicit=False):
     d = mujoco.MjData(m)
     d.qpos[0], d.qvel[0] = 0.02, -1.0
     return m, d, mjrft.GranularTerrain(m, POPPY, "rft", resolution=0.0015, implicit=implicit)
+
+
+# ------------------------------------------------------------------------------------------------
+# validation cases (tests/mjrft/tools/validation/)
+# ------------------------------------------------------------------------------------------------
+class CaseTests:
+    """The tests of the validation cases of one test module (``test_validation_<case module>.py``), registered by the
+    case's name in three tables, each run by one test parametrised over them (pytest ids are the case names):
+
+    * :meth:`outcome`: what the case's quick run must show: its published qualitative outcomes and the numbers the
+      test pins (``test_case[name]``);
+    * :meth:`disagreement`: the published outcomes mjrft does not reproduce, strict expected failures that carry the
+      measured cause (``test_known_disagreement[name]``);
+    * :meth:`control`: a wrong-physics control (a rigid floor, the law that distinguishes what the paper calls
+      similar, a start that flips the robot) that a check of the case must reject, run through the case's own check
+      functions (``test_control[name: control]``).
+
+    The module ends with ``test_case, test_known_disagreement, test_control = case_tests.runners()`` (an empty table
+    gives None, which pytest does not collect). The quick run of a case is the session fixture ``quick_run``."""
+
+    def __init__(self):
+        self.outcomes: dict[str, object] = {}  # case -> its outcome test (a function of the quick result)
+        self.disagreements: dict[str, object] = {}  # case -> the outcomes it does not reproduce (strict xfail)
+        self.controls: dict[str, object] = {}  # "case: control" -> a check run on a wrong-physics control
+
+    def outcome(self, name: str, slow: bool = False):
+        """Register ``check(result)`` as the outcome test of case ``name``."""
+        def register(check: Callable):
+            assert name not in self.outcomes, name
+            self.outcomes[name] = pytest.param(name, check, id=name, marks=[pytest.mark.slow] if slow else [])
+            return check
+        return register
+
+    def disagreement(self, name: str, reason: str, slow: bool = False):
+        """Register ``check(result)`` as the published outcomes of case ``name`` that mjrft does not reproduce: a
+        strict xfail with the measured cause as its reason."""
+        def register(check: Callable):
+            assert name not in self.disagreements, name
+            marks = [pytest.mark.xfail(strict=True, reason=reason)] + ([pytest.mark.slow] if slow else [])
+            self.disagreements[name] = pytest.param(name, check, id=name, marks=marks)
+            return check
+        return register
+
+    def control(self, name: str, what: str, slow: bool = False, marks: tuple = ()):
+        """Register ``check()`` as a wrong-physics control (``what``) that a check of case ``name`` must reject."""
+        def register(check: Callable):
+            key = f"{name}: {what}"
+            assert key not in self.controls, key
+            self.controls[key] = pytest.param(check, id=key, marks=[*marks, *([pytest.mark.slow] if slow else [])])
+            return check
+        return register
+
+    def runners(self) -> tuple:
+        """``(test_case, test_known_disagreement, test_control)`` over this module's tables (None where empty)."""
+        def test_case(name, check, quick_run):
+            """The case's quick run shows its published outcomes (and the numbers its test pins)."""
+            check(quick_run(name))
+
+        def test_known_disagreement(name, check, quick_run):
+            """The published outcomes the case does not reproduce (strict xfail: one that starts to agree is
+            reported)."""
+            check(quick_run(name))
+
+        def test_control(check):
+            """A check of the case rejects a wrong-physics control (and, where stated, accepts the case's own
+            physics)."""
+            check()
+
+        def over(table: dict, argnames: str, test):
+            return pytest.mark.parametrize(argnames, list(table.values()))(test) if table else None
+
+        return (over(self.outcomes, "name, check", test_case),
+                over(self.disagreements, "name, check", test_known_disagreement),
+                over(self.controls, "check", test_control))
+
+
+def published_outcomes(result) -> dict:
+    """Every published outcome of a case's ``result`` holds (and it has some); its checks by name."""
+    assert result.outcomes and not result.failed_outcomes, (result.name, result.failed_outcomes)
+    return result.by_name
+
+
+def named_checks(result, names) -> list:
+    """The checks of ``result`` named in ``names``; ``*`` in a name stands for any text (each name must match one)."""
+    out = []
+    for n in names:
+        pattern = re.compile(".*".join(re.escape(part) for part in n.split("*")))
+        hit = [c for c in result.checks if pattern.fullmatch(c.name)]
+        assert hit, (result.name, n, [c.name for c in result.checks])
+        out += hit
+    return out
+
+
+@functools.lru_cache(maxsize=None)
+def variant_run(name: str, variant: str):
+    """Case ``name`` at its quick settings under the wrong-physics ``variant`` (run once per session)."""
+    from mjrft.tools import validation
+
+    return validation.run_case(name, quick=True, variant=variant)

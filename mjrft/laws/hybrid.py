@@ -1,7 +1,7 @@
 """Hybrid force model for curved legs (Coulomb wedge + bar-drag fit), MuJoCo-free.
 
-Source: "A hybrid force model to estimate the dynamics of curved legs in granular material",
-summarised in ``granular-physics.md`` section 4. A leg (a curve in the vertical x-z plane of the rig,
+Source: "A hybrid force model to estimate the dynamics of curved legs in granular material" (the
+hybrid paper), secs. 2.2-2.5 and 4. A leg (a curve in the vertical x-z plane of the rig,
 z up, sand surface at z = 0) is cut into elements of length dl; each buried element gets a force per
 unit leg length along its normal (F_perp) and along its tangent (F_par) that depend on psi (the angle
 between its velocity and its tangent, 0..90 deg) and its depth d; summing gives the forward force
@@ -170,7 +170,7 @@ from ..params import (P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_KF, P_HYB_KS, P_HYB_PA
                       P_HYB_PERP_H, P_HYB_RATIO, P_HYB_W)
 from .common import LEAD_EPS, TINY, lead_weight
 
-# --- constants (section 4 of the reference; assumptions in the module docstring) ----------------
+# --- constants (the hybrid paper's secs. 2.3-2.4; assumptions in the module docstring) ----------
 PHI = math.radians(35.0)  # internal friction angle (assumption)
 PHI_W = math.radians(20.0)  # sand-leg friction angle (assumption)
 RHO_BULK = 1345.4  # kg/m^3, the paper's river sand

@@ -1,8 +1,9 @@
 """The dry inertial (speed-dependent) regime: an option of the dry laws ``rft``, ``rft3d`` and ``depth_only``.
 
-Source: Zhang et al., "Ground fluidization promotes rapid running of a lightweight robot" (DynaRoACH;
-``/work/shared/seeds/003_*``), sec. 3.2. Below a critical intrusion speed ``v_c ~ sqrt(2 g d)`` (d the
-grain diameter; "for 3 mm glass particles, v_c = 25 cm/s") grains resist with the rate-independent
+Source: Zhang, Qian, Li, Masarati, Hoover, Birkmeyer, Pullin, Fearing & Goldman, "Ground fluidization
+promotes rapid running of a lightweight robot", IJRR 2013 (DynaRoACH), sec. 3.2. Below a critical
+intrusion speed ``v_c ~ sqrt(2 g d)`` (d the grain diameter; "for 3 mm glass particles, v_c = 25 cm/s")
+grains resist with the rate-independent
 yield stress that RFT fits; above it "the inertial force of the grains being accelerated by the legs
 becomes important" and the force is "hydrodynamic-like", rising "approximately quadratically with
 impact speed" (fig. 5: lift on a tripod ``F_z / mg = alpha v^2 + 1``, the 1 from the yield stress).

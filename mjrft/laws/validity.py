@@ -22,8 +22,8 @@ Ranges and their sources (``None``: no bound published):
 * ``hybrid`` (hybrid curved-leg model): speed up to 1 m/s (bar drags at 1-100 cm/s); depth up to
   4 cm (bar drags at 2, 3 and 4 cm; the semicircle leg, a = b = 4.5 cm under a 5 cm axle, reaches
   4 cm). One sand was tested (0.41 mm mean grain), so no grain-size range is claimed.
-* ``rft3d`` (Agarwal, Goldman & Kamrin 2023, not among the seed papers; granular-physics.md sec. 2):
-  the published example inputs, bulk density 1310 to 1700 kg/m^3 and internal friction 0.21 to
+* ``rft3d`` (Agarwal, Goldman & Kamrin, "Mechanistic framework for reduced-order models in soft materials",
+  PNAS 2023): the published example inputs, bulk density 1310 to 1700 kg/m^3 and internal friction 0.21 to
   1.07. Choice: its generic response is a quasi-static fit like Li's, so the same 1 m/s bound
   applies to speed; no depth or grain-size range is published, so none is checked.
 
@@ -98,7 +98,7 @@ WET_RANGES = (Range("speed", None, 0.050, "m/s", f"{_SG}: tests at 10-50 mm/s", 
               Range("grain_diameter", None, 1e-3, "m", f"{_SG}: sea sand, particle diameter <= 1 mm", 1e3, "mm"))
 HYBRID_RANGES = (Range("speed", None, 1.0, "m/s", "hybrid model: bar drags at 1-100 cm/s"),
                  Range("depth", None, 0.04, "m", "hybrid model: bar drags at 2-4 cm, legs reaching 4 cm", 100.0, "cm"))
-_AGARWAL = "Agarwal 2023 example inputs (granular-physics.md sec. 2)"
+_AGARWAL = "Agarwal, Goldman & Kamrin, PNAS 2023: the 3D-RFT example inputs"
 RFT3D_RANGES = (Range("speed", None, 1.0, "m/s", "quasi-static like Li's fit (mjrft's choice; Agarwal 2023 gives "
                       "none)"),
                 Range("rho_bulk", 1310.0, 1700.0, "kg/m^3", _AGARWAL),

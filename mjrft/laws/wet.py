@@ -1,7 +1,7 @@
 """Saturated wet sand (SGRFT) and the free-water layer above it.
 
 Source: "Granular Resistive Force Theory Extension for Saturated Wet Sand Ground" (Machines 10, 721,
-2022), eqs. 6-9 and table 3; summarised in ``granular-physics.md`` section 3. Two laws:
+2022), eqs. 6-9 and table 3. Two laws:
 
 ``wet`` (law id 3): the sand below the free surface
 ------------------------------------------------------

@@ -1,13 +1,13 @@
 """mjrft's tools: what is built on the physics core (:mod:`mjrft.coupler` and the modules it is built from,
 :mod:`mjrft.kernel`, :mod:`mjrft.batch`, :mod:`mjrft.media`, :mod:`mjrft.laws`, :mod:`mjrft.geometry`,
-:mod:`mjrft.errors`).
-The core imports none of them.
+:mod:`mjrft.errors`) and the models (:mod:`mjrft.models`).
+The core and the models import none of them; the environments (:mod:`mjrft.envs`) and training
+(:mod:`mjrft.train`) are built on them (``tests/test_layout.py`` checks the layers).
 
 ===============  ============================================================================
 module           what it is
 ===============  ============================================================================
 ``cli``          the ``mjrft`` command line: one subcommand per task, each in its own module
-``demo``         ``mjrft demo``: the hexapod's open-loop tripod on poppy seeds, logged to rerun
 ``settle``       ``mjrft settle``: a box foot and a legged body dropped on sand, sinkage vs analytic
 ``rigs``         the plate-intruder and rotating-leg measurement rigs (``mjrft rig``)
 ``gaits``        the papers' open-loop gaits, as policies with the stable-baselines3 interface
@@ -25,5 +25,5 @@ module           what it is
 This package imports none of them itself: each is imported when it is used.
 """
 
-__all__ = ["calibration", "cli", "demo", "gaits", "outputs", "presets", "rerun_log", "rigs", "settle", "tradeoff",
+__all__ = ["calibration", "cli", "gaits", "outputs", "presets", "rerun_log", "rigs", "settle", "tradeoff",
            "validation"]

@@ -7,7 +7,7 @@ the light commands stay fast and work without the optional extras.
 ========  =================================  =====================================================
 command   module                             what it does
 ========  =================================  =====================================================
-demo      ``mjrft.tools.demo``               hexapod tripod gait on poppy seeds, logged to rerun
+demo      ``mjrft.train.demo``               hexapod tripod gait on poppy seeds, logged to rerun
 settle    ``mjrft.tools.settle``             drop a box foot and a legged body; sinkage vs analytic
 rig       ``mjrft.tools.rigs``               plate-intruder and rotating-leg rigs; arrays + plots
 train     ``mjrft.train.train``              stable-baselines3 training (PPO/SAC), resumable
@@ -28,7 +28,7 @@ import importlib
 import sys
 
 COMMANDS = {
-    "demo": ("mjrft.tools.demo", "hexapod tripod gait on poppy seeds, headless, logged to a rerun file"),
+    "demo": ("mjrft.train.demo", "hexapod tripod gait on poppy seeds, headless, logged to a rerun file"),
     "settle": ("mjrft.tools.settle", "drop a box foot and a legged body onto sand; print sinkage vs analytic"),
     "rig": ("mjrft.tools.rigs", "run the plate-intruder or rotating-leg rig; save force profiles and plots"),
     "train": ("mjrft.train.train", "train a policy with stable-baselines3 (PPO or SAC), resumable"),

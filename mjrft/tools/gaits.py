@@ -115,6 +115,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mjrft.errors import unknown
+from mjrft.models.biped import biped_leg_ik
+from mjrft.models.humanoid import humanoid_leg_ik
 
 
 class GaitWarning(UserWarning):
@@ -149,7 +151,7 @@ class GaitDef:
 
     name: str
     robot: str
-    env_class: str  # "module:Class" that the env must be an instance of
+    env_class: str  # "module:Class" that the env must be an instance of (:func:`_drives`)
     help: str
     params: dict[str, Param]
     build: Callable[[object, dict], Callable[[float], np.ndarray]] = field(repr=False)
@@ -274,24 +276,6 @@ def _build_tripod(env, p: dict) -> Callable[[float], np.ndarray]:
 # ----------------------------------------------------------------------------- rect (biped)
 
 
-def biped_leg_ik(x: float, z: float, thigh: float, link: float, shank: float) -> tuple[float, float]:
-    """Hip angle and total knee bend putting the ankle at (x, z) from the hip (x forward, z up).
-
-    The two knee servos share the bend equally, so the chain thigh-link-shank is symmetric and the
-    ankle lies at distance ``r = (thigh + shank) cos(k / 2) + link`` (for thigh = shank) along the
-    knee link's direction. Positive hip angle swings the leg backward; positive knee flexes.
-    """
-    r = math.hypot(x, z)
-    leg = 0.5 * (thigh + shank)
-    c = (r - link) / (2.0 * leg)
-    if not -1.0 <= c <= 1.0:
-        raise ValueError(f"point ({x:.3f}, {z:.3f}) m is out of the biped leg's reach "
-                         f"({link:.3f} to {link + 2 * leg:.3f} m from the hip)")
-    k = 2.0 * math.acos(c)
-    phi = math.atan2(-x, -z)
-    return phi - k / 2.0, k
-
-
 def rect_path(s: float, length: float, height: float, duty: float, presentation: float,
               depth: float, x0: float = 0.0) -> tuple[float, float, float]:
     """Sole centre (x, z) relative to the hip and foot pitch (rad, positive toe-down) at cycle fraction
@@ -368,27 +352,6 @@ def _build_rect(env, p: dict) -> Callable[[float], np.ndarray]:
 
 
 # ----------------------------------------------------------------------------- stand / shift (humanoid)
-
-
-def humanoid_leg_ik(x: float, y: float, z: float, thigh: float, shank: float) -> dict[str, float]:
-    """Joint angles of one humanoid leg putting the ankle at (x, y, z) from the hip, foot flat.
-
-    Chain: hip_roll (x) then hip_pitch, knee, ankle_pitch (y, in the rolled plane) then ankle_roll.
-    Roll > 0 moves the foot toward +y; pitch > 0 swings the leg backward; knee > 0 flexes it.
-    """
-    roll = math.atan2(y, -z)
-    zs = -math.hypot(y, z)
-    r = math.hypot(x, zs)
-    reach = (thigh + shank) * 0.9995
-    if r > reach:  # fully stretched: keep the direction, stop at the reach
-        x, zs, r = x * reach / r, zs * reach / r, reach
-    # law of cosines for the knee
-    c = (thigh ** 2 + shank ** 2 - r ** 2) / (2.0 * thigh * shank)
-    knee = math.pi - math.acos(min(max(c, -1.0), 1.0))
-    phi = math.atan2(-x, -zs)
-    a = math.asin(min(max(shank * math.sin(knee) / max(r, 1e-9), -1.0), 1.0))
-    hip = phi - a
-    return {"hip_roll": roll, "hip_pitch": hip, "knee": knee, "ankle_pitch": -(hip + knee), "ankle_roll": -roll}
 
 
 def _humanoid_dims():
@@ -742,20 +705,22 @@ def _unwrap_envs(env) -> list:
     return [env.unwrapped]
 
 
+def _drives(gait: GaitDef, env) -> bool:
+    """Whether ``gait`` drives ``env``: an instance of its ``env_class`` or of a subclass, told by the names of the
+    env's classes, so the gaits import no environment (:mod:`mjrft.envs` is built on the tools)."""
+    return any(f"{c.__module__}:{c.__qualname__}" == gait.env_class for c in type(env).__mro__)
+
+
 def make_gait(spec: str, env) -> GaitPolicy:
     """Build the gait ``spec`` bound to ``env`` (see the module docstring for the time convention)."""
-    import importlib
-
     name, given = parse_gait_spec(spec)
     gait = GAITS[name]
     params = {**gait.defaults(), **given}
-    mod, cls = gait.env_class.split(":")
-    env_cls = getattr(importlib.import_module(mod), cls)
+    cls = gait.env_class.split(":")[1]
     envs = _unwrap_envs(env)
     for u in envs:
-        if not isinstance(u, env_cls):
-            valid = sorted(g for g, d in GAITS.items() if isinstance(u, getattr(
-                importlib.import_module(d.env_class.split(":")[0]), d.env_class.split(":")[1])))
+        if not _drives(gait, u):
+            valid = sorted(g for g, d in GAITS.items() if _drives(d, u))
             raise ValueError(f"gait {name!r} drives the {gait.robot} ({cls} and its rigid twin), not "
                              f"{type(u).__name__}; gaits for this env: {', '.join(valid) or 'none'}")
     fns = [gait.build(u, params) for u in envs]

@@ -47,6 +47,7 @@ import numpy as np
 from mjrft.errors import check_positive, unknown
 from mjrft.laws import law_id
 from mjrft.media import Medium, get_medium
+from mjrft.settings import element_size_scale
 
 PRESETS: dict[str, dict] = {
     "fast": {"resolution_scale": 4.0, "law": "rft", "timestep": 0.001, "frame_skip": 10},
@@ -92,7 +93,8 @@ def resolve(preset: str | None, *, medium=None, law=None, resolution=None, times
     is checked here, naming the bad value and the valid choices (rigid environments too, where medium and law go
     unused).
 
-    The preset's ``resolution_scale`` applies only when ``resolution`` is None.
+    The preset's ``resolution_scale`` applies only when ``resolution`` is None
+    (:func:`mjrft.settings.element_size_scale`, the rule the terrain's own ``resolution_scale`` follows).
     """
     if own_step is not None and preset is None and timestep is None and frame_skip is None:
         timestep, frame_skip = own_step
@@ -104,7 +106,7 @@ def resolve(preset: str | None, *, medium=None, law=None, resolution=None, times
         law_id(law)
     if resolution is not None:
         resolution = check_positive("resolution", resolution)
-    scale = p.get("resolution_scale", 1.0) if resolution is None else 1.0
+    scale = element_size_scale(resolution, p.get("resolution_scale", 1.0))
     if timestep is not None:
         timestep = check_positive("timestep", timestep)
     return EnvSettings(medium=None if medium is None else get_medium(medium), law=law, resolution=resolution,

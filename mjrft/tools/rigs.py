@@ -129,10 +129,9 @@ class LegProfile:
 # ------------------------------------------------------------------------------------------------
 # shared machinery
 # ------------------------------------------------------------------------------------------------
-def _medium_for(medium, law: str, width: float, max_depth: float) -> Medium:
-    """The medium object, with the hybrid law's leg width and stroke depth added when it needs them."""
-    med = get_medium(medium)
-    law_id(law)
+def _medium_for(med: Medium, law: str, width: float, max_depth: float) -> Medium:
+    """The medium (looked up and checked with the law by the rig's first lines), with the hybrid law's leg width and
+    stroke depth added when it needs them."""
     if law == "hybrid":
         extra = {}
         if med.get("hybrid_width") is None:
@@ -206,7 +205,7 @@ def plate_intrusion(*, beta: float = 0.0, gamma: float = math.pi / 2, speed: flo
     step = check_positive("step", step)
     surface = check_finite("surface", surface)
     resolution = check_positive("resolution", resolution)
-    get_medium(medium)
+    med = get_medium(medium)
     law_id(law)
 
     sb, cb = math.sin(beta), math.cos(beta)
@@ -232,7 +231,7 @@ def plate_intrusion(*, beta: float = 0.0, gamma: float = math.pi / 2, speed: flo
     times = s / speed
     max_depth = float(np.max(surface - centre[:, 1])) + half_z  # deepest point of the plate surface
 
-    med = _medium_for(medium, law, width, max_depth)
+    med = _medium_for(med, law, width, max_depth)
     model = mujoco.MjModel.from_xml_string(plate_rig_xml(length, width, thickness, medium=_xml_medium_name(med),
                                                          law=law, resolution=resolution, surface=surface))
     body = model.body("plate").id
@@ -292,7 +291,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     h = default_axle_height(shape) if axle_height is None else check_positive("axle_height", axle_height)
     surface = check_finite("surface", surface)
     resolution = check_positive("resolution", resolution)
-    get_medium(medium)
+    med = get_medium(medium)
     law_id(law)
 
     n = _samples(abs(stop - start), dtheta, "leg sweep")
@@ -302,7 +301,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     depth = _leg_depths(geo["vertices"], angles, z_axle, surface)
     # the hybrid law's Delta d: the deepest the leg reaches over a turn, whatever the sweep covers
     stroke = max(0.0, float(np.max(np.hypot(geo["vertices"][:, 0], geo["vertices"][:, 2]))) - h)
-    med = _medium_for(medium, law, geo["width"], stroke)
+    med = _medium_for(med, law, geo["width"], stroke)
     model = mujoco.MjModel.from_xml_string(leg_rig_xml(shape, axle_height=h, medium=_xml_medium_name(med), law=law,
                                                        resolution=resolution, surface=surface, **leg))
     body = model.body("leg").id

@@ -1,4 +1,5 @@
-"""Force laws against the reference table (granular-physics.md section 1), continuity and extremes."""
+"""Force laws against the published generic responses (Li 2013 suppl. table S2 M0 through eq. S8; the 3D-RFT generic
+response of Agarwal, Goldman & Kamrin, PNAS 2023), continuity and extremes."""
 
 import math
 

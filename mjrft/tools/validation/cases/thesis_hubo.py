@@ -1,7 +1,7 @@
 """Robophysics thesis, chapter IV: the HUBO humanoid standing on one foot and walking on poppy seeds.
 
 Two cases on :class:`mjrft.envs.humanoid.HumanoidSand` (HUBO-class, 1.2 m, 50 kg, 19 position servos;
-poppy seeds, Li RFT; published data: ``mjrft/validation/data/thesis_hubo.json``):
+poppy seeds, Li RFT; published data: ``mjrft/tools/validation/data/thesis_hubo.json``):
 
 ``thesis_hubo_stance``
     One-foot stance (:mod:`mjrft.tools.gaits` ``stance``: bend the knees, put the whole-body CoM over the
