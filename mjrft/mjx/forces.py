@@ -180,21 +180,27 @@ def blended_force(features: Features, regs, wts, reg_law, reg_params, reg_rho, g
                   vel, speed, delta, v_eps):
     """:func:`element_force` summed over each element's regions ``regs`` (k, S) with weights ``wts`` (k, S)
     (:func:`mjrft.mjx.surface.region_weights`; a slot of weight 0 adds nothing), the region tables ``reg_law``
-    (R,), ``reg_params`` (R, P_SIZE), ``reg_rho`` (R,) (:func:`mjrft.kernel._blended_force`; same returns)."""
-    f = jnp.zeros_like(n)
-    kk = cw = ci = jnp.zeros_like(depth)
-    ok = jnp.ones(depth.shape, bool)
-    for q in range(regs.shape[-1]):
-        r, w = regs[:, q], wts[:, q]
-        fq, kq, cq, iq, okq = element_force(features, reg_law[r], reg_params[r], reg_rho[r], gravity, area * w, depth,
-                                            n, m, ml, mob, vel, speed, delta, v_eps)
-        use = w > 0.0
-        f = f + jnp.where(use[:, None], fq, 0.0)
-        kk = kk + jnp.where(use, kq, 0.0)
-        cw = cw + jnp.where(use, cq, 0.0)
-        ci = ci + jnp.where(use, iq, 0.0)
-        ok = ok & (~use | okq)
-    return f, kk, cw, ci, ok
+    (R,), ``reg_params`` (R, P_SIZE), ``reg_rho`` (R,) (:func:`mjrft.kernel._blended_force`; same returns).
+
+    The S slots are evaluated as one batch of S k elements (each law traced once, whatever S) and summed slot by
+    slot in the kernel's order."""
+    k, slots = regs.shape
+    r = regs.T.reshape(-1)  # slot-major: slot q of element i at q k + i
+    w = wts.T.reshape(-1)
+
+    def rep(x):
+        return jnp.concatenate([x] * slots, axis=0)
+
+    out = element_force(features, reg_law[r], reg_params[r], reg_rho[r], gravity, rep(area) * w, rep(depth), rep(n),
+                        rep(m), rep(ml), rep(mob), rep(vel), rep(speed), delta, v_eps)
+    use = (w > 0.0).reshape(slots, k)
+    f, kk, cw, ci = (jnp.where(use.reshape(slots, k, *([1] * (x.ndim - 1))), x.reshape(slots, k, *x.shape[1:]), 0.0)
+                     for x in out[:4])
+    ok = ~use | out[4].reshape(slots, k)
+    tf, tk, tw, ti, tok = f[0], kk[0], cw[0], ci[0], ok[0]
+    for q in range(1, slots):
+        tf, tk, tw, ti, tok = tf + f[q], tk + kk[q], tw + cw[q], ti + ci[q], tok & ok[q]
+    return tf, tk, tw, ti, tok
 
 
 def region_force(features: Features, px, py, depth, n, m, ml, mob, vel, speed, area, *, reg_law, reg_params, reg_rho,
