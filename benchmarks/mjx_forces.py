@@ -28,7 +28,7 @@ import numpy as np
 
 from mjrft import kernel as K
 from mjrft.laws.dispatch import element_stress
-from mjrft.laws.registry import LAW_IDS, LAWS
+from mjrft.laws.registry import LAWS
 from mjrft.laws.wet import P_WATER_DEPTH
 from mjrft.media import get_medium
 from mjrft.mjx import forces as F
@@ -136,7 +136,7 @@ def rel(a, b, rows=None) -> float:
 
 def accuracy(m) -> list[str]:
     e = states(4000)
-    lines = [f"{'twin':<34} {'float64':>10} {'float32':>10}"]
+    lines = [f"{'twin':<44} {'float64':>10} {'float32':>10}"]
     for law in LAWS:
         p = get_medium("sea_sand_saturated" if law.name in ("wet", "water") else "poppy_cp").params()
         p[P_WATER_DEPTH] = 0.01
@@ -148,12 +148,12 @@ def accuracy(m) -> list[str]:
                 out = jax.jit(J.LAWS[law.name])(*(jnp.asarray(e[k]) for k in ("depth", "n", "mhat")), jnp.asarray(p),
                                                 jnp.asarray(e["speed"]))
             cols.append(rel(out, ref))
-        lines.append(f"{'law ' + law.name:<34} {cols[0]:>10.2e} {cols[1]:>10.2e}")
+        lines.append(f"{'law ' + law.name:<44} {cols[0]:>10.2e} {cols[1]:>10.2e}")
         if law.name == "rft3d":
             flat = e["mhat"][:, 2] != 0.0
             with jax.enable_x64(True):
                 out = jax.jit(J.rft3d)(*(jnp.asarray(e[k]) for k in ("depth", "n", "mhat")), jnp.asarray(p))
-            lines.append(f"{'  without exactly horizontal motion':<34} {rel(out, ref, flat):>10.2e}")
+            lines.append(f"{'  without exactly horizontal motion':<44} {rel(out, ref, flat):>10.2e}")
     for name, (tables, blend, _) in scenes(m).items():
         if "one region" in name:
             continue
@@ -165,7 +165,7 @@ def accuracy(m) -> list[str]:
                 out = pass_fn(features, tables, blend, None)({k: jnp.asarray(v) for k, v in e.items()})
             good = ref[:, 6] > 0.5
             cols.append(max(rel(out[0], ref[:, :3], good), rel(out[1], ref[:, 3], good)))
-        lines.append(f"{'region_force, ' + name:<34} {cols[0]:>10.2e} {cols[1]:>10.2e}")
+        lines.append(f"{'region_force, ' + name:<44} {cols[0]:>10.2e} {cols[1]:>10.2e}")
     s = settings(m)
     ref = np.array([K.surface_height(x, y, 0.0, s.hf_z, s.hf_frame) for x, y in zip(e["px"], e["py"])])
     cols = []
@@ -173,7 +173,7 @@ def accuracy(m) -> list[str]:
         with jax.enable_x64(x64):
             out = jax.jit(lambda x, y: S.surface_height(x, y, 0.0, s.hf_z, s.hf_frame))(e["px"], e["py"])
         cols.append(rel(out, ref))
-    lines.append(f"{'surface_height (height field)':<34} {cols[0]:>10.2e} {cols[1]:>10.2e}")
+    lines.append(f"{'surface_height (height field)':<44} {cols[0]:>10.2e} {cols[1]:>10.2e}")
     return lines
 
 
