@@ -30,7 +30,7 @@ from mjrft.mjx.compare import wrench_errors as errors
 
 OUT = Path(__file__).resolve().parent / "results" / "mjx_accuracy.txt"
 OFFSETS = np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
-LAWS = ("rft", "rft3d", "depth_only")
+LAWS = ("rft", "rft3d", "depth_only", "hybrid")
 
 
 def wrench_errors(law: str) -> list[str]:

@@ -11,9 +11,15 @@ the validity checks (:mod:`mjrft.laws.validity`) and the laws of the JAX path (:
 
 Adding a law: write its module (a compiled ``*_stress(depth, nx, ny, nz, mx, my, mz, speed, p)`` returning the
 stress in Pa on one element, m the unit motion direction, speed in m/s, p the parameter vector; its constants
+<<<<<<< HEAD
 in slots from ``mjrft.params.P_FIRST_FREE`` on, named in :mod:`mjrft.params`) and append its entry here with the next id;
 with a JAX twin (a function ``f(depth, n, m, p)`` in :mod:`mjrft.mjx.laws`) the entry names it in ``jax``,
 without one it says in ``no_jax`` why mjrft.mjx refuses the law.
+=======
+in slots from ``mjrft.media.P_FIRST_FREE`` on, after the laws' below) and append its entry here with the next id;
+with a JAX twin (a function ``f(depth, n, m, p, speed=None)`` in :mod:`mjrft.mjx.laws`) the entry names it in
+``jax``, without one it says in ``no_jax`` why mjrft.mjx refuses the law.
+>>>>>>> h42laws
 """
 
 from __future__ import annotations
@@ -65,12 +71,10 @@ LAWS: tuple[Law, ...] = (
     Law("rft3d", 1, rft3d_stress, (P_XI,), dry=True, ranges=RFT3D_RANGES, jax="rft3d"),
     Law("depth_only", 2, depth_only_stress, (P_AZ_DOWN, P_AZ_UP, P_AX_DRAG), dry=True, ranges=LI_RANGES,
         jax="depth_only"),
-    Law("wet", 3, wet_stress, _LI_SLOTS, wet_params, saturated=True, ranges=WET_RANGES,
-        no_jax="the saturated-sand law's rate dependence is not ported to JAX"),
-    Law("water", 4, water_stress, (), wet_params, saturated=True,  # the free-water layer above the sand
-        no_jax="open water regions are not ported to JAX"),
+    Law("wet", 3, wet_stress, _LI_SLOTS, wet_params, saturated=True, ranges=WET_RANGES, jax="wet"),
+    Law("water", 4, water_stress, (), wet_params, saturated=True, jax="water"),  # the free-water layer above the sand
     Law("hybrid", 5, hybrid_stress, (P_HYB_E0, P_HYB_E1, P_HYB_E2, P_HYB_PERP_H, P_HYB_PAR_H), hybrid_params,
-        ranges=HYBRID_RANGES, no_jax="the curved-leg hybrid law's bar lookup is not ported to JAX"),
+        ranges=HYBRID_RANGES, jax="hybrid"),
 )
 _BY_NAME = {law.name: law for law in LAWS}
 if sorted(law.id for law in LAWS) != list(range(len(LAWS))) or len(_BY_NAME) != len(LAWS):

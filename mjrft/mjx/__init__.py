@@ -4,10 +4,12 @@
 >>> sand = mjrft.mjx.Sand(model, floor="auto")        # a mujoco.MjModel; GranularTerrain's arguments
 >>> mx, step = sand.put_model(), jax.jit(sand.step)   # step(mx, d, state) -> (d, state)
 
-:mod:`mjrft.mjx.terrain` (:class:`Sand`, :class:`SandState`), :mod:`mjrft.mjx.laws` (the JAX force laws) and
-:mod:`mjrft.mjx.compare` (checking a JAX terrain against the CPU path on recorded states) and
-:mod:`mjrft.mjx.integrator` (:func:`step`: MJX's step as MuJoCo's C library integrates clamped servos, the rigid
-twin of ``Sand.step``).
+:mod:`mjrft.mjx.terrain` (:class:`Sand`, :class:`SandState`), :mod:`mjrft.mjx.laws` (the JAX force laws),
+:mod:`mjrft.mjx.forces` (an element's whole force: the inertial regime, water drag, buoyancy, regions and their
+blending), :mod:`mjrft.mjx.surface` (the height field's surface, the regions' weights), :mod:`mjrft.mjx.memory`
+(the rest memory and the solidify option), :mod:`mjrft.mjx.compare` (checking a JAX terrain against the CPU path on
+recorded states) and :mod:`mjrft.mjx.integrator` (:func:`step`: MJX's step as MuJoCo's C library integrates clamped
+servos, the rigid twin of ``Sand.step``).
 Needs the optional extra ``mjrft[mjx]`` (JAX and ``mujoco-mjx``); the rest of mjrft does not import it.
 The GPU guide is docs/gpu.md.
 """

@@ -71,17 +71,15 @@ def test_validity_lookups_follow_the_table():
 
 
 def test_jax_laws_come_from_the_table():
-    """mjrft.mjx's laws are the entries that name a JAX twin; the others are refused with the entry's reason."""
+    """mjrft.mjx's laws are the entries that name a JAX twin (every law now); another name is refused."""
     pytest.importorskip("jax", reason="mjrft.mjx needs the optional extra mjrft[mjx] (JAX)")
     from mjrft.mjx import laws as J
 
-    assert list(J.LAWS) == ["rft", "rft3d", "depth_only"]
-    assert J.UNSUPPORTED == {law.name: law.no_jax for law in R.LAWS if law.jax is None} and len(J.UNSUPPORTED) == 3
+    assert list(J.LAWS) == ["rft", "rft3d", "depth_only", "wet", "water", "hybrid"]
+    assert J.UNSUPPORTED == {law.name: law.no_jax for law in R.LAWS if law.jax is None} == {}
     for law in R.LAWS:
-        if law.jax is not None:
-            assert J.law_function(law.name) is getattr(J, law.jax), law.name
-        else:
-            why = re.escape(f"law '{law.name}' has no JAX version ({law.no_jax}); "
-                            "mjrft.mjx supports rft, rft3d, depth_only")
-            with pytest.raises(NotImplementedError, match=why):
-                J.law_function(law.name)
+        assert J.law_function(law.name) is getattr(J, law.jax), law.name
+    why = re.escape("law 'sand' has no JAX version (it is not a law of mjrft); mjrft.mjx supports rft, rft3d, "
+                    "depth_only, wet, water, hybrid")
+    with pytest.raises(NotImplementedError, match=why):
+        J.law_function("sand")

@@ -178,8 +178,8 @@ def test_cull_matches_full_evaluation_and_flags_overflow(walk):
 
 
 @pytest.mark.parametrize("kw, match", [
-    ({"law": "wet", "medium": "sea_sand_saturated"}, "law 'wet' has no JAX version"),
-    ({"law": "hybrid"}, "law 'hybrid' has no JAX version"),
+    ({"regions": [(0.5, "poppy_lp", "rft")]}, "region"),
+    ({"law": "wet", "medium": "sea_sand_saturated", "buoyancy": True}, "buoyancy"),
     ({"water_depth": 0.01}, "water_depth"),
     ({"inertial": True}, "inertial"),
 ])
