@@ -122,10 +122,33 @@ def _find_floor(model: mujoco.MjModel, floor, geom_ids) -> tuple[int, object, li
         if why is not None and why != "not under the robot":
             raise ValueError(f"floor geom {_geom_label(model, g)!r} cannot be the sand surface: it is {why}; "
                              f"world planes, boxes and hfields: {', '.join(names) or '(none)'}")
-    notes = [] if top is None else _rigid_floors_left(model, d, g, float(top), world, xy, geom_ids)
+    small = _footprint_note(model, d, g, geom_ids, auto=isinstance(floor, str))
+    notes = [] if top is None else _rigid_floors_left(model, d, g, float(top), world, xy, geom_ids, small is not None)
+    if small is not None:
+        notes.insert(0, small)
     if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_HFIELD:
         return g, _geom_label(model, g), notes
     return g, float(top), notes
+
+
+def _footprint_note(model: mujoco.MjModel, d: mujoco.MjData, g: int, geom_ids, auto: bool) -> str | None:
+    """The warning for a floor (box or hfield; a plane is unbounded) smaller in x or y than the robot's footprint,
+    the (x, y) extent of the selected geoms' bounding box at the initial pose, or None: its top becomes the sand
+    surface everywhere, also beyond its edges, so a small obstacle taken for the floor lifts the sand to its top."""
+    if int(model.geom_type[g]) == int(mujoco.mjtGeom.mjGEOM_PLANE):
+        return None
+    lo, hi = geom_world_boxes(model, d, geom_ids)
+    robot = hi.max(axis=0)[:2] - lo.min(axis=0)[:2]
+    flo, fhi = geom_world_boxes(model, d, [g])
+    extent = (fhi - flo)[0, :2]
+    if np.all(extent >= robot - 1e-9):
+        return None
+    chose = "floor='auto' chose" if auto else "the floor is"
+    kind = _FLOOR_TYPES[int(model.geom_type[g])]
+    return (f"mjrft: {chose} geom '{_geom_label(model, g)}' ({kind}, {extent[0]:.4g} x {extent[1]:.4g} m in x and y), "
+            f"smaller than the robot's footprint ({robot[0]:.4g} x {robot[1]:.4g} m, the selected geoms at the "
+            "initial pose): its top becomes the sand surface everywhere, beyond its edges too; if it is an obstacle "
+            "on the floor you mean, name that floor (floor='<geom>') or give the sand's height (surface=<m>)")
 
 
 def _world_floors(model: mujoco.MjModel) -> list[int]:
@@ -148,14 +171,16 @@ def rigid_support_notes(model: mujoco.MjModel, top: float, geom_ids, skip=None) 
     return _rigid_floors_left(model, d, skip, float(top), _world_floors(model), xy, geom_ids)
 
 
-def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, world, xy, geom_ids) -> list[str]:
+def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, world, xy, geom_ids,
+                       small_floor: bool = False) -> list[str]:
     """The warnings for the rigid geoms of the world other than ``g`` (the floor whose top ``top`` is the sand
     surface; None when the surface is a given height) that the robot can still stand on, among those that collide
     with the selected geoms: every plane, box or hfield of ``world`` with a horizontal top under ``xy``, and every
     other geom of the world but a plane or hfield (a cylinder, a sphere, a mesh, a tilted box) whose bounding box
     overlaps the selected geoms' in (x, y); each when its top is at or above the surface, or, below a floor's surface,
     below it by less than the robot's size (the largest extent of the selected geoms' bounding box at the initial
-    pose): a geom that sinks that deep meets it."""
+    pose): a geom that sinks that deep meets it. ``small_floor``: ``g`` is smaller than the robot's footprint
+    (:func:`_footprint_note`), so a larger floor below it is more likely the one meant, and the advice names it."""
     lo, hi = geom_world_boxes(model, d, geom_ids)
     lo, hi = lo.min(axis=0), hi.max(axis=0)
     size = float((hi - lo).max())
@@ -173,7 +198,7 @@ def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, w
         if not _collides_with(model, f, geom_ids):
             continue
         out += _support_note(model, f, _FLOOR_TYPES[int(model.geom_type[f])], "collision floor", t, top, where, size,
-                             auto, below=g is not None)
+                             auto, below=g is not None, small_floor=small_floor)
     skip = (int(mujoco.mjtGeom.mjGEOM_PLANE), int(mujoco.mjtGeom.mjGEOM_HFIELD))
     others = [f for f in range(model.ngeom) if f != g and f not in floors and int(model.geom_type[f]) not in skip
               and model.body_weldid[model.geom_bodyid[f]] == 0]
@@ -189,12 +214,13 @@ def _rigid_floors_left(model: mujoco.MjModel, d: mujoco.MjData, g, top: float, w
 
 
 def _support_note(model, f: int, kind: str, what: str, t: float, top: float, where: str, size: float, auto,
-                  below: bool) -> list[str]:
+                  below: bool, small_floor: bool = False) -> list[str]:
     """The warning (a list of none or one) for the rigid geom ``f`` of type ``kind`` whose top is ``t`` under the
     robot, against the sand surface ``top`` (``where``: how the surface was given) and the robot's ``size``.
     ``auto``: None for a geom that cannot be the floor, else what follows ``floor='<name>'`` in the advice;
     ``below``: also warn about a geom below the surface by less than the robot's size (not for a surface given as
-    a height, where a rigid bottom below it is the model's design)."""
+    a height, where a rigid bottom below it is the model's design); ``small_floor``: the surface's floor is smaller
+    than the robot's footprint, so this floor below it may be the one meant (the advice names it)."""
     name = _geom_label(model, f)
     remove = f"model.geom_contype[{f}] = model.geom_conaffinity[{f}] = 0"
     if t >= top - 1e-9:
@@ -203,6 +229,10 @@ def _support_note(model, f: int, kind: str, what: str, t: float, top: float, whe
                 f"surface ({where}): it keeps its rigid contacts, so the robot stands on it and not on the sand; "
                 f"{name_it}remove its contacts ({remove})"]
     if below and top - t < size:
+        if small_floor and auto is not None:
+            return [f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a {what} {top - t:.4g} m below the sand surface "
+                    f"({where}, a geom smaller than the robot's footprint): it keeps its rigid contacts and the robot "
+                    f"stands on it; if the sand lies on it, name it as the floor (floor='{name}')"]
         keep = "" if auto is None else ", or keep it as the bed's rigid bottom"
         return [f"mjrft: geom '{name}' ({kind}, top {t:.6g} m) is a {what} {top - t:.4g} m below the sand surface "
                 f"({where}), less than the robot's size ({size:.4g} m): it keeps its rigid contacts, "

@@ -185,3 +185,30 @@ def test_geoms_that_meet_the_floor_only_through_pairs_are_selected_and_carry_the
     assert np.all(soles < 0.0) and d.qpos[2] - 0.05 > 0.0  # the soles in the sand carry it; the torso stays above
     m = mujoco.MjModel.from_xml_string(f"<mujoco><worldbody>{PLANE}{robot}</worldbody></mujoco>")
     assert [m.geom(g).name for g in terrain(m)[0].geom_ids] == ["torso"]
+
+
+BRICK = """<mujoco><worldbody><geom name="plane" type="plane" size="5 5 0.1"/>
+<geom name="brick" type="box" size="0.05 0.03 0.05" pos="0 0 0.05"/>
+<body name="robot" pos="0 0 0.2"><freejoint/><geom name="trunk" type="box" size="0.2 0.1 0.03" mass="5"/>
+  <geom name="fl" type="sphere" size="0.02" pos="0.18 0.1 -0.17" mass="0.1"/>
+  <geom name="fr" type="sphere" size="0.02" pos="0.18 -0.1 -0.17" mass="0.1"/>
+  <geom name="hl" type="sphere" size="0.02" pos="-0.18 0.1 -0.17" mass="0.1"/>
+  <geom name="hr" type="sphere" size="0.02" pos="-0.18 -0.1 -0.17" mass="0.1"/></body></worldbody></mujoco>"""
+
+
+def test_an_auto_floor_smaller_than_the_robot_is_named_and_the_plane_below_offered():
+    m = mujoco.MjModel.from_xml_string(BRICK)  # a 10 cm brick under the belly of a robot standing on a plane
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        t = mjrft.GranularTerrain(m, "poppy_cp", floor="auto", resolution=0.01)
+    notes = [str(w.message) for w in caught if issubclass(w.category, mjrft.SandContactWarning)]
+    assert t.floor == m.geom("brick").id  # the highest floor under the robot, as documented
+    assert any("floor='auto' chose geom 'brick'" in n and "smaller than the robot's footprint" in n for n in notes)
+    plane = [n for n in notes if "'plane'" in n]
+    assert plane and "name it as the floor (floor='plane')" in plane[0] and "remove its contacts" not in plane[0]
+    # control: the plane named as the floor gives no footprint note
+    m = mujoco.MjModel.from_xml_string(BRICK)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mjrft.GranularTerrain(m, "poppy_cp", floor="plane", resolution=0.01)
+    assert not any("footprint" in str(w.message) for w in caught)
