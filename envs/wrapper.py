@@ -34,13 +34,13 @@ The env's own code is not changed. The wrapper
   and in every step's info) says what was drawn, and a flat floor drawn as the sand moves with a drawn
   surface height. ``roughness`` needs a height-field floor. Off (the default), nothing is drawn and the env
   steps the same trajectory;
-* warns (:class:`mjrft.SandContactWarning`) at construction when the robot may never meet the sand: no
-  selected geom is below the surface at the env's initial pose and none can fall onto it (no free joint, or
-  slide joint with a vertical component, under a gravity pointing down). The warning lists each geom's
-  lowest point and the lowest point any motion of its joints can bring it to (:func:`lowest_reach`, a
-  bound), and says whether none can reach the sand at all (InvertedDoublePendulum's floor lies 3 m below
-  it) or the robot is fixed to the world and feels the grains only where its actuators push a geom down
-  (Pusher, in zero gravity above its table). A model whose geoms are all visual-only (Swimmer) is refused
+* warns (:class:`mjrft.SandContactWarning`, from its terrain: :func:`mjrft.reach.reach_warning`) at
+  construction when the robot may never meet the sand: no selected geom is below the surface at the model's
+  initial pose and none can fall onto it (no free joint, or slide joint with a vertical component, under a
+  gravity pointing down). The warning lists each geom's lowest point and the lowest point any motion of its
+  joints can bring it to (:func:`mjrft.reach.lowest_reach`, a bound), and says whether none can reach the sand
+  at all (InvertedDoublePendulum's floor lies 3 m below it) or the robot is fixed to the world and feels the
+  grains only where its actuators push a geom down (Pusher, in zero gravity above its table). A model whose geoms are all visual-only (Swimmer) is refused
   by the terrain with an error naming them;
 * is a ``gymnasium.utils.RecordConstructorArgs``: ``env.spec`` records the wrapper and its arguments, so
   ``gymnasium.make(env.spec)`` rebuilds the env on sand and gymnasium's ``check_env`` accepts it.
@@ -104,11 +104,10 @@ import numpy as np
 from gymnasium.envs.mujoco import MujocoEnv
 from numba import njit
 
-from mjrft import kernel
 from mjrft.coupler import GranularTerrain
 from mjrft.floor import geom_world_boxes
 from mjrft.stability import max_stable_dt
-from mjrft.errors import NonFiniteError, SandContactWarning, unknown
+from mjrft.errors import NonFiniteError, unknown
 
 from .randomization import TerrainRandomization, TerrainRandomizer, upload_surface
 
@@ -124,7 +123,6 @@ SPRING_STEP = 1.0
 MAX_SUBSTEPS = 64
 WRAPPER_OPTIONS = ("substeps", "max_substeps", "spring_step", "sand_rgba", "terrain_randomization")
 #: m: a selected geom counts as in the sand, or as reaching it, below the surface by more than this
-REACH_TOLERANCE = 1e-6
 
 
 def spring_rate(limit: float, tau: float) -> float:
@@ -223,89 +221,6 @@ def _sinkage_and_force(depth, g_start, g_active, elem_body, slot, wrench, bodies
     for i in range(bodies.shape[0]):
         for j in range(3):
             force[i, j] = wrench[bodies[i], j]
-
-
-def lowest_reach(model: mujoco.MjModel, data: mujoco.MjData, g: int, bottom: float) -> tuple[float, bool]:
-    """(a lower bound on the height geom ``g`` can reach by any motion of its joints, whether gravity alone can
-    move it down) from the pose in ``data`` (kinematics done), where the geom's lowest point is ``bottom``.
-
-    The bound follows the geom up its chain of bodies to the world: a slide joint moves it along its axis by
-    at most its range (its downward part is counted exactly while no joint above turns it); a hinge or ball
-    joint turns everything below it about its anchor, so from the first one on the geom is followed as a
-    sphere (its bounding sphere, ``geom_rbound`` about its centre, plus the slides' travel below the turn) that
-    grows to the sphere about the anchor holding it (radius ``|c - anchor| + r``, the same in every pose). A
-    free joint, a mocap body or an unlimited slide with a vertical component gives ``-inf``. The geom can fall
-    by itself when its chain holds a free joint or a slide with a vertical component that may move down, and
-    the model's gravity points down."""
-    gz = float(model.opt.gravity[2])
-    c, r = data.geom_xpos[g].copy(), float(model.geom_rbound[g])
-    slack = down = 0.0  # any-direction and downward travel of the slides since the last turn
-    falls = turned = False
-    b = int(model.geom_bodyid[g])
-    while b != 0:
-        if model.body_mocapid[b] >= 0:
-            return -math.inf, falls
-        first, n = int(model.body_jntadr[b]), int(model.body_jntnum[b])
-        for j in range(first + n - 1, first - 1, -1):
-            kind = model.jnt_type[j]
-            if kind == mujoco.mjtJoint.mjJNT_FREE:
-                return -math.inf, falls or gz < 0
-            if kind == mujoco.mjtJoint.mjJNT_SLIDE:
-                q = float(data.qpos[model.jnt_qposadr[j]])
-                lo, hi = (model.jnt_range[j] - q) if model.jnt_limited[j] else (-math.inf, math.inf)
-                az = float(data.xaxis[j, 2])
-                dn = 0.0 if abs(az) < 1e-12 else max(-lo * az, -hi * az, 0.0)
-                slack += max(abs(lo), abs(hi))
-                down += dn
-                falls = falls or (dn > 0 and gz < 0)
-            else:
-                a = data.xanchor[j]
-                r = float(np.linalg.norm(c - a)) + r + slack
-                c, slack, down, turned = a.copy(), 0.0, 0.0, True
-        b = int(model.body_parentid[b])
-    return float((c[2] - r if turned else bottom) - down), falls
-
-
-def reach_warning(terrain: GranularTerrain, data: mujoco.MjData) -> str | None:
-    """The warning for a robot whose selected geoms may never meet the sand, judged in ``data``'s pose (kinematics
-    done), or None: no selected geom is below the sand surface (or its water) in that pose, and none can fall onto
-    it (:func:`lowest_reach`); then either none can reach it by any motion of its joints, or the robot is fixed
-    to the world and meets the grains only where its actuators drive a geom down."""
-    m = terrain.model
-    ids = np.asarray(terrain.geom_ids, dtype=np.int64)
-    lo, _ = geom_world_boxes(m, data, ids)
-    xy = data.geom_xpos[ids, :2]
-    local = terrain.surface_height(xy[:, 0], xy[:, 1]) + terrain.water_depth
-    if np.any(lo[:, 2] < local - REACH_TOLERANCE):
-        return None
-    reach = [lowest_reach(m, data, int(g), float(z)) for g, z in zip(ids, lo[:, 2])]
-    if any(falls for _, falls in reach):
-        return None
-    top = (float(terrain.surface_samples()[2].max()) if terrain.surface_hfield is not None
-           else float(terrain.surface)) + terrain.water_depth
-    what = "the sand surface" + (" and its water" if terrain.water_depth > 0 else "")
-    rows = sorted(zip(lo[:, 2], (z for z, _ in reach), ids), key=lambda row: row[0])
-
-    def label(g):
-        body = int(m.geom_bodyid[g])
-        return (f"'{mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, g) or f'#{g}'}' (body "
-                f"'{mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_BODY, body) or f'#{body}'}'")
-
-    listing = ", ".join(f"{label(int(g))}, bottom {b:.4g} m, reach {z:.4g} m)" for b, z, g in rows[:8])
-    listing += f" and {len(rows) - 8} more" if len(rows) > 8 else ""
-    floor = f" (the top of '{mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_GEOM, terrain.floor)}')" \
-        if terrain.floor is not None else ""
-    if all(z >= top - REACH_TOLERANCE for _, z, _ in rows):
-        return (f"mjrft: the robot's selected geoms never reach {what} at {top:.4g} m{floor}: none is below it at the "
-                "initial pose, none can fall, and the lowest each can reach by any motion of its joints stays above "
-                f"it; they will feel no granular force. Geoms (body, lowest point at the initial pose, lowest point "
-                f"any motion of the joints can bring it to): {listing}. Check the floor (floor='<geom>') or the "
-                "sand's height (surface=<m>)")
-    return (f"mjrft: the robot is fixed to the world (no free joint or vertical slide lets it fall onto the sand"
-            f"{'' if m.opt.gravity[2] < 0 else ', and gravity does not pull down'}) and none of its selected "
-            f"geoms is below {what} at {top:.4g} m{floor} at the initial pose: it feels granular force only where "
-            f"its actuators drive a geom below the surface. Geoms (body, lowest point at the initial pose, lowest "
-            f"point any motion of the joints can bring it to): {listing}")
 
 
 def _plain(value):
@@ -423,9 +338,6 @@ class GranularWrapper(gymnasium.Wrapper, gymnasium.utils.RecordConstructorArgs):
         scratch = mujoco.MjData(model)
         scratch.qpos[:], scratch.qvel[:] = u.init_qpos, 0.0
         mujoco.mj_kinematics(model, scratch)
-        reach = reach_warning(self.terrain, scratch)
-        if reach is not None:
-            warnings.warn(SandContactWarning(reach), stacklevel=2)
         self._static_limit = static_timestep_limit(self.terrain, scratch)
         self._limit = self._static_limit
         self._depth_limit = math.inf  # implicit step: the explicit limit of the depth stiffness (module docstring)

@@ -40,6 +40,7 @@ def build_model(model: mujoco.MjModel, medium=None, law=None, *, bodies=None, ge
         raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
     if not isinstance(implicit, (bool, np.bool_)):
         raise TypeError(f"implicit must be True or False, got {implicit!r}")
+    check_model(model)
     solid, stick = check_solidify(solidify, stick_speed)
     s = resolve_settings(model, medium=medium, law=law, bodies=bodies, geoms=geoms, floor=floor, surface=surface,
                          resolution=resolution, resolution_scale=resolution_scale,
@@ -57,6 +58,24 @@ def build_model(model: mujoco.MjModel, medium=None, law=None, *, bodies=None, ge
                                  float(stick), bool(implicit), bool(inertial_on))
     return TerrainModel(s, element_tables, surface_tables(s.surface, s.hf_z, s.hf_frame, region_tables.params),
                         region_tables, constants, region_list, geometry, 1.0)
+
+
+def check_model(model: mujoco.MjModel) -> None:
+    """Refuse a model whose timestep, gravity or a body's mass or inertia is not finite (MuJoCo steps it, printing a
+    warning at every step, until its state is NaN): a ``ValueError`` naming the value, before anything is built."""
+    if not (np.isfinite(model.opt.timestep) and model.opt.timestep > 0):
+        raise ValueError(f"the model's timestep must be a finite number > 0, got {model.opt.timestep!r}")
+    if not np.all(np.isfinite(model.opt.gravity)):
+        raise ValueError(f"the model's gravity must be finite, got {model.opt.gravity.tolist()}")
+    for what, values in (("mass", model.body_mass[:, None]), ("inertia", model.body_inertia),
+                         ("centre of mass", model.body_ipos)):
+        bad = np.flatnonzero(~np.all(np.isfinite(values), axis=1))
+        if bad.size:
+            b = int(bad[0])
+            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b) or f"#{b}"
+            more = f" (and {bad.size - 1} other bodies)" if bad.size > 1 else ""
+            raise ValueError(f"body '{name}' has a non-finite {what} ({values[b].tolist()}){more}; fix the model "
+                             "(a NaN mass or inertia makes every step NaN)")
 
 
 def surface_tables(height: float, hfield_z: np.ndarray, hfield_frame: np.ndarray, params: np.ndarray) -> SurfaceTables:

@@ -38,12 +38,14 @@ import numpy as np
 
 from . import kernel
 from ._jit_cache import load_cached_callees_first
-from .build import build_model, make_state, remove_floor_contacts, water_depth, with_regions, with_surface
+from .build import (build_model, check_model, make_state, remove_floor_contacts, water_depth, with_regions,
+                    with_surface)
 from .errors import NonFiniteError, SandContactWarning, check_finite, check_positive, unknown
 from .implicit_step import IMPLICIT_FUNCTIONS
 from .laws.solidify import STICK_SPEED
 from .media import get_medium
 from .mujoco_c import mujoco_functions, mujoco_step_functions
+from .reach import reach_warning, sinking_warning
 from .regions import Region, _region_entries
 from .stability import largest_rate, track_chatter, track_depth_springs, track_stiffness
 from .stepping import CompiledCall, actuator_power, add_rows, restore_rows, run_steps
@@ -91,6 +93,16 @@ def mujoco_reset_error(model: mujoco.MjModel, data: mujoco.MjData, since: str) -
     return NonFiniteError(f"the simulation diverged: MuJoCo found a non-finite or huge {what} on body '{name}' "
                           f"{since} and reset the state (its time is now {data.time:.6g} s); the diverged state is "
                           "lost. Reduce the timestep, or check the model and the forces applied to it")
+
+
+def whole_steps(nstep) -> int:
+    """``nstep`` as a count of physics steps (an integer >= 0, or a float equal to one); anything else raises a
+    ``ValueError`` naming it (``step(data, 1.5)`` would otherwise run one step)."""
+    if isinstance(nstep, (bool, np.bool_)) or not isinstance(nstep, (int, float, np.integer, np.floating)):
+        raise ValueError(f"nstep must be a whole number of steps >= 0, got {nstep!r}")
+    if not float(nstep).is_integer() or nstep < 0:
+        raise ValueError(f"nstep must be a whole number of steps >= 0, got {nstep!r}")
+    return int(nstep)
 
 
 def nonfinite_error(model: mujoco.MjModel, status: int, body: int, time: float) -> NonFiniteError:
@@ -313,6 +325,11 @@ class GranularTerrain:
         self.floor_contacts = remove_floor_contacts(model, tm)  # the floor's (contype, conaffinity) before
         for note in tm.settings.floor_warnings:
             warnings.warn(SandContactWarning(note), stacklevel=4)
+        pose = mujoco.MjData(model)  # the model's initial pose: can the selected geoms ever meet the sand?
+        mujoco.mj_kinematics(model, pose)
+        for note in (reach_warning(self, pose), sinking_warning(model, pose, tm.elements.geom_ids)):
+            if note is not None:
+                warnings.warn(SandContactWarning(note), stacklevel=4)
 
     # ------------------------------------------------------------------ what the terrain is (its TerrainModel)
     @property
@@ -495,7 +512,10 @@ class GranularTerrain:
         self._bind(data)
 
     def reset(self) -> None:
-        """Forget every element's memory (call after changing the state by hand)."""
+        """Forget every element's memory (call after changing the state by hand); a model edited since into a
+        non-finite mass, inertia, gravity or timestep is refused here (:func:`mjrft.build.check_model`), before
+        MuJoCo steps it."""
+        check_model(self.model)
         self.terrain_state.forget()
         self._last_time = -np.inf
         self._check_time = -np.inf
@@ -701,9 +721,7 @@ class GranularTerrain:
         would silently change the model's integrator.
         """
         self._check_integrator("step")
-        nstep = int(nstep)
-        if nstep < 0:
-            raise ValueError(f"nstep must be >= 0, got {nstep}")
+        nstep = whole_steps(nstep)
         m = self.model
         self._begin(data)
         if _STEP_FUNCTIONS is not None and nstep > 0:

@@ -40,6 +40,10 @@ class ValidityWatch:
             groups.setdefault(str(reg.law), []).append(k)
             for r, v in validity.check_static(str(reg.law), reg.medium):
                 self.warn(str(reg.law), r, v, f" (medium '{reg.medium.name}')", stacklevel=stacklevel + 2)
+            note = validity.check_medium(str(reg.law), reg.medium)
+            if note is not None and (str(reg.law), reg.medium.name) not in self.warned:
+                self.warned.add((str(reg.law), reg.medium.name))
+                warnings.warn(ValidityRangeWarning(note), stacklevel=stacklevel + 1)
         self.dynamic = [(validity.group_mask(len(regions), ks), law, r) for law, ks in groups.items()
                         for r in validity.dynamic_ranges(law, inertial)]
 

@@ -144,6 +144,22 @@ def check_static(law: str, medium) -> list[tuple[Range, float]]:
     return out
 
 
+#: a medium calibrated for the saturated-sand law carries this constant (its speed factor; mjrft.laws.wet)
+SATURATED_CALIBRATION = "wet_eps_v"
+
+
+def check_medium(law: str, medium) -> str | None:
+    """The warning for a saturated law (``wet``) on a medium that carries no saturated-sand calibration (no
+    :data:`SATURATED_CALIBRATION` among its constants: a dry medium, whose stresses would take SGRFT's sea-sand
+    speed factor), or None."""
+    if not _law(law).saturated or law == "water" or medium.get(SATURATED_CALIBRATION) is not None:
+        return None
+    return (f"mjrft: law '{law}' is SGRFT's saturated sand, and medium '{medium.name}' carries no saturated-sand "
+            f"calibration (no {SATURATED_CALIBRATION} among its constants: a dry medium): its stresses get the sea "
+            "sand's speed factor (SGRFT, MDPI 2022, table 3) and the water's constants; use a saturated medium "
+            "('sea_sand_saturated', or one with the wet_* constants of mjrft.laws.wet) or a dry law ('rft')")
+
+
 def dynamic_ranges(law: str, inertial: bool = False) -> tuple[Range, ...]:
     """The depth and speed ranges of ``law``; with ``inertial`` (a dry law with the inertial regime on) the
     speed range is :data:`INERTIAL_SPEED`."""

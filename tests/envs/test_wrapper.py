@@ -384,7 +384,7 @@ def test_a_model_with_visual_only_geoms_gets_an_error_that_says_how_to_select_th
     ('<joint type="hinge" axis="0 1 0" pos="-0.5 0 0"/>', 0.45, False),  # a 0.5 m arm swings the box through 0.45 m
     ('<freejoint/>', -np.inf, True)])
 def test_lowest_reach_bounds_what_the_joints_allow(joint, reach, falls):
-    from mjrft.envs.wrapper import lowest_reach
+    from mjrft.reach import lowest_reach
 
     m = mujoco.MjModel.from_xml_string(f'<mujoco><worldbody><body pos="0 0 1">{joint}<geom type="sphere" '
                                        f'size="0.05"/></body></worldbody></mujoco>')

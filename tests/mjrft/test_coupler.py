@@ -504,3 +504,20 @@ def test_actuator_power_is_the_mean_over_every_physics_step_of_a_step_call():
         # control: the power at the call's last physics step alone (a sample) is not the mean
         if k > 0:
             assert abs(per_step[-1] - np.mean(per_step)) > 1e-3 * np.mean(per_step)
+
+
+def test_step_counts_are_whole_and_a_non_finite_model_is_refused_before_it_steps():
+    m, d = box()
+    t = mjrft.GranularTerrain(m, "poppy_cp", resolution=0.01)
+    for bad in (1.5, -1, float("nan"), "2", None, True):
+        with pytest.raises(ValueError, match="nstep must be a whole number of steps >= 0"):
+            t.step(d, bad)
+    t.step(d, 2.0)  # a float equal to a whole number is a count
+    t.step(d, np.int32(1))
+    assert d.time == pytest.approx(3 * m.opt.timestep)
+    m.body_mass[1] = np.nan  # edited after construction: refused at the next reset
+    d.time = 0.0
+    with pytest.raises(ValueError, match="body 'foot' has a non-finite mass"):
+        t.step(d, 1)
+    with pytest.raises(ValueError, match="body 'foot' has a non-finite mass"):
+        mjrft.GranularTerrain(m, "poppy_cp", resolution=0.01)

@@ -98,3 +98,20 @@ def test_hexapod_default_scene_warns_only_that_its_legs_pass_li_speed_bound():
     assert len(msgs) <= 1, msgs
     for m in msgs:
         assert "law 'rft': speed 1.0" in m and "<= 1 m/s" in m, m
+
+
+def test_the_saturated_law_on_a_dry_medium_is_named_once():
+    import warnings
+
+    import mujoco
+
+    m = mujoco.MjModel.from_xml_string('<mujoco><worldbody><body pos="0 0 0.1"><freejoint/>'
+                                       '<geom type="box" size=".05 .05 .01" mass="1"/></body></worldbody></mujoco>')
+    for medium, expected in (("poppy_cp", 1), ("sea_sand_saturated", 0)):  # control: the medium SGRFT measured
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            GranularTerrain(m, medium, "wet", resolution=0.01)
+        notes = [str(w.message) for w in caught if "saturated-sand calibration" in str(w.message)]
+        assert len(notes) == expected, notes
+        if expected:
+            assert f"medium '{medium}'" in notes[0] and "'sea_sand_saturated'" in notes[0]
