@@ -67,9 +67,15 @@ def wrench_errors(sand, model: mujoco.MjModel, states: list[RecordedState], x64:
         for s in states:
             d = mjx.put_data(model, s.data)
             w, new = f(d, sand.init()._replace(u=jnp.asarray(s.u_before, d.xpos.dtype)), model.opt.timestep)
-            ew = max(ew, float(np.abs(np.asarray(w) - s.wrench).max() / np.abs(s.wrench).max()))
-            eu = max(eu, float(np.abs(np.asarray(new.u) - s.u_after).max() / max(np.abs(s.u_after).max(), 1e-300)))
+            ew = max(ew, _relative(np.asarray(w), s.wrench))
+            eu = max(eu, _relative(np.asarray(new.u), s.u_after))
     return ew, eu
+
+
+def _relative(a: np.ndarray, ref: np.ndarray) -> float:
+    """``max |a - ref|`` over ``max |ref|``; where ``ref`` is all zero, 0 if ``a`` is too, else inf."""
+    err, scale = float(np.abs(a - ref).max()), float(np.abs(ref).max())
+    return err / scale if scale > 0.0 else (0.0 if err == 0.0 else np.inf)
 
 
 def replay_steps(model: mujoco.MjModel, terrain_kwargs: dict, steps: int, every: int,

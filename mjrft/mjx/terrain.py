@@ -32,11 +32,16 @@ finite gets no granular wrench, keeps its memory, and records the body in ``stat
 in ``state.bad_time``), which stays set until :meth:`Sand.reset`; :meth:`Sand.check` raises
 :class:`~mjrft.NonFiniteError` naming them on the host.
 
-Supported: one region (the terrain's own medium and law), laws ``rft``, ``rft3d`` and ``depth_only``
-(:mod:`mjrft.mjx.laws`), the rest memory or the viscous ramp, a flat surface (also from ``floor=...``),
-``stress_scale``, a per-world medium and surface height through ``state.params`` / ``state.surface``, and the
-implicit granular step (MJX's JAX implementation). Refused with an error naming the option: regions, water,
-buoyancy, the inertial regime, a height-field surface, laws without a JAX twin.
+The whole terrain of the CPU path: every law (:mod:`mjrft.mjx.laws`), strips and maps of regions with their
+transitions, the water layer, buoyancy, the inertial regime, the rest memory with its solidify option or the
+viscous ramp, a flat or height-field surface (also from ``floor=...``), ``stress_scale``, and the implicit granular
+step (MJX's JAX implementation). One dry region of ``rft``, ``rft3d`` or ``depth_only`` on a flat surface takes
+the direct pass (the law alone); any other scene the kernel's general pass (:func:`mjrft.mjx.forces.region_force`,
+with only the parts the scene uses traced: ``Sand.features``), which ``tests/mjrft/mjx/test_mjx_scenes.py``
+compares with the numba kernel on recorded states. Per world: the medium (``state.params``: one row, or one per
+region), the surface (``state.surface``: a height, or the height field's samples) and the strips' x_min
+(``state.bounds``), drawn per episode by an environment (:meth:`init`). The buoyancy's gravity is the model's at
+construction.
 
 Culling: the CPU kernel skips elements above the surface in groups; here every element's position is
 computed each step (a few multiply-adds), and the rest (velocity, memory, law) runs on all elements
@@ -66,9 +71,14 @@ from ..implicit_step import HOLD_FRACTION
 from ..laws.registry import parameter_vector
 from ..media import get_medium
 from ..types import TerrainModel
+from .forces import Features, region_force
 from .integrator import integrate
 from .laws import law_function
+from .memory import rest_memory
+from .surface import surface_height
 
+#: the laws of the direct pass (one dry region on a flat surface): their stress alone, the batched law's twin
+_DIRECT = ("rft", "rft3d", "depth_only")
 HIGHEST = jax.lax.Precision.HIGHEST  # f32 sums in full precision (GPUs default to TF32 for f32 matmuls)
 OVERFLOW = -2  # state.bad_body when more than `cull` elements are buried
 
@@ -76,8 +86,10 @@ OVERFLOW = -2  # state.bad_body when more than `cull` elements are buried
 class SandState(NamedTuple):
     """The per-world state of :class:`Sand` (a pytree: stack it over worlds with ``jax.vmap``).
 
-    ``u`` (n, 3): each element's elastic displacement (the rest memory, m); ``params`` (P_SIZE,): the
-    medium's parameter vector (stresses times ``stress_scale``); ``surface``: the sand surface's height (m);
+    ``u`` (n, 3): each element's elastic displacement (the rest memory, m); ``params``: the medium's parameter
+    vector (P_SIZE,) (stresses times ``stress_scale``), or with several regions one row per region (R, P_SIZE);
+    ``surface``: the sand surface's height (m), or with a height-field surface its world heights (nrow, ncol);
+    ``bounds`` (R - 1,): the strips' x_min (m; empty without strips);
     ``wrench`` (nbody, 6) and ``sinkage``
     (nbody,): the granular wrench applied by the last step (the implicit one with ``implicit``) and each body's
     deepest element (m, >= 0);
@@ -87,29 +99,11 @@ class SandState(NamedTuple):
     u: jax.Array
     params: jax.Array
     surface: jax.Array
+    bounds: jax.Array
     wrench: jax.Array
     sinkage: jax.Array
     bad_body: jax.Array
     bad_time: jax.Array
-
-
-def _unsupported(tm: TerrainModel) -> list[str]:
-    """The options of the terrain model ``tm`` that the JAX path does not model."""
-    out = []
-    rg = tm.regions
-    if rg.law.shape[0] > 1:
-        out.append(f"{rg.law.shape[0] - 1} extra region(s)")
-    if water_depth(rg.params) > 0:
-        out.append(f"water_depth = {water_depth(rg.params):g} m")
-    if np.any(rg.rho > 0):
-        out.append("buoyancy")
-    if tm.constants.inertial:
-        out.append("the inertial regime (inertial=True)")
-    if tm.settings.surface_hfield is not None:
-        out.append("a height-field surface")
-    if tm.constants.solid > 0.0:
-        out.append(f"solidify = {tm.constants.solid:g}")
-    return out
 
 
 class Sand:
@@ -154,15 +148,30 @@ class Sand:
         return self
 
     def _init_from(self, model: mujoco.MjModel, tm: TerrainModel, cull) -> None:
-        missing = _unsupported(tm)
-        if missing:
-            raise NotImplementedError(f"mjrft.mjx does not model {', '.join(missing)}; supported: one region with "
-                                      "law rft, rft3d or depth_only on a flat surface (mjrft.mjx.terrain docstring)")
         if int(tm.elements.body_root.shape[0]) != model.nbody:
             raise ValueError(f"terrain_model was built on a model with {tm.elements.body_root.shape[0]} bodies, not "
                              f"this one ({model.nbody})")
         self.law = tm.settings.law
-        self._stress = law_function(self.law)
+        rg, sf, cs0 = tm.regions, tm.surface, tm.constants
+        # the scene's regions, surface and options: one dry region of rft, rft3d or depth_only on a flat surface
+        # takes the direct pass (the law alone, _forces); anything else the kernel's general pass
+        # (mjrft.mjx.forces.region_force), with only the parts the scene uses traced (Features)
+        self.features = Features.of(rg.law, rg.params, rg.rho)
+        self.general = bool(rg.law.shape[0] > 1 or self.law not in _DIRECT or cs0.inertial or cs0.solid > 0.0
+                            or water_depth(rg.params) > 0.0 or np.any(rg.rho > 0.0) or sf.hfield_z.size > 0)
+        self._stress = None if self.general else law_function(self.law)
+        self.reg_law = np.asarray(rg.law, dtype=np.int32)
+        self.reg_rho = np.array(rg.rho, dtype=np.float64)
+        self.reg_map = np.asarray(rg.map)
+        self.reg_map_frame = np.array(rg.map_frame, dtype=np.float64)
+        self.bounds = np.array(rg.bounds, dtype=np.float64)
+        self.transition = float(rg.transition)
+        self.hf_frame = np.array(sf.hfield_frame, dtype=np.float64)
+        self.hfield = sf.hfield_z.size > 0
+        self.reach = water_depth(rg.params)  # the deepest water: elements above the sand within it feel its drag
+        self.solid, self.stick = float(cs0.solid), float(cs0.stick)
+        # the buoyancy's gravity, the model's when the terrain is built (MuJoCo's CPU path reads it each step)
+        self.gravity = max(0.0, -float(model.opt.gravity[2]))
         self.terrain_model = tm
         self.model = model
         n = tm.n_elements
@@ -179,7 +188,8 @@ class Sand:
         self.delta = float(cs.delta)
         self.tau = float(cs.tau)
         self.v_eps = float(cs.v_eps)
-        self.params = np.array(tm.regions.params[0], dtype=np.float64)
+        self.params = np.array(rg.params[0] if rg.law.shape[0] == 1 else rg.params, dtype=np.float64)
+        self.surface_init = np.array(sf.hfield_z) if self.hfield else self.surface
         # element tables (body frame); per element its body and the root of its kinematic tree
         self.lpos = np.array(el.lpos)
         self.lnrm = np.array(el.lnrm)
@@ -205,14 +215,25 @@ class Sand:
         self.imp_place = place  # (nbody, nb): the bodies' rows back into (nbody, ...) as a product (no scatter)
 
     # ------------------------------------------------------------------ state
-    def init(self, params=None, surface=None) -> SandState:
-        """A fresh state (no memory) with the terrain's medium parameters or ``params`` (a medium's
-        :func:`~mjrft.laws.registry.parameter_vector`, already scaled: :meth:`params_of`) and its surface height or
-        ``surface`` (m)."""
-        p = self.params if params is None else params
-        z = self.surface if surface is None else surface
+    def init(self, params=None, surface=None, bounds=None) -> SandState:
+        """A fresh state (no memory) with the terrain's parameters or ``params`` (a medium's
+        :func:`~mjrft.laws.registry.parameter_vector`, already scaled: :meth:`params_of`; with several regions one
+        row per region, or one row, which replaces region 0's, the terrain's own medium), its surface or ``surface``
+        (m: a height, or a height-field surface's world heights, shaped as its samples) and its strips' x_min or
+        ``bounds``."""
+        p = self.params if params is None else np.asarray(params) if not isinstance(params, jax.Array) else params
+        if self.params.ndim == 2 and jnp.ndim(p) == 1:
+            p = jnp.asarray(self.params).at[0].set(p)
+        z = self.surface_init if surface is None else surface
+        if self.hfield and jnp.shape(z) != self.surface_init.shape:
+            raise ValueError(f"surface must be the height field's world heights, shape {self.surface_init.shape}, "
+                             f"got shape {jnp.shape(z)}")
+        b = self.bounds if bounds is None else bounds
+        if jnp.shape(b) != self.bounds.shape:
+            raise ValueError(f"bounds must hold the terrain's {self.bounds.size} strips' x_min, got shape "
+                             f"{jnp.shape(b)}")
         return SandState(u=jnp.zeros((self.n_elements, 3)), params=jnp.asarray(p), surface=jnp.asarray(z),
-                         wrench=jnp.zeros((self.nbody, 6)), sinkage=jnp.zeros(self.nbody),
+                         bounds=jnp.asarray(b), wrench=jnp.zeros((self.nbody, 6)), sinkage=jnp.zeros(self.nbody),
                          bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.array(0.0))
 
     @staticmethod
@@ -257,9 +278,14 @@ class Sand:
         mob = jnp.minimum(1.0, speed / self.v_eps) if self.v_eps > 0.0 else jnp.ones_like(speed)
         return jnp.zeros_like(u), vel, speed, mob
 
-    def _forces(self, depth, nrm, vel, u, area, params, dt, implicit=False):
+    def _forces(self, depth, nrm, vel, u, area, params, dt, implicit=False, px=None, py=None, bounds=None):
         """Element forces (k, 3) and new memory (k, 3) of elements at ``depth`` (> 0: buried); with ``implicit``
-        also each element's ``T k`` (k,) for the implicit step (:meth:`_spring_tk`), else None."""
+        also each element's ``T k`` (k,) for the implicit step (:meth:`_spring_tk`), else None; and the inertial
+        regime's damping (k,) for the implicit step and whether each element's parts were finite (k,) in the
+        general pass (:meth:`_general_forces`, which takes the elements' ``px``, ``py`` and the strips' ``bounds``),
+        else None, None."""
+        if self.general:
+            return self._general_forces(depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds)
         buried = (depth > 0.0) & (area > 0.0)
         u, m, ml, mob = self._memory(u, vel, buried, dt)
         moving = buried & (ml > 0.0)
@@ -269,7 +295,27 @@ class Sand:
         tk = None
         if implicit:  # the springs' stiffness comes from the force at full mobilisation
             tk = self._spring_tk(jnp.where(moving[:, None], stress * area[:, None], 0.0), ml, vel, dt, u)
-        return f, u, tk
+        return f, u, tk, None, None
+
+    def _general_forces(self, depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds):
+        """:meth:`_forces` by the kernel's general pass: the rest memory (:func:`mjrft.mjx.memory.rest_memory`, the
+        solidify option included), then each element's regions and their laws, water drag, buoyancy and inertial
+        regime (:func:`mjrft.mjx.forces.region_force`); elements above the sand and its deepest water get nothing
+        and keep no memory."""
+        speed = jnp.sqrt(jnp.sum(vel * vel, axis=-1))
+        buried = (depth > 0.0) & (area > 0.0)
+        u, m, ml, mob = rest_memory(u, vel, speed, buried, dt, self.delta, self.tau, self.v_eps, self.solid,
+                                    self.stick)
+        table = params if params.ndim == 2 else params[None]
+        f, kk, _, ci, ok, _ = region_force(self.features, px, py, depth, nrm, m, ml, mob, vel, speed, area,
+                                           reg_law=self.reg_law, reg_params=table, reg_rho=self.reg_rho,
+                                           reg_bounds=bounds, reg_map=self.reg_map, reg_map_frame=self.reg_map_frame,
+                                           blend=self.transition, gravity=self.gravity, delta=self.delta,
+                                           v_eps=self.v_eps)
+        within = (area > 0.0) & (depth > -self.reach) if self.reach > 0.0 else buried
+        f = jnp.where(within[:, None], f, 0.0)
+        tk = self._holding_tk(kk, ml, speed, dt, u) if implicit else None
+        return f, u, tk, (ci if self.features.inertia else None), ok | ~within
 
     def _spring_tk(self, f_yield, ml, vel, dt, u):
         """Each element's ``T k`` for the implicit step (mjrft.kernel's ``_add_implicit``; docs/numerics.md,
@@ -279,9 +325,15 @@ class Sand:
         viscous: ``|v| <= v_eps``) or with their memory ``u`` within ``HOLD_FRACTION`` of ``delta`` (mjrft.kernel's
         ``_holds``); 0 for the sliding others (their force only turns and stays explicit)."""
         f_mag = jnp.sqrt(jnp.sum(f_yield * f_yield, axis=-1))
+        if self.delta <= 0.0 and self.v_eps <= 0.0:
+            return jnp.zeros_like(f_mag)
+        k = f_mag / jnp.maximum(ml, self.delta if self.delta > 0.0 else self.v_eps)
+        return self._holding_tk(k, ml, jnp.sqrt(jnp.sum(vel * vel, axis=-1)), dt, u)
+
+    def _holding_tk(self, k, ml, speed, dt, u):
+        """``T k`` of elements with linearised stiffness ``k`` (:meth:`_spring_tk`) that hold, 0 for the others."""
         if self.delta > 0.0:
             limit = self.delta
-            speed = jnp.sqrt(jnp.sum(vel * vel, axis=-1))
             x = speed * (dt / self.delta)
             small = x < 1e-6
             t = jnp.where(small, self.tau + dt,
@@ -289,8 +341,7 @@ class Sand:
         elif self.v_eps > 0.0:
             limit, t = self.v_eps, 1.0
         else:
-            return jnp.zeros_like(f_mag)
-        k = f_mag / jnp.maximum(ml, limit)
+            return jnp.zeros_like(k)
         holds = ml <= limit
         if self.delta > 0.0:
             holds = holds | (jnp.sum(u * u, axis=-1) <= (HOLD_FRACTION * self.delta) ** 2)
@@ -316,32 +367,44 @@ class Sand:
         area = jnp.asarray(self.area, dtype)
         onehot = jnp.asarray(self.onehot, dtype)
         params = state.params.astype(dtype)
-        depth = state.surface.astype(dtype) - pos[:, 2]
+        if self.hfield:
+            depth = surface_height(pos[:, 0], pos[:, 1], 0.0, state.surface.astype(dtype), self.hf_frame) - pos[:, 2]
+        else:
+            depth = state.surface.astype(dtype) - pos[:, 2]
+        bounds = state.bounds.astype(dtype)
+        within = depth > -self.reach if self.reach > 0.0 else depth > 0.0  # of the grains or the water above them
         if self.cull is None:
-            f, u, tk = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit)
+            f, u, tk, ci, ok = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit, pos[:, 0],
+                                            pos[:, 1], bounds)
             over = jnp.array(False)
         else:
-            idx = jnp.nonzero(depth > 0.0, size=self.cull, fill_value=self.n_elements)[0]
-            over = jnp.sum(depth > 0.0) > self.cull
+            idx = jnp.nonzero(within, size=self.cull, fill_value=self.n_elements)[0]
+            over = jnp.sum(within) > self.cull
             take = jnp.minimum(idx, self.n_elements - 1)
             valid = idx < self.n_elements
-            fk, uk, tkk = self._forces(jnp.where(valid, depth[take], 0.0), nrm[take], vel[take], state.u[take],
-                                       jnp.where(valid, area[take], 0.0), params, dt, implicit)
+            fk, uk, tkk, cik, okk = self._forces(jnp.where(valid, depth[take], -self.reach - 1.0), nrm[take],
+                                                 vel[take], state.u[take], jnp.where(valid, area[take], 0.0), params,
+                                                 dt, implicit, pos[take, 0], pos[take, 1], bounds)
             f = jnp.zeros_like(pos).at[idx].set(fk, mode="drop")
             u = jnp.zeros_like(state.u).at[idx].set(uk, mode="drop")
             tk = jnp.zeros_like(depth).at[idx].set(tkk, mode="drop") if implicit else None
+            ci = None if cik is None else jnp.zeros_like(depth).at[idx].set(cik, mode="drop")
+            ok = None if okk is None else jnp.ones(depth.shape, bool).at[idx].set(okk, mode="drop")
         r = pos - d.xipos[self.elem_body]
         per_elem = jnp.concatenate([f, jnp.cross(r, f)], axis=-1)  # (n, 6)
         w = jnp.matmul(onehot, per_elem, precision=HIGHEST)
         elem_bad = ~(jnp.all(jnp.isfinite(pos), axis=-1) & jnp.all(jnp.isfinite(vel), axis=-1)
                      & jnp.all(jnp.isfinite(f), axis=-1))
+        if ok is not None:
+            elem_bad = elem_bad | ~ok
         body_bad = jnp.matmul(onehot, elem_bad.astype(w.dtype), precision=HIGHEST) > 0.0
         sink = jnp.max(jnp.where(onehot > 0.0, jnp.maximum(depth, 0.0)[None, :], 0.0), axis=1)
         moments = None
-        if implicit:
+        if implicit:  # with the inertial regime its dampers join the springs in G (mjrft.implicit_step)
             rx, ry, rz = r[:, 0], r[:, 1], r[:, 2]
-            per = tk[:, None] * jnp.stack([jnp.ones_like(rx), rx, ry, rz, rx * rx, rx * ry, rx * rz, ry * ry,
-                                           ry * rz, rz * rz], axis=-1)
+            g = tk if ci is None else tk + ci
+            per = g[:, None] * jnp.stack([jnp.ones_like(rx), rx, ry, rz, rx * rx, rx * ry, rx * rz, ry * ry,
+                                          ry * rz, rz * rz], axis=-1)
             moments = jnp.matmul(onehot, per, precision=HIGHEST)
         return w, u, sink, body_bad, over, moments
 

@@ -1,5 +1,5 @@
 """mjrft.mjx on CPU JAX: the JAX wrench equals the numba kernel's, a resting robot carries its weight, batched worlds
-equal single ones, non-finite states are reported, and unsupported options are refused by name."""
+equal single ones, non-finite states are reported (the general pass's scenes: tests/mjrft/mjx/test_mjx_scenes.py)."""
 
 from __future__ import annotations
 
@@ -175,18 +175,6 @@ def test_cull_matches_full_evaluation_and_flags_overflow(walk):
         assert int(s_small.bad_body) == -2 and not np.any(np.asarray(w_small))
         with pytest.raises(NonFiniteError, match="cull"):
             small.check(s_small)
-
-
-@pytest.mark.parametrize("kw, match", [
-    ({"regions": [(0.5, "poppy_lp", "rft")]}, "region"),
-    ({"law": "wet", "medium": "sea_sand_saturated", "buoyancy": True}, "buoyancy"),
-    ({"water_depth": 0.01}, "water_depth"),
-    ({"inertial": True}, "inertial"),
-])
-def test_unsupported_options_are_refused_by_name(kw, match):
-    model = mujoco.MjModel.from_xml_path(HEXAPOD)
-    with _quiet(), pytest.raises(NotImplementedError, match=match):
-        rmjx.Sand(model, **kw)
 
 
 def test_bad_cull_is_refused():
