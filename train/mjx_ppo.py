@@ -576,8 +576,9 @@ def main(args) -> int:
         return 0
     print(f"trained in {summary['wall_s']:.1f} s; policy {Path(args.out) / POLICY_FILE}")
     if cfg["env"] is not None:
-        print(f"final evaluation return {summary['final'].get('eval/episode_reward', math.nan):.3f} ({cfg['env']} has "
-              "no CPU env: mjrft eval does not apply)")
+        ret = summary["final"].get("eval/episode_reward")
+        print((f"final evaluation: return {ret:.3f}; " if ret is not None else "")
+              + f"{cfg['env']} has no CPU env (mjrft eval runs the hexapod's policies)")
         return 0
     if args.eval_episodes > 0:
         res = evaluate_mjx(load_policy(args.out), episodes=args.eval_episodes)

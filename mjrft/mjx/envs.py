@@ -5,7 +5,7 @@
 >>> env = mjrft.mjx.envs.load("Go2JoystickSand", config_overrides={"sand.medium": "poppy_lp"})
 
 Each environment module of :mod:`mjrft.envs.mjx` lists its entries in ``ENVS`` (name -> (make(config,
-config_overrides), default config)); this module collects them.
+config_overrides), default config)); this module collects them, and :func:`register` adds one of a user's.
 """
 
 from __future__ import annotations
@@ -13,10 +13,21 @@ from __future__ import annotations
 from mjrft.errors import unknown
 
 
+_REGISTERED: dict = {}  # register()'s entries
+
+
 def _entries() -> dict:
     from mjrft.envs.mjx import go2_joystick
 
-    return dict(go2_joystick.ENVS)
+    return {**go2_joystick.ENVS, **_REGISTERED}
+
+
+def register(name: str, make, default_config) -> None:
+    """Add an environment: ``make(config, config_overrides)`` builds it, ``default_config()`` gives its configuration
+    (Playground's ``register_environment``); ``mjrft train-mjx`` recipes can then name it."""
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"an MJX environment's name must be a non-empty string, got {name!r}")
+    _REGISTERED[name] = (make, default_config)
 
 
 def names() -> tuple[str, ...]:
