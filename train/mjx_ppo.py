@@ -1,7 +1,9 @@
-"""Brax PPO on the MJX hexapod: thousands of worlds per GPU, the policy saved for ``mjrft eval`` on the CPU env.
+"""Brax PPO on MJX environments: thousands of worlds per GPU; the hexapod's policy runs in ``mjrft eval`` on the CPU.
 
 ``mjrft train-mjx --config hexapod-sand --out runs/hex-mjx`` trains :class:`mjrft.envs.hexapod_mjx.HexapodSandMJX`
-(``mjrft/HexapodSand-v0`` for MJX) with ``brax.training.agents.ppo.train`` under a named recipe
+(``mjrft/HexapodSand-v0`` for MJX), and a recipe with ``env:`` an environment of the MJX registry
+(:mod:`mjrft.mjx.envs`, e.g. ``go2-joystick-sand``), with ``brax.training.agents.ppo.train`` on every local device
+(several hosts with ``--coordinator``, ``--num-processes``, ``--process-id``: :func:`start_distributed`) under a named recipe
 (``train/configs/mjx/<name>.yaml``) or a YAML / JSON file, and writes to the run folder:
 
 * ``policy.npz`` (the observation normaliser and the policy and value networks' weights, plain arrays,

@@ -80,3 +80,16 @@ def test_worlds_must_split_over_the_devices(monkeypatch):
     cfg["num_envs"] = 5
     with pytest.raises(ValueError, match="num_envs = 5 must be a multiple of the 2 devices"):
         mjx_ppo.check_devices(cfg)
+
+
+@pytest.mark.parametrize("name", ["go2-joystick-sand", "go2-joystick-rigid"])
+def test_go2_recipes_name_registry_envs(name):
+    from mjrft.mjx import envs
+    from mjrft.train import mjx_ppo
+
+    cfg = mjx_ppo.load_recipe(name)
+    assert cfg["env"] in envs.names() and cfg["num_envs"] == 8192 and cfg["num_timesteps"] == 100_000_000
+    assert cfg["ppo"]["batch_size"] * cfg["ppo"]["num_minibatches"] % cfg["num_envs"] == 0
+    with pytest.raises(ValueError, match="unknown env 'Go2Joystick'"):
+        mjx_ppo.check_recipe({**cfg, "env": "Go2Joystick"})
+
