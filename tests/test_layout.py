@@ -43,6 +43,10 @@ ALLOWED: dict[str, dict[str, str]] = {
         "mjrft.envs": "when gymnasium is installed, import mjrft registers the environments' gymnasium ids",
         "mjrft.models": "mjrft.models is an attribute of mjrft after import mjrft (the README's first example)",
     },
+    "mjrft/mjx/envs.py": {
+        "mjrft.envs.mjx": "the registry of MJX environments, where Playground's users look for it (mjrft.mjx.envs), "
+                          "re-exports the environments of the env layer (mjrft.envs.mjx), imported when asked",
+    },
     "mjrft/tools/validation/cases/li2013_robot.py": {"mjrft.envs": _ROBOT_CASE},
     "mjrft/tools/validation/cases/thesis_biped.py": {"mjrft.envs.biped": _ROBOT_CASE},
     "mjrft/tools/validation/cases/thesis_hubo.py": {"mjrft.envs.humanoid": _ROBOT_CASE},

@@ -1,7 +1,9 @@
-"""Brax PPO on the MJX hexapod: thousands of worlds per GPU, the policy saved for ``mjrft eval`` on the CPU env.
+"""Brax PPO on MJX environments: thousands of worlds per GPU; the hexapod's policy runs in ``mjrft eval`` on the CPU.
 
 ``mjrft train-mjx --config hexapod-sand --out runs/hex-mjx`` trains :class:`mjrft.envs.hexapod_mjx.HexapodSandMJX`
-(``mjrft/HexapodSand-v0`` for MJX) with ``brax.training.agents.ppo.train`` under a named recipe
+(``mjrft/HexapodSand-v0`` for MJX), and a recipe with ``env:`` an environment of the MJX registry
+(:mod:`mjrft.mjx.envs`, e.g. ``go2-joystick-sand``), with ``brax.training.agents.ppo.train`` on every local device
+(several hosts with ``--coordinator``, ``--num-processes``, ``--process-id``: :func:`start_distributed`) under a named recipe
 (``train/configs/mjx/<name>.yaml``) or a YAML / JSON file, and writes to the run folder:
 
 * ``policy.npz`` (the observation normaliser and the policy and value networks' weights, plain arrays,
@@ -20,7 +22,9 @@ function of one observation; ``mjrft eval --policy runs/hex-mjx`` runs it on the
 (:mod:`mjrft.train.evaluate`) and ``--backend mjx`` on the MJX env (:func:`evaluate_mjx`): the same policy on
 both backends is the cross-check of the two physics paths.
 
-Recipe keys (:data:`RECIPE_KEYS`): ``env_kwargs`` (of the env), ``num_timesteps``, ``num_envs``,
+Recipe keys (:data:`RECIPE_KEYS`): ``env`` (a name of the MJX registry :mod:`mjrft.mjx.envs`, e.g.
+``Go2JoystickSand``; none: the hexapod), ``env_kwargs`` (of the hexapod env; for a registry env its
+``config_overrides``, e.g. ``{"sand.medium": "poppy_lp"}``), ``num_timesteps``, ``num_envs``,
 ``episode_length`` (control steps), ``seed``, ``network`` (``policy_hidden_layer_sizes``,
 ``value_hidden_layer_sizes``), ``ppo`` (keyword arguments of Brax's ``ppo.train``: ``learning_rate``,
 ``unroll_length``, ``batch_size``, ``num_minibatches``, ``num_updates_per_batch``, ``entropy_cost``,
@@ -45,7 +49,7 @@ from mjrft.errors import unknown
 
 #: folder of the named MJX recipes (``<name>.yaml``)
 RECIPE_DIR = Path(__file__).resolve().parent / "configs" / "mjx"
-RECIPE_DEFAULTS = {"env_kwargs": {}, "num_timesteps": 10_000_000, "num_envs": 2048, "episode_length": 1000,
+RECIPE_DEFAULTS = {"env": None, "env_kwargs": {}, "num_timesteps": 10_000_000, "num_envs": 2048, "episode_length": 1000,
                    "seed": 0, "network": {}, "ppo": {}, "description": ""}
 RECIPE_KEYS = tuple(RECIPE_DEFAULTS)
 NETWORK_KEYS = ("policy_hidden_layer_sizes", "value_hidden_layer_sizes")
@@ -151,6 +155,11 @@ def check_recipe(data, source: str = "MJX training recipe") -> dict:
         raise ValueError(f"{source}: ppo key(s) {', '.join(map(repr, reserved))} are set by mjrft from the recipe's "
                          f"own keys ({', '.join(RECIPE_KEYS)}) and cannot be given under 'ppo'")
     require_extra()
+    if cfg["env"] is not None:
+        from mjrft.mjx import envs as registry
+
+        if cfg["env"] not in registry.names():
+            raise ValueError(f"{source}: unknown env {cfg['env']!r}; the MJX registry has {', '.join(registry.names())}")
     import inspect
 
     from brax.training.agents.ppo import train as ppo
@@ -341,21 +350,22 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
     from brax.training.agents.ppo import networks as ppo_networks
     from brax.training.agents.ppo import train as ppo
 
-    from mjrft.envs.hexapod_mjx import HexapodSandMJX
-
     cfg = check_recipe(cfg)
     if not cfg["ppo"].get("normalize_observations", False):
         raise ValueError("the MJX recipes normalise observations (ppo: normalize_observations: true): the saved "
                          "policy stores the normaliser with the networks")
+    check_devices(cfg)
+    writer_process = jax.process_index() == 0  # several hosts: the first one writes the run folder
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    env = HexapodSandMJX(**cfg["env_kwargs"])
+    if writer_process:
+        out.mkdir(parents=True, exist_ok=True)
+    env, env_id, wrap = make_env(cfg)
     net_kw = {k: tuple(v) for k, v in cfg["network"].items()}
     factory = functools.partial(ppo_networks.make_ppo_networks, **net_kw)
     rows = []
     t0 = time.perf_counter()
     progress_path = out / PROGRESS_FILE
-    with progress_path.open("w", newline="") as fh:
+    with (progress_path.open("w", newline="") if writer_process else contextlib.nullcontext(_NoFile())) as fh:
         writer = csv.writer(fh)
         writer.writerow(["steps", "wall_s", "episode_return", "speed", "episode_length"])
         fh.flush()
@@ -372,13 +382,16 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
                    f"length {length:.0f}")
 
         def meta(steps: int, complete: bool) -> dict:
-            return {"env_id": "mjrft/HexapodSand-v0", "env_kwargs": cfg["env_kwargs"], "recipe": cfg,
+            return {"env_id": env_id, "env_kwargs": cfg["env_kwargs"], "recipe": cfg,
                     "observation_size": env.observation_size, "action_size": env.action_size,
                     "network": {k: list(v) for k, v in net_kw.items()}, "normalize_observations": True,
                     "num_timesteps": int(steps), "complete": complete, "wall_s": round(time.perf_counter() - t0, 1),
-                    "device": str(jax.devices()[0]), "jax": jax.__version__}
+                    "device": str(jax.devices()[0]), "devices": jax.device_count(), "processes": jax.process_count(),
+                    "jax": jax.__version__}
 
         def checkpoint(step, make_policy, params):  # at each evaluation: an interrupted run keeps its last policy
+            if not writer_process:
+                return
             now = meta(step, complete=False)
             save_policy(out, params, now)
             save_policy(out / CHECKPOINTS / f"{int(step):011d}", params, now)
@@ -388,12 +401,94 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
             make_policy, params, metrics = ppo.train(
                 environment=env, num_timesteps=cfg["num_timesteps"], num_envs=cfg["num_envs"],
                 episode_length=cfg["episode_length"], seed=cfg["seed"], network_factory=factory,
-                progress_fn=progress, policy_params_fn=checkpoint, **ppo_kw)
+                progress_fn=progress, policy_params_fn=checkpoint, **wrap, **ppo_kw)
     del make_policy
     summary = {**meta(cfg["num_timesteps"], complete=True),
                "final": {k: float(v) for k, v in metrics.items() if np.ndim(v) == 0}}
-    save_policy(out, params, summary)
+    if writer_process:
+        save_policy(out, params, summary)
     return summary
+
+
+class _NoFile:
+    """The progress file of a host that does not write the run folder."""
+
+    def write(self, _):
+        return 0
+
+    def flush(self):
+        pass
+
+
+def check_devices(cfg: dict) -> None:
+    """Refuse, before compiling, a world count that Brax's PPO cannot split over every device of every host."""
+    import jax
+
+    devices = jax.device_count()
+    if cfg["num_envs"] % devices:
+        raise ValueError(f"num_envs = {cfg['num_envs']} must be a multiple of the {devices} devices "
+                         f"({jax.process_count()} host(s) x {jax.local_device_count()} local): Brax's PPO gives each "
+                         "device the same number of worlds")
+
+
+def make_env(cfg: dict):
+    """(environment, its id for ``policy.json``, the keyword arguments for Brax's ``ppo.train`` that wrap it) of the
+    recipe ``cfg``: the hexapod (Brax's own training wrappers), or the registry env ``cfg["env"]`` with
+    ``env_kwargs`` as its config overrides (:func:`wrap_for_training`: MuJoCo Playground's form keeps ``data``)."""
+    if cfg["env"] is None:
+        from mjrft.envs.hexapod_mjx import HexapodSandMJX
+
+        return HexapodSandMJX(**cfg["env_kwargs"]), "mjrft/HexapodSand-v0", {}
+    from mjrft.mjx import envs as registry
+
+    env = registry.load(cfg["env"], config_overrides=cfg["env_kwargs"] or None)
+    return env, cfg["env"], {"wrap_env_fn": wrap_for_training}
+
+
+def wrap_for_training(env, episode_length: int = 1000, action_repeat: int = 1, randomization_fn=None):
+    """Brax's training wrappers for an environment in MuJoCo Playground's form (its state keeps ``data``, not Brax's
+    ``pipeline_state``): vmap over worlds, episodes of ``episode_length`` control steps, and an auto-reset that
+    returns a finished world to the ``data`` and ``obs`` of its first reset (Playground's
+    ``wrap_for_brax_training``). ``randomization_fn`` is not supported."""
+    from brax.envs.wrappers import training
+
+    if randomization_fn is not None:
+        raise NotImplementedError("mjrft train-mjx does not randomise the MJX model (randomization_fn)")
+    return _AutoReset(training.EpisodeWrapper(training.VmapWrapper(env), episode_length, action_repeat))
+
+
+class _AutoReset:
+    """Brax's ``AutoResetWrapper`` for states that keep ``data`` (see :func:`wrap_for_training`)."""
+
+    def __init__(self, env):
+        self.env = env
+
+    def __getattr__(self, name):
+        if name == "env":
+            raise AttributeError(name)
+        return getattr(self.env, name)
+
+    def reset(self, rng):
+        state = self.env.reset(rng)
+        state.info["first_data"] = state.data
+        state.info["first_obs"] = state.obs
+        return state
+
+    def step(self, state, action):
+        import jax
+        import jax.numpy as jnp
+
+        if "steps" in state.info:
+            state.info["steps"] = jnp.where(state.done, jnp.zeros_like(state.info["steps"]), state.info["steps"])
+        state = self.env.step(state.replace(done=jnp.zeros_like(state.done)), action)
+
+        def where_done(first, now):
+            done = jnp.reshape(state.done, state.done.shape + (1,) * (now.ndim - state.done.ndim))
+            return jnp.where(done, first, now)
+
+        data = jax.tree_util.tree_map(where_done, state.info["first_data"], state.data)
+        obs = jax.tree_util.tree_map(where_done, state.info["first_obs"], state.obs)
+        return state.replace(data=data, obs=obs)
 
 
 # ---------------------------------------------------------------------- evaluation on MJX
@@ -456,6 +551,28 @@ def add_arguments(parser) -> None:
     parser.add_argument("--seed", type=int, default=None, help="override seed")
     parser.add_argument("--eval-episodes", type=int, default=8,
                         help="episodes of the final policy on the MJX env (0: none)")
+    hosts = parser.add_argument_group("several hosts (jax.distributed; every local device is used in any case)")
+    hosts.add_argument("--coordinator", default=None, metavar="HOST:PORT",
+                       help="address of the first host's coordinator: start the same command on every host with "
+                            "--num-processes and its own --process-id; the first host (id 0) writes the run folder")
+    hosts.add_argument("--num-processes", type=int, default=None, help="number of hosts (processes) in the run")
+    hosts.add_argument("--process-id", type=int, default=None, help="this host's index, 0 to num-processes - 1")
+
+
+def start_distributed(coordinator, num_processes, process_id) -> None:
+    """``jax.distributed.initialize`` for a run over several hosts (all three arguments given), before JAX touches a
+    device; nothing with none of them. Each process then trains on its local devices and Brax's PPO averages the
+    gradients over all of them."""
+    given = [a is not None for a in (coordinator, num_processes, process_id)]
+    if not any(given):
+        return
+    if not all(given):
+        raise ValueError("--coordinator, --num-processes and --process-id go together (one run over several hosts)")
+    if num_processes < 1 or not 0 <= process_id < num_processes:
+        raise ValueError(f"--process-id must be from 0 to --num-processes - 1 = {num_processes - 1}, got {process_id}")
+    import jax
+
+    jax.distributed.initialize(coordinator_address=coordinator, num_processes=num_processes, process_id=process_id)
 
 
 def main(args) -> int:
@@ -471,12 +588,22 @@ def main(args) -> int:
     if args.seed is not None:
         cfg["seed"] = args.seed
     cfg = check_recipe(cfg, f"MJX training recipe {args.config!r} with the command-line overrides")
+    start_distributed(args.coordinator, args.num_processes, args.process_id)
     import jax
 
-    print(f"Brax PPO on HexapodSandMJX ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
-          f"{jax.devices()[0]}; run folder {args.out}")
+    check_devices(cfg)
+    print(f"Brax PPO on {cfg['env'] or 'HexapodSandMJX'} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) "
+          f"on {jax.device_count()} device(s) ({jax.devices()[0].platform}, {jax.process_count()} host(s)); "
+          f"run folder {args.out}")
     summary = train_recipe(cfg, args.out)
+    if jax.process_index() != 0:
+        return 0
     print(f"trained in {summary['wall_s']:.1f} s; policy {Path(args.out) / POLICY_FILE}")
+    if cfg["env"] is not None:
+        ret = summary["final"].get("eval/episode_reward")
+        print((f"final evaluation: return {ret:.3f}; " if ret is not None else "")
+              + f"{cfg['env']} has no CPU env (mjrft eval runs the hexapod's policies)")
+        return 0
     if args.eval_episodes > 0:
         res = evaluate_mjx(load_policy(args.out), episodes=args.eval_episodes)
         print(f"MJX evaluation ({res['episodes']} episodes of 10 s): speed {res['speed']:.3f} m/s, "

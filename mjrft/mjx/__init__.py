@@ -9,7 +9,8 @@
 blending), :mod:`mjrft.mjx.surface` (the height field's surface, the regions' weights), :mod:`mjrft.mjx.memory`
 (the rest memory and the solidify option), :mod:`mjrft.mjx.compare` (checking a JAX terrain against the CPU path on
 recorded states) and :mod:`mjrft.mjx.integrator` (:func:`step`: MJX's step as MuJoCo's C library integrates clamped
-servos, the rigid twin of ``Sand.step``).
+servos, the rigid twin of ``Sand.step``), and :mod:`mjrft.mjx.sand_env` (:func:`on_sand`: a MuJoCo Playground
+environment on sand).
 Needs the optional extra ``mjrft[mjx]`` (JAX and ``mujoco-mjx``); the rest of mjrft does not import it.
 The GPU guide is docs/gpu.md.
 """
@@ -24,6 +25,8 @@ except ImportError as exc:  # say which extra brings it
 from . import compare  # noqa: E402
 from .integrator import integrate, step  # noqa: E402
 from .laws import LAWS, UNSUPPORTED  # noqa: E402
+from .sand_env import SandEnv, on_sand  # noqa: E402
 from .terrain import Sand, SandState, resting_load  # noqa: E402
 
-__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "compare", "integrate", "resting_load", "step"]
+__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandEnv", "SandState", "compare", "integrate", "on_sand", "resting_load",
+           "step"]
