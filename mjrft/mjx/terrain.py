@@ -234,7 +234,7 @@ class Sand:
                              f"{jnp.shape(b)}")
         return SandState(u=jnp.zeros((self.n_elements, 3)), params=jnp.asarray(p), surface=jnp.asarray(z),
                          bounds=jnp.asarray(b), wrench=jnp.zeros((self.nbody, 6)), sinkage=jnp.zeros(self.nbody),
-                         bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.array(0.0))
+                         bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.zeros((), jnp.asarray(0.0).dtype))
 
     @staticmethod
     def reset(state: SandState) -> SandState:
