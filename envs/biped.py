@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from mjrft.models.biped import biped_xml
 
 from .base import GranularMujocoEnv, split_env_kwargs
+from .tasks import BipedTask
 
 
 class BipedSand(GranularMujocoEnv):
@@ -81,8 +80,8 @@ class BipedSand(GranularMujocoEnv):
         xml = biped_xml(foot=foot, foot_size=foot_size, pitch_free=pitch_free, sand=sand, **model_kw)
         super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 
-    def _get_obs(self) -> np.ndarray:
-        return np.concatenate([self.data.qpos[1:], self.data.qvel]).astype(np.float64)
+    def _make_task(self, **common) -> BipedTask:
+        return BipedTask(self.model, init_qpos=self.init_qpos, **common)
 
 
 class BipedRigid(BipedSand):

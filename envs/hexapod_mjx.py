@@ -97,23 +97,8 @@ class HexapodSandMJX(Env):
         self.dt = float(cpu.dt)
         self.init_qpos = np.array(cpu.init_qpos)
         self.init_qvel = np.array(cpu.init_qvel)
-        self._hip_qadr = np.array(cpu._hip_qadr)
-        self._hip_dadr = np.array(cpu._hip_dadr)
-        self._act_dof = np.array(cpu._act_dof)
-        self._torso = int(cpu._torso_id)
-        self._feet = np.array(cpu._foot_ids)
-        self._mass = float(cpu._total_mass)
-        self._max_hip_speed = float(cpu._max_hip_speed)
-        self._max_lag = float(cpu._max_lag)
-        self._noise = float(cpu._reset_noise_scale)
-        self._z_range = tuple(cpu._healthy_z_range)
-        self._max_tilt = float(cpu._max_tilt)
-        self._w_forward = float(cpu._forward_reward_weight)
-        self._w_energy = float(cpu._energy_cost_weight)
-        self._w_ctrl = float(cpu._ctrl_cost_weight)
-        self._healthy_reward = float(cpu._healthy_reward)
-        self._terminate = bool(cpu._terminate_when_unhealthy)
-        self._quat = int(model.jnt_qposadr[0]) + 3 if model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE else None
+        #: the task of the CPU env (:class:`mjrft.envs.tasks.HexapodTask`): observation, action, reward, termination
+        self.task = cpu.task
         if cpu.planar:
             raise NotImplementedError("planar=True is an option of the CPU env only")
         cpu.close()
@@ -136,12 +121,11 @@ class HexapodSandMJX(Env):
         free joint's quaternion normalised), no memory in the sand, servo targets at the hip angles."""
         k1, k2 = jax.random.split(rng)
         nq, nv = self.model.nq, self.model.nv
-        qpos = jnp.asarray(self.init_qpos) + jax.random.uniform(k1, (nq,), minval=-self._noise, maxval=self._noise)
-        qvel = jnp.asarray(self.init_qvel) + jax.random.uniform(k2, (nv,), minval=-self._noise, maxval=self._noise)
-        if self._quat is not None:
-            q = qpos[self._quat:self._quat + 4]
-            qpos = qpos.at[self._quat:self._quat + 4].set(q / jnp.linalg.norm(q))
-        target = qpos[self._hip_qadr]
+        noise = self.task.reset_noise_scale
+        qpos = jnp.asarray(self.init_qpos) + jax.random.uniform(k1, (nq,), minval=-noise, maxval=noise)
+        qvel = jnp.asarray(self.init_qvel) + jax.random.uniform(k2, (nv,), minval=-noise, maxval=noise)
+        qpos = self.task.normalise_quaternions(jnp, qpos)
+        target = self.task.reset_ctrl(jnp, qpos)
         d = mjx.make_data(self.mx).replace(qpos=qpos, qvel=qvel, ctrl=target)
         d = mjx.forward(self.mx, d)
         info = {}
@@ -185,10 +169,10 @@ class HexapodSandMJX(Env):
         steps with the granular wrench, then observation, reward and termination."""
         ps: HexapodPipeline = state.pipeline_state
         d0 = ps.data
+        task = self.task
         bad_action = ~jnp.all(jnp.isfinite(action))
-        a = jnp.clip(jnp.where(bad_action, 0.0, action), -1.0, 1.0)
-        q = d0.qpos[self._hip_qadr]
-        target = jnp.clip(ps.target + a * self._max_hip_speed * self.dt, q - self._max_lag, q + self._max_lag)
+        a = jnp.where(bad_action, 0.0, action)
+        target = task.action_to_ctrl(jnp, d0.qpos, ps.target, a)
         d = d0.replace(ctrl=target)
         sand = ps.sand
 
@@ -200,31 +184,20 @@ class HexapodSandMJX(Env):
 
         d, sand = jax.lax.fori_loop(0, self.frame_skip, physics, (d, sand))
         x_velocity = (d.qpos[0] - d0.qpos[0]) / self.dt
-        power = jnp.sum(jnp.abs(d.actuator_force * d.qvel[self._act_dof]))
-        z = d.xpos[self._torso, 2]
-        tilt = jnp.arccos(jnp.clip(d.xmat[self._torso, 2, 2], -1.0, 1.0))
+        xy_velocity = (d.subtree_com[task.torso, :2] - d0.subtree_com[task.torso, :2]) / self.dt
+        power = task.power(jnp, d)
         finite = jnp.all(jnp.isfinite(d.qpos)) & jnp.all(jnp.isfinite(d.qvel))
-        healthy = (z > self._z_range[0]) & (z < self._z_range[1]) & (tilt < self._max_tilt) & finite
+        healthy = task.is_healthy(jnp, d) & finite
         diverged = bad_action | ~finite | (sand.bad_body != -1)
-        forward = self._w_forward * x_velocity
-        healthy_reward = jnp.where(healthy | (not self._terminate), self._healthy_reward, 0.0)
-        energy = self._w_energy * power / (self._mass * G)
-        ctrl_cost = self._w_ctrl * jnp.sum(a * a)
-        reward = forward + healthy_reward - energy - ctrl_cost
-        done = diverged | (~healthy if self._terminate else False)
+        rewards = task.rewards(jnp, x_velocity=x_velocity, xy_velocity=xy_velocity, power=power, action=a,
+                               healthy=healthy)
+        reward = task.total(rewards)
+        done = diverged | task.terminated(jnp, healthy)
         obs = self._obs(d, target)
         obs = jnp.where(diverged, 0.0, obs)
         reward = jnp.where(diverged, 0.0, reward)
-        metrics = {
-            "x_velocity": jnp.where(diverged, 0.0, x_velocity),
-            "power": power,
-            "cost_of_transport": power / (self._mass * G * jnp.maximum(jnp.abs(x_velocity), 1e-3)),
-            "reward_forward": forward,
-            "reward_energy": -energy,
-            "reward_ctrl": -ctrl_cost,
-            "reward_healthy": healthy_reward,
-            "diverged": diverged.astype(reward.dtype),
-        }
+        metrics = {**task.metrics(jnp, x_velocity=jnp.where(diverged, 0.0, x_velocity), power=power, rewards=rewards),
+                   "diverged": diverged.astype(reward.dtype)}
         metrics = {**state.metrics,
                    **{k: jnp.where(diverged, 0.0, v) if k != "diverged" else v for k, v in metrics.items()}}
         pipeline = HexapodPipeline(d, sand, target)
@@ -233,17 +206,15 @@ class HexapodSandMJX(Env):
 
     # ------------------------------------------------------------------ pieces
     def _obs(self, d, target) -> jax.Array:
-        hips = d.qpos[self._hip_qadr]
-        return jnp.concatenate([d.qpos[2:7], jnp.sin(hips), jnp.cos(hips), d.qvel[:6], d.qvel[self._hip_dadr],
-                                target - hips])
+        return self.task.observation(jnp, d, target)
 
     def foot_sinkage(self, state: State) -> jax.Array:
         """Deepest element of each leg (m), order ``HexapodSand.foot_names`` (zeros on rigid ground)."""
-        return state.pipeline_state.sand.sinkage[..., self._feet]
+        return state.pipeline_state.sand.sinkage[..., self.task.feet]
 
     def foot_granular_force(self, state: State) -> jax.Array:
         """Net granular force on each leg (N, world frame) applied by the last physics step."""
-        return state.pipeline_state.sand.wrench[..., self._feet, :3]
+        return state.pipeline_state.sand.wrench[..., self.task.feet, :3]
 
     def cpu_env(self, state: State):
         """The CPU twin of one world: ``mjrft/HexapodSand-v0`` with this env's keyword arguments, put in ``state``'s
@@ -260,8 +231,8 @@ class HexapodSandMJX(Env):
         u.set_state(np.asarray(d.qpos, dtype=np.float64), np.asarray(d.qvel, dtype=np.float64))
         if u.terrain is not None:
             u.terrain.reset()
-        u._target = np.asarray(state.pipeline_state.target, dtype=np.float64)
-        u.data.ctrl[:] = u._target
+        u.target = np.asarray(state.pipeline_state.target, dtype=np.float64)
+        u.data.ctrl[:] = u.target
         return env
 
 

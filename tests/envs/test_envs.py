@@ -152,8 +152,8 @@ def test_common_kwargs_reach_every_env():
     for env_id in ("mjrft/HexapodSand-v0", "mjrft/BipedRigid-v0", "mjrft/HumanoidSand-v0", "mjrft/HexapodShoal-v0"):
         env = gymnasium.make(env_id, render_mode="rgb_array", width=64, height=48, max_tilt=0.7)
         u = env.unwrapped
-        assert (u.width, u.height, u._max_tilt) == (64, 48, 0.7)
-        assert u._healthy_z_range == tuple(u.defaults["healthy_z_range"])
+        assert (u.width, u.height, u.task.max_tilt) == (64, 48, 0.7)
+        assert u.task.healthy_z_range == tuple(u.defaults["healthy_z_range"])
         env.close()
 
 
@@ -208,8 +208,8 @@ def test_hexapod_alternating_tripod_moves_forward_on_poppy_seeds():
     env = HexapodSand(medium="poppy_lp")
     env.reset(seed=0)
     u = env.unwrapped
-    a_run = 2 * np.pi * 2.0 / u._max_hip_speed  # 2 Hz
-    n_offset = int(round(np.pi / (u._max_hip_speed * u.dt)))  # tripod B half a turn ahead at full speed
+    a_run = 2 * np.pi * 2.0 / u.task.max_hip_speed  # 2 Hz
+    n_offset = int(round(np.pi / (u.task.max_hip_speed * u.dt)))  # tripod B half a turn ahead at full speed
     x0 = u.data.qpos[0]
     steps = int(round(2.0 / u.dt))
     for k in range(steps):
@@ -251,7 +251,7 @@ def test_each_physics_step_calls_after_every_physics_step_and_changes_no_step():
         env.reset(seed=0)
         seen = []
         if hooked:
-            u.each_physics_step(lambda data: seen.append((data.time, u.terrain.wrench[u._torso_id, 2])))
+            u.each_physics_step(lambda data: seen.append((data.time, u.terrain.wrench[u.task.torso, 2])))
         for _ in range(3):
             env.step(np.full(6, 0.5, dtype=np.float32))
         runs[hooked] = (u.data.qpos.copy(), seen, u.frame_skip, u.model.opt.timestep)
