@@ -41,7 +41,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mjrft.errors import unknown
+from .config import find_recipe, integer_value, named_in, read_recipe
 
 #: folder of the named MJX recipes (``<name>.yaml``)
 RECIPE_DIR = Path(__file__).resolve().parent / "configs" / "mjx"
@@ -76,28 +76,14 @@ def require_extra() -> None:
 # ---------------------------------------------------------------------- recipes
 def named_recipes() -> list[str]:
     """Names of the MJX recipes shipped with mjrft (``mjrft train-mjx --config NAME``)."""
-    return sorted(p.stem for p in RECIPE_DIR.glob("*.yaml"))
+    return named_in(RECIPE_DIR)
 
 
 def load_recipe(name_or_path) -> dict:
-    """A named recipe or a YAML / JSON file, checked, with :data:`RECIPE_DEFAULTS` filled in."""
-    path = Path(name_or_path)
-    if not (path.suffix.lower() in (".yaml", ".yml", ".json") or path.is_file()):
-        path = RECIPE_DIR / f"{name_or_path}.yaml"
-        if not path.is_file():
-            raise unknown("MJX training recipe", str(name_or_path), named_recipes())
-    if not path.is_file():
-        raise ValueError(f"MJX training recipe file {str(path)!r} does not exist")
-    try:
-        if path.suffix.lower() == ".json":
-            data = json.loads(path.read_text())
-        else:
-            import yaml
-
-            data = yaml.safe_load(path.read_text())
-    except Exception as exc:  # the parser's reason, with the file's name
-        raise ValueError(f"MJX training recipe {str(path)!r} cannot be read: {exc}") from None
-    return check_recipe(data, f"MJX training recipe {str(path)!r}")
+    """A named recipe or a YAML / JSON file, checked, with :data:`RECIPE_DEFAULTS` filled in (found and read by
+    :mod:`mjrft.train.config`, as ``mjrft train``'s configurations)."""
+    path = find_recipe(name_or_path, RECIPE_DIR, "MJX training recipe")
+    return check_recipe(read_recipe(path, "MJX training recipe"), f"MJX training recipe {str(path)!r}")
 
 
 def check_recipe(data, source: str = "MJX training recipe") -> dict:
@@ -113,9 +99,7 @@ def check_recipe(data, source: str = "MJX training recipe") -> dict:
             raise ValueError(f"{source}: {key!r} must be a mapping, got {cfg[key]!r}")
         cfg[key] = dict(cfg[key])
     for key in ("num_timesteps", "num_envs", "episode_length", "seed"):
-        value = cfg[key]
-        if isinstance(value, float) and value.is_integer():
-            value = cfg[key] = int(value)
+        value = cfg[key] = integer_value(cfg[key])
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):
             raise ValueError(f"{source}: {key!r} must be an integer >= {0 if key == 'seed' else 1}, got {value!r}")
     bad = sorted(set(cfg["network"]) - set(NETWORK_KEYS))
