@@ -216,6 +216,11 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         """Inverse of :meth:`action_to_ctrl` for joint-angle targets (targets outside the ctrlrange are clipped)."""
         return self.task.ctrl_to_action(np, ctrl).astype(np.float32)
 
+    def set_servo_targets(self, ctrl) -> None:
+        """Set the servo targets ``data.ctrl`` (e.g. to go on from another backend's state; the hexapod keeps
+        them as its integrated targets too)."""
+        self.data.ctrl[:] = ctrl
+
     def do_simulation(self, ctrl, n_frames) -> None:
         """``n_frames`` physics steps with ``ctrl``: one ``terrain.step(data, n_frames)`` on sand."""
         self._set_ctrl(ctrl)

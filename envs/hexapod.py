@@ -148,6 +148,10 @@ class HexapodSand(GranularMujocoEnv):
         self.target = self.task.action_to_ctrl(np, self.data.qpos, self.target, action)
         return self.target.copy()
 
+    def set_servo_targets(self, ctrl) -> None:
+        self.target = np.array(ctrl, dtype=np.float64)
+        self.data.ctrl[:] = self.target
+
     def _reset_extra(self) -> None:
         self.target = self.data.qpos[self.task.hip_qadr].copy()
 

@@ -50,7 +50,10 @@ def file_imports(path: pathlib.Path) -> set[str]:
 ABOVE = ("tools", "envs", "train")
 #: the one import of a layer above the core: mjrft/__init__.py imports mjrft.envs, when gymnasium is installed, so
 #: that ``import mjrft`` registers the gymnasium ids
-ALLOWED = {"__init__.py": {"mjrft.envs"}}
+ALLOWED = {"__init__.py": {"mjrft.envs"},
+           # mjrft.mjx.envs re-exports the registry of MJX environments (mjrft.envs.mjx), as Playground's registry
+           # sits next to its environments; mjrft.mjx itself does not import it
+           "mjx/envs.py": {"mjrft.envs.mjx"}}
 
 
 def is_above(module: str) -> bool:

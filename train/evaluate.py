@@ -570,7 +570,8 @@ def add_arguments(parser) -> None:
                         help="cpu: the gymnasium env (default); mjx: a policy of 'mjrft train-mjx' on the MJX env, "
                              "all episodes as one batch (mjrft.train.mjx_ppo.evaluate_mjx)")
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
-                        help="environment keyword arguments (override the run's), e.g. max_episode_steps=500")
+                        help="environment keyword arguments (override the run's), e.g. max_episode_steps=500; "
+                             "with --backend mjx the MJX env's configuration overrides, e.g. terrain.medium=poppy_lp")
 
 
 
@@ -604,8 +605,9 @@ def main(args) -> int:
     return 0
 
 
-def _main_mjx(args, env_kwargs: dict) -> int:
-    """``mjrft eval --backend mjx``: the policy of an MJX run folder on the MJX env, every episode in one batch."""
+def _main_mjx(args, overrides: dict) -> int:
+    """``mjrft eval --backend mjx``: the policy of an MJX run folder on its MJX env, every episode in one batch;
+    ``overrides``: the command line's KEY=VALUE, configuration overrides of the MJX env (``terrain.medium=...``)."""
     if not _is_mjx_policy(args.policy):
         raise ValueError(f"--backend mjx evaluates a run folder of 'mjrft train-mjx' (policy.json + policy.npz); "
                          f"{args.policy!r} is not one")
@@ -615,10 +617,9 @@ def _main_mjx(args, env_kwargs: dict) -> int:
     from .mjx_ppo import evaluate_mjx, load_policy as load_mjx_policy
 
     policy = load_mjx_policy(args.policy)
-    kwargs = {**(policy.meta.get("env_kwargs") or {}), **env_kwargs}
-    res = evaluate_mjx(policy, episodes=args.episodes, seed=args.seed, env_kwargs=kwargs)
-    print(f"{args.policy} on HexapodSandMJX ({res['device']}), {res['episodes']} episode(s), seed {args.seed}, "
-          "deterministic")
+    res = evaluate_mjx(policy, episodes=args.episodes, seed=args.seed, config_overrides=overrides)
+    print(f"{args.policy} on the MJX env {res['env']} ({res['device']}), {res['episodes']} episode(s), seed "
+          f"{args.seed}, deterministic")
     print(f"  speed {res['speed']:.3f} +- {res['speed_std']:.3f} m/s   CoT {res['cost_of_transport']:.2f}   "
           f"fell {res['fell']:.0%}   diverged {res['diverged']}")
     if args.json:

@@ -1,7 +1,9 @@
-"""Brax PPO on the MJX hexapod: thousands of worlds per GPU, the policy saved for ``mjrft eval`` on the CPU env.
+"""Brax PPO on mjrft's MJX environments: thousands of worlds per GPU, the policy saved for ``mjrft eval`` on the
+CPU env.
 
-``mjrft train-mjx --config hexapod-sand --out runs/hex-mjx`` trains :class:`mjrft.envs.hexapod_mjx.HexapodSandMJX`
-(``mjrft/HexapodSand-v0`` for MJX) with ``brax.training.agents.ppo.train`` under a named recipe
+``mjrft train-mjx --config hexapod-sand --out runs/hex-mjx`` trains an environment of the registry
+(:mod:`mjrft.mjx.envs`: ``load(env, config_overrides=env_config)``, here ``HexapodSand``, ``mjrft/HexapodSand-v0``
+on MJX) with ``brax.training.agents.ppo.train`` and Brax's own training wrappers under a named recipe
 (``train/configs/mjx/<name>.yaml``) or a YAML / JSON file, and writes to the run folder:
 
 * ``policy.npz`` (the observation normaliser and the policy and value networks' weights, plain arrays,
@@ -20,7 +22,9 @@ function of one observation; ``mjrft eval --policy runs/hex-mjx`` runs it on the
 (:mod:`mjrft.train.evaluate`) and ``--backend mjx`` on the MJX env (:func:`evaluate_mjx`): the same policy on
 both backends is the cross-check of the two physics paths.
 
-Recipe keys (:data:`RECIPE_KEYS`): ``env_kwargs`` (of the env), ``num_timesteps``, ``num_envs``,
+Recipe keys (:data:`RECIPE_KEYS`): ``env`` (a name of :func:`mjrft.mjx.envs.names`), ``env_config`` (its
+configuration overrides, ``{"dotted.key": value}``, e.g. ``{"reward_config.scales.energy": -0.1}``),
+``num_timesteps``, ``num_envs``,
 ``episode_length`` (control steps), ``seed``, ``network`` (``policy_hidden_layer_sizes``,
 ``value_hidden_layer_sizes``), ``ppo`` (keyword arguments of Brax's ``ppo.train``: ``learning_rate``,
 ``unroll_length``, ``batch_size``, ``num_minibatches``, ``num_updates_per_batch``, ``entropy_cost``,
@@ -45,7 +49,7 @@ from .config import find_recipe, integer_value, named_in, read_recipe
 
 #: folder of the named MJX recipes (``<name>.yaml``)
 RECIPE_DIR = Path(__file__).resolve().parent / "configs" / "mjx"
-RECIPE_DEFAULTS = {"env_kwargs": {}, "num_timesteps": 10_000_000, "num_envs": 2048, "episode_length": 1000,
+RECIPE_DEFAULTS = {"env": "HexapodSand", "env_config": {}, "num_timesteps": 10_000_000, "num_envs": 2048, "episode_length": 1000,
                    "seed": 0, "network": {}, "ppo": {}, "description": ""}
 RECIPE_KEYS = tuple(RECIPE_DEFAULTS)
 NETWORK_KEYS = ("policy_hidden_layer_sizes", "value_hidden_layer_sizes")
@@ -90,11 +94,14 @@ def check_recipe(data, source: str = "MJX training recipe") -> dict:
     """Validate a recipe's keys and values (before anything is compiled); return it with the defaults filled in."""
     if not isinstance(data, dict):
         raise ValueError(f"{source} must hold a mapping of keys ({', '.join(RECIPE_KEYS)}), got {type(data).__name__}")
+    if "env_kwargs" in data:
+        raise ValueError(f"{source}: 'env_kwargs' is replaced by 'env' (a name of mjrft.mjx.envs.names()) and "
+                         "'env_config' (its configuration overrides, e.g. {'reward_config.scales.energy': -0.1})")
     bad = sorted(set(data) - set(RECIPE_KEYS))
     if bad:
         raise ValueError(f"{source}: unknown key(s) {', '.join(map(repr, bad))}; valid keys: {', '.join(RECIPE_KEYS)}")
     cfg = {**RECIPE_DEFAULTS, **{k: v for k, v in data.items() if v is not None}}
-    for key in ("env_kwargs", "network", "ppo"):
+    for key in ("env_config", "network", "ppo"):
         if not isinstance(cfg[key], dict):
             raise ValueError(f"{source}: {key!r} must be a mapping, got {cfg[key]!r}")
         cfg[key] = dict(cfg[key])
@@ -116,6 +123,11 @@ def check_recipe(data, source: str = "MJX training recipe") -> dict:
     import inspect
 
     from brax.training.agents.ppo import train as ppo
+
+    from mjrft.envs import mjx as envs
+
+    if cfg["env"] not in envs.names():
+        raise ValueError(f"{source}: unknown env {cfg['env']!r}; valid choices: {', '.join(envs.names())}")
 
     valid = set(inspect.signature(ppo.train).parameters) - set(PPO_RESERVED)
     bad = sorted(set(cfg["ppo"]) - valid)
@@ -303,7 +315,7 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
     from brax.training.agents.ppo import networks as ppo_networks
     from brax.training.agents.ppo import train as ppo
 
-    from mjrft.envs.hexapod_mjx import HexapodSandMJX
+    from mjrft.envs import mjx as envs
 
     cfg = check_recipe(cfg)
     if not cfg["ppo"].get("normalize_observations", False):
@@ -311,7 +323,7 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
                          "policy stores the normaliser with the networks")
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    env = HexapodSandMJX(**cfg["env_kwargs"])
+    env = envs.load(cfg["env"], config_overrides=cfg["env_config"])
     net_kw = {k: tuple(v) for k, v in cfg["network"].items()}
     factory = functools.partial(ppo_networks.make_ppo_networks, **net_kw)
     rows = []
@@ -334,7 +346,8 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
                    f"length {length:.0f}")
 
         def meta(steps: int, complete: bool) -> dict:
-            return {"env_id": "mjrft/HexapodSand-v0", "env_kwargs": cfg["env_kwargs"], "recipe": cfg,
+            return {"env": cfg["env"], "env_config": cfg["env_config"], "env_id": env.gym_id,
+                    "env_kwargs": env.gym_kwargs, "recipe": cfg,
                     "observation_size": env.observation_size, "action_size": env.action_size,
                     "network": {k: list(v) for k, v in net_kw.items()}, "normalize_observations": True,
                     "num_timesteps": int(steps), "complete": complete, "wall_s": round(time.perf_counter() - t0, 1),
@@ -359,24 +372,35 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
 
 
 # ---------------------------------------------------------------------- evaluation on MJX
-def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, seed: int = 0, env_kwargs=None) -> dict:
-    """The policy on the MJX env, ``episodes`` worlds in one batch, each for ``seconds`` or until it ends (a fall or
-    a divergence): the metrics of ``mjrft eval`` on the CPU env, computed the same way per episode (speed = torso x
-    displacement / time, CoT = actuator energy / (m g max(|dx|, 1e-3 t)), fell = ended without diverging) and
-    averaged over the episodes that did not diverge."""
+def mjx_env_of(meta: dict, config_overrides=None):
+    """The MJX environment a policy was trained on (its ``policy.json``: ``env`` and ``env_config``), with
+    ``config_overrides`` on top. A run folder from before the registry (no ``env``) trained ``HexapodSand``."""
+    from mjrft.envs import mjx as envs
+
+    if "env" not in meta and meta.get("env_kwargs"):
+        raise ValueError(f"this policy's environment is given by the keyword arguments {meta['env_kwargs']!r} of "
+                         "mjrft/HexapodSand-v0; evaluate it on the CPU env (mjrft eval without --backend mjx)")
+    overrides = {**(meta.get("env_config") or {}), **(config_overrides or {})}
+    return envs.load(meta.get("env", "HexapodSand"), config_overrides=overrides)
+
+
+def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, seed: int = 0,
+                 config_overrides=None) -> dict:
+    """The policy on its MJX env (:func:`mjx_env_of`), ``episodes`` worlds in one batch, each for ``seconds`` or
+    until it ends (a fall or a divergence): the metrics of ``mjrft eval`` on the CPU env, computed the same way per
+    episode (speed = torso x displacement / time, CoT = actuator energy / (m g max(|dx|, 1e-3 t)), fell = ended
+    without diverging) and averaged over the episodes that did not diverge."""
     import jax
     import jax.numpy as jnp
 
-    from mjrft.envs.hexapod_mjx import HexapodSandMJX
-
-    env = HexapodSandMJX(**(policy.meta.get("env_kwargs", {}) if env_kwargs is None else env_kwargs))
+    env = mjx_env_of(policy.meta, config_overrides)
     steps = int(round(seconds / env.dt))
     act = policy.jax_fn()
     key = jax.random.PRNGKey(0)
 
     def run(rng):
         state = env.reset(rng)
-        x0 = state.pipeline_state.data.qpos[0]
+        x0 = state.data.qpos[0]
 
         def body(carry, _):
             state, alive, energy, n, diverged = carry
@@ -391,19 +415,19 @@ def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, s
 
         init = (state, jnp.array(True), jnp.zeros(()), jnp.zeros(()), jnp.array(False))
         (state, alive, energy, n, diverged), _ = jax.lax.scan(body, init, None, length=steps)
-        return state.pipeline_state.data.qpos[0] - x0, energy, n, alive, diverged
+        return state.data.qpos[0] - x0, energy, n, alive, diverged
 
     keys = jax.random.split(jax.random.PRNGKey(seed), episodes)
     dx, energy, n, alive, diverged = map(np.asarray, jax.jit(jax.vmap(run))(keys))
     t = n * env.dt
     ok = ~diverged
     speed = np.where(t > 0, dx / np.maximum(t, 1e-12), 0.0)
-    cot = energy / (env._mass * 9.81 * np.maximum(np.maximum(np.abs(dx), 1e-3 * t), 1e-12))
+    cot = energy / (env.task.mass * 9.81 * np.maximum(np.maximum(np.abs(dx), 1e-3 * t), 1e-12))
     mean = (lambda v: float(v[ok].mean())) if ok.any() else (lambda v: math.nan)
     std = (lambda v: float(v[ok].std())) if ok.any() else (lambda v: math.nan)
     return {"episodes": int(episodes), "diverged": int(diverged.sum()), "speed": mean(speed), "speed_std": std(speed),
             "cost_of_transport": mean(cot), "cost_of_transport_std": std(cot),
-            "fell": mean((~alive).astype(float)), "seconds": mean(t), "backend": "mjx",
+            "fell": mean((~alive).astype(float)), "seconds": mean(t), "backend": "mjx", "env": env.name,
             "device": str(jax.devices()[0])}
 
 
@@ -435,7 +459,7 @@ def main(args) -> int:
     cfg = check_recipe(cfg, f"MJX training recipe {args.config!r} with the command-line overrides")
     import jax
 
-    print(f"Brax PPO on HexapodSandMJX ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
+    print(f"Brax PPO on {cfg['env']} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
           f"{jax.devices()[0]}; run folder {args.out}")
     summary = train_recipe(cfg, args.out)
     print(f"trained in {summary['wall_s']:.1f} s; policy {Path(args.out) / POLICY_FILE}")
