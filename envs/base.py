@@ -21,9 +21,11 @@ Common keyword arguments (all environments):
                            (1 ms x 10, 1 ms x 10, 0.5 ms x 20: always a 10 ms control period) where
                            they are left as None; explicit keyword arguments win.
 ``forward_reward_weight``  weight of the forward speed ``dx/dt`` (m/s) of the torso.
-``energy_cost_weight``     weight of the dimensionless power ``P / (m g)`` in m/s; ``P = sum |tau_i
-                           qdot_i|`` (W) over the actuators. With weight 1 the ratio of this cost to
-                           the forward reward is the cost of transport (``info["cost_of_transport"]``).
+``energy_cost_weight``     weight of the dimensionless power ``P / (m g)`` in m/s; ``P`` (W) the actuators'
+                           power ``sum_a |actuator_force_a x actuator_velocity_a|`` averaged over every
+                           physics step of the control step (``info["power"]``). With weight 1 the ratio of
+                           this cost to the forward reward is the cost of transport
+                           (``info["cost_of_transport"]``).
 ``ctrl_cost_weight``       weight of ``sum(action**2)`` (default 0).
 ``healthy_reward``         reward per step while healthy (see each class for the thresholds).
 ``terminate_when_unhealthy``  end the episode (``terminated=True``) when not healthy.
@@ -49,7 +51,8 @@ Common keyword arguments (all environments):
                            environments only. Options and their meaning: :mod:`mjrft.envs.randomization`.
 =========================  ============================================================================
 
-Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power`` (W),
+Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power`` (W, the actuators' mean
+mechanical power over the step's physics steps: :meth:`GranularMujocoEnv.step_power`),
 ``cost_of_transport`` (``P / (m g max(|v_x|, 1e-3))``), ``reward_forward``, ``reward_energy``,
 ``reward_ctrl``, ``reward_healthy``, ``is_healthy``, ``sinkage`` (array (n_feet,), deepest element
 depth below the surface of each foot/leg body in m, order ``foot_names``; zeros on rigid ground) and
@@ -76,12 +79,26 @@ from gymnasium.envs.mujoco import MujocoEnv
 
 from mjrft.coupler import GranularTerrain, mujoco_reset_error, mujoco_resets
 from mjrft.errors import NonFiniteError, check_positive
+from mjrft.kernel import actuator_power
 from mjrft.models import model_path
 from mjrft.tools.presets import resolve as resolve_preset
 
 from .randomization import TerrainRandomization, TerrainRandomizer, upload_surface
 
 G = 9.81
+
+
+def rigid_steps(model: mujoco.MjModel, data: mujoco.MjData, nstep: int) -> float:
+    """``nstep`` calls of ``mujoco.mj_step``; returns the actuators' power ``sum_a |actuator_force_a x
+    actuator_velocity_a|`` (W) averaged over them, each step's of the state at its start, as
+    :attr:`mjrft.GranularTerrain.actuator_power` averages the terrain's steps (the same compiled sum). The physics is
+    ``mj_step(model, data, nstep)``'s, bit for bit."""
+    force, velocity = data.actuator_force, data.actuator_velocity
+    work = 0.0
+    for _ in range(nstep):
+        mujoco.mj_step(model, data)
+        work += actuator_power(force, velocity)
+    return work / nstep if nstep > 0 else 0.0
 
 
 def split_env_kwargs(kwargs: dict) -> tuple[dict, dict]:
@@ -175,6 +192,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         self.randomizer = (None if randomization is None else
                            TerrainRandomizer(randomization, self.terrain, self.model))
         self.terrain_info: dict | None = None  # info["terrain"] of this episode (with terrain_randomization)
+        self._each_step = None  # each_physics_step's function
+        self._mean_power = 0.0  # the actuators' mean power over the last step's physics steps, where no terrain has it
         self.diverged: str | None = None  # the NonFiniteError message once the simulation diverged
         #: the robot's task (:mod:`mjrft.envs.tasks`), shared with its MJX env
         self.task = self._make_task(**common)
@@ -239,16 +258,32 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
         A divergence is noted in ``self.diverged`` (the error message) for :meth:`_end_step`."""
         try:
-            if self.terrain is not None:
-                self.terrain.step(self.data, n_frames)
+            if self.terrain is not None and self._each_step is None:
+                self.terrain.step(self.data, n_frames)  # averages the actuators' power (terrain.actuator_power)
+            elif self.terrain is not None:  # one physics step per call, each_physics_step's function after each
+                work = 0.0
+                for _ in range(n_frames):
+                    self.terrain.step(self.data, 1)
+                    work += self.terrain.actuator_power
+                    self._each_step(self.data)
+                self._mean_power = work / n_frames if n_frames > 0 else 0.0
             else:
                 before, t0 = mujoco_resets(self.data), self.data.time
-                mujoco.mj_step(self.model, self.data, nstep=n_frames)
+                self._mean_power = rigid_steps(self.model, self.data, n_frames)
                 if mujoco_resets(self.data) > before:
                     raise mujoco_reset_error(self.model, self.data, f"between t = {t0:.6g} s and the end of "
                                                                     f"{n_frames} step(s)")
         except NonFiniteError as exc:
             self.diverged = str(exc)
+
+    def step_power(self) -> float:
+        """The actuators' mechanical power ``sum_a |actuator_force_a x actuator_velocity_a|`` (W) averaged over every
+        physics step of the last ``step`` (``info["power"]``): the energy they delivered over the control step
+        divided by its duration (on sand :attr:`mjrft.GranularTerrain.actuator_power`, on rigid ground the same
+        mean over the ``mj_step`` calls)."""
+        if self.terrain is not None and self._each_step is None:
+            return self.terrain.actuator_power
+        return self._mean_power
 
     # ------------------------------------------------------------------ measurements
     def each_physics_step(self, fn) -> None:
@@ -258,14 +293,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         if self.terrain is None:
             raise ValueError(f"each_physics_step needs the granular terrain; {type(self).__name__} with sand=False "
                              "has none (step the rigid env and read data after each env step instead)")
-        inner = self.terrain.step
-
-        def step(data, n=1):
-            for _ in range(n):
-                inner(data, 1)
-                fn(data)
-
-        self.terrain.step = step
+        self._each_step = fn
 
     def torso_height(self) -> float:
         return float(self.task.torso_height(np, self.data))
@@ -275,7 +303,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         return float(self.task.torso_tilt(np, self.data))
 
     def power(self) -> float:
-        """Mechanical power ``sum |tau_i * qdot_i|`` (W) of the actuators."""
+        """The actuators' mechanical power ``sum_a |actuator_force_a x actuator_velocity_a|`` (W) at the current
+        state (the integrand of ``info["power"]``, :meth:`step_power`)."""
         return float(self.task.power(np, self.data))
 
     def foot_sinkage(self) -> np.ndarray:
@@ -328,7 +357,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         xy_velocity = (self.data.subtree_com[self.task.torso, :2] - com_before) / self.dt
 
         task = self.task
-        power = self.power()
+        power = self.step_power()
         healthy = task.is_healthy(np, self.data)
         rewards = task.rewards(np, x_velocity=x_velocity, xy_velocity=xy_velocity, power=power, action=a,
                                healthy=healthy)

@@ -17,7 +17,11 @@ Metrics (one row per episode; the summary holds their mean and standard deviatio
                     (``info["x_position"]`` at reset and at the last step)
 ``cot``             cost of transport (dimensionless): actuator energy ``sum(info["power"]) x dt``
                     divided by ``m g |dx|`` (m: total mass, dx: the x displacement); ``|dx|`` is floored
-                    at 1 mm/s x duration, the same floor as the env's per-step ``info["cost_of_transport"]``
+                    at 1 mm/s x duration, the same floor as the env's per-step ``info["cost_of_transport"]``.
+                    ``info["power"]`` is the actuators' mean power over every physics step of the env step,
+                    so the sum is the energy they delivered; a third-party env on sand (``GranularWrapper``,
+                    no ``power`` in its info) gives the same mean (``terrain.actuator_power``), any other env
+                    the power ``sum |force x velocity|`` at the end of each step
 ``sink_mean_mm``    mean sinkage (mm) of the feet that are in the sand: the average of ``info["sinkage"]``
                     (deepest element of each foot/leg body) over every step and every foot whose sinkage
                     is > 0 (a foot in the air does not dilute it); 0 when no foot ever entered the sand
@@ -295,6 +299,7 @@ class _Meter:
         self.dt = float(u.dt)
         self.mass = float(u.model.body_subtreemass[0])
         sand = _granular_wrapper(env)  # a third-party env on sand: its selected bodies are the feet
+        self.sand_terrain = None if sand is None else sand.terrain
         if sand is not None:
             self.foot_ids, terrain = np.asarray(sand.body_ids, dtype=np.int64), sand.terrain
         else:
@@ -323,7 +328,7 @@ class _Meter:
         self.ret += float(reward)
         self.steps += 1
         self.x = float(info["x_position"])
-        power = info["power"] if "power" in info else self._power()
+        power = info["power"] if "power" in info else self._step_power()
         self.energy += float(power) * self.dt
         sink = np.asarray(info["sinkage"], dtype=float)
         inside = sink > 0
@@ -335,8 +340,15 @@ class _Meter:
         self.slip_num += num
         self.slip_den += den
 
+    def _step_power(self) -> float:
+        """The actuators' mechanical power (W) of the last step, for envs whose info has no ``power``: on sand
+        (``GranularWrapper``) its mean over the step's physics steps, else ``sum |force x velocity|`` now."""
+        if self.sand_terrain is not None:
+            return self.sand_terrain.actuator_power
+        return self._power()
+
     def _power(self) -> float:
-        """Mechanical power (W) of the actuators, ``sum |force x velocity|`` (envs whose info has no ``power``)."""
+        """Mechanical power (W) of the actuators, ``sum |force x velocity|`` at the current state."""
         d = self.env.data
         return float(np.sum(np.abs(d.actuator_force * d.actuator_velocity)))
 

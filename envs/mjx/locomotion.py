@@ -301,15 +301,18 @@ class LocomotionEnv(MjxEnv):
             sand = jax.tree_util.tree_map(lambda f, s: jnp.where(d0.time == 0.0, f, s), fresh, sand)
 
         def physics(carry, _):
-            d, s = carry
+            d, s, work = carry
             if s is None:
-                return (rigid_step(mx, d), s), None
-            return self.sand.step(mx, d, s), None
+                d = rigid_step(mx, d)
+            else:
+                d, s = self.sand.step(mx, d, s)
+            return (d, s, work + task.power(jnp, d)), None  # each step's force and velocity, of its start
 
-        (d, sand), _ = jax.lax.scan(physics, (d0.replace(ctrl=ctrl), sand), None, length=self._substeps)
+        start = (d0.replace(ctrl=ctrl), sand, jnp.zeros((), d0.qpos.dtype))
+        (d, sand, work), _ = jax.lax.scan(physics, start, None, length=self._substeps)
         x_velocity = (d.qpos[0] - d0.qpos[0]) / self._dt
         xy_velocity = (d.subtree_com[task.torso, :2] - d0.subtree_com[task.torso, :2]) / self._dt
-        power = task.power(jnp, d)
+        power = work / self._substeps  # the actuators' mean power over the control step
         finite = jnp.all(jnp.isfinite(d.qpos)) & jnp.all(jnp.isfinite(d.qvel))
         healthy = task.is_healthy(jnp, d) & finite
         diverged = bad_action | ~finite

@@ -12,11 +12,15 @@ term        scaled value                                                        
 ==========  ===========================================================================  ===============
 forward     ``scale * dx/dt`` (torso x velocity, m/s; the humanoid's ``stand``: its own)  ``forward_reward_weight``
 healthy     ``scale`` while healthy (or always when not terminating on it), else 0         ``healthy_reward``
-energy      ``scale * P / (m g)``: ``P`` the actuators' power (W), ``m g`` the weight (N)   ``-energy_cost_weight``
+energy      ``scale * P / (m g)``: ``P`` the actuators' mean power (W), ``m g`` the weight   ``-energy_cost_weight``
 ctrl        ``scale * sum(a**2)`` of the action as given                                  ``-ctrl_cost_weight``
 ==========  ===========================================================================  ===============
 
-Costs have negative scales, as in MuJoCo Playground's reward configurations.
+Costs have negative scales, as in MuJoCo Playground's reward configurations. ``P`` is the actuators' mechanical
+power ``sum_a |actuator_force_a x actuator_velocity_a|`` averaged over every physics step of the control step
+(:meth:`LocomotionTask.power` is its value at one state): the energy the actuators delivered over the step divided
+by its duration, which a sample at the step's end does not give (the servo targets jump at the start of each control
+step, so the power is highest in its first physics steps).
 """
 
 from __future__ import annotations
@@ -57,7 +61,6 @@ class LocomotionTask:
         self.feet = np.array([model.body(n).id for n in feet], dtype=np.int64)
         self.mass = float(model.body_subtreemass[0])
         self.weight = self.mass * G
-        self.act_dof = np.array([model.jnt_dofadr[j] for j in model.actuator_trnid[:, 0]])
         self.action_size = int(model.nu)
         #: qpos addresses of the free joints' quaternions (normalised at reset)
         self.free_quats = tuple(int(model.jnt_qposadr[j]) + 3 for j in range(model.njnt)
@@ -92,8 +95,11 @@ class LocomotionTask:
 
     # ------------------------------------------------------------------ reward
     def power(self, xp, data):
-        """The actuators' mechanical power ``sum_a |f_a qdot_a|`` (W) at ``data``'s state."""
-        return xp.sum(xp.abs(data.actuator_force * data.qvel[self.act_dof]))
+        """The actuators' mechanical power ``sum_a |actuator_force_a x actuator_velocity_a|`` (W) at ``data``'s state
+        (force times velocity in each actuator's own units is the power it delivers, whatever its gear). The
+        reward and the metrics take its mean over the physics steps of the control step (each backend sums it
+        after every physics step)."""
+        return xp.sum(xp.abs(data.actuator_force * data.actuator_velocity))
 
     def forward(self, xp, scale, x_velocity, xy_velocity):
         """The forward term: ``scale`` times the torso's x velocity (m/s)."""

@@ -63,7 +63,9 @@ def test_env_follows_the_cpu_env_when_the_servos_clamp():
     """In float64, actions that drive the hip servos into their force clamp (each leg commanded at full speed,
     alternating in sign): the MJX env and the CPU env stay together to rounding, step for step. (MJX's own
     implicitfast keeps a clamped servo's kv in its derivative, MuJoCo does not: with it the two envs are 3 mrad
-    apart after one step; mjrft.mjx integrates as MuJoCo, tests/mjrft/mjx/test_mjx.py.)"""
+    apart after one step; mjrft.mjx integrates as MuJoCo, tests/mjrft/mjx/test_mjx.py.) The MJX env's power is the
+    mean of the actuators' power over the step's physics steps, computed here from the CPU env's MjData after each;
+    control: the last physics step's power (a sample at the end of the step) is not it."""
     with jax.enable_x64(True), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         env = envs.load("HexapodSand")
@@ -71,8 +73,14 @@ def test_env_follows_the_cpu_env_when_the_servos_clamp():
         state = jax.jit(env.reset)(jax.random.PRNGKey(3))
         cpu = env.gym_env(state)
         signs = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
-        clamped = []  # per physics step of the CPU env: how many servo forces sit at their clamp
-        cpu.unwrapped.each_physics_step(lambda d: clamped.append(int(np.sum(np.abs(d.actuator_force) >= 0.3))))
+        clamped, power = [], []  # per physics step of the CPU env: servo forces at their clamp, actuators' power
+
+        def record(d):
+            clamped.append(int(np.sum(np.abs(d.actuator_force) >= 0.3)))
+            power.append(float(np.sum(np.abs(d.actuator_force * d.actuator_velocity))))
+
+        cpu.unwrapped.each_physics_step(record)
+        gaps = []
         for k in range(12):
             action = signs * (1.0 if k % 4 < 2 else -1.0)
             state = step(state, jnp.asarray(action))
@@ -80,8 +88,12 @@ def test_env_follows_the_cpu_env_when_the_servos_clamp():
             data = cpu.unwrapped.data
             np.testing.assert_allclose(np.asarray(state.data.qpos), data.qpos, rtol=0, atol=1e-9)
             np.testing.assert_allclose(np.asarray(state.data.qvel), data.qvel, rtol=0, atol=1e-7)
+            mean = np.mean(power[-env.n_substeps:])
+            assert float(state.metrics["power"]) == pytest.approx(mean, rel=1e-6)
+            gaps.append(abs(power[-1] - mean) / mean)
         cpu.close()
     assert sum(clamped) > 0  # the servos did clamp: the case where MJX's own integrator departs from MuJoCo
+    assert len(power) == 12 * env.n_substeps and max(gaps) > 0.1
 
 
 def test_nonfinite_action_ends_the_episode_as_diverged(mjx_env):
