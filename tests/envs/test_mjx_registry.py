@@ -163,3 +163,48 @@ def test_task_gives_the_same_values_on_numpy_and_jax(env_id, kwargs):
         assert rewards["ctrl"] < 0.0
     assert bool(task.terminated(np, np.bool_(False))) == task.terminate_when_unhealthy
     env.close()
+
+
+RENDER_SCRIPT = """
+import sys, warnings
+warnings.simplefilter("ignore")
+import mujoco
+try:
+    mujoco.GLContext(8, 8).make_current()
+except Exception as exc:
+    print("NO-GL", type(exc).__name__, exc)
+    sys.exit(0)
+import numpy as np, jax.numpy as jnp
+from mujoco import mjx
+import mjrft.mjx.envs as envs
+env = envs.load("HexapodSand")
+m = env.mj_model
+states = []
+for x in (0.0, 0.1):  # two poses of one world, the second 10 cm further along x
+    d = mujoco.MjData(m)
+    d.qpos[0] = x
+    mujoco.mj_forward(m, d)
+    states.append(envs.State(mjx.put_data(m, d), jnp.zeros(env.observation_size), jnp.zeros(()), jnp.zeros(()), {}, {}))
+images = env.render(states, height=120, width=160, camera="track")
+one = env.render(states[0], height=120, width=160, camera="track")
+print("SHAPE", len(images), images[0].shape, images[0].dtype, int(images[0].std() > 5.0),
+      int(np.array_equal(one, images[0])), int(np.abs(images[0].astype(int) - images[1]).mean() > 0.5))
+"""
+
+
+@pytest.mark.slow  # a subprocess that imports JAX and builds the env (about 10 s)
+def test_render_draws_a_worlds_states_headless_with_egl():
+    """``env.render(trajectory)`` (Playground's signature) draws one world's states from ``mj_model`` off screen
+    (``MUJOCO_GL=egl``; in a subprocess, since the GL backend is fixed when mujoco is imported): one image per
+    state, a single state gives a single image, and two poses give two different images. Skipped only where no EGL
+    context can be made."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, MUJOCO_GL="egl", PYOPENGL_PLATFORM="egl")
+    out = subprocess.run([sys.executable, "-c", RENDER_SCRIPT], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    if "NO-GL" in out.stdout:
+        pytest.skip(f"no EGL context on this machine: {out.stdout.strip()}")
+    assert "SHAPE 2 (120, 160, 3) uint8 1 1 1" in out.stdout, out.stdout + out.stderr[-2000:]
