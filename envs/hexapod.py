@@ -70,7 +70,7 @@ class HexapodSand(GranularMujocoEnv):
     |-----------------|-------------------------------------------------------------------|----------------|
     | forward         | ``forward_reward_weight * dx/dt`` (torso x velocity, m/s)          | 1.0            |
     | healthy         | ``healthy_reward`` per step while healthy                          | 0.1            |
-    | energy          | ``-energy_cost_weight * sum|tau qdot| / (m g)`` (m/s)               | 0.05           |
+    | energy          | ``-energy_cost_weight * P / (m g)`` (m/s; ``P``: ``info["power"]``)       | 0.05           |
     | ctrl            | ``-ctrl_cost_weight * sum(a**2)``                                  | 0.0            |
 
     ## Termination and truncation

@@ -42,7 +42,7 @@ class HumanoidSand(GranularMujocoEnv):
     |----------|-----------------------------------------------|---------------------------------------------|---------|
     | forward  | ``forward_reward_weight * dx/dt`` (m/s)        | ``-forward_reward_weight * |v_xy|`` (CoM)     | 1.0     |
     | healthy  | ``healthy_reward`` per step while healthy      | same                                        | 1.0     |
-    | energy   | ``-energy_cost_weight * sum|tau qdot|/(m g)``  | same                                        | 0.05    |
+    | energy   | ``-energy_cost_weight * P / (m g)``            | same (``P``: ``info["power"]``)             | 0.05    |
     | ctrl     | ``-ctrl_cost_weight * sum(a**2)``              | same                                        | 0.0     |
 
     ## Termination and truncation

@@ -59,7 +59,6 @@ from ..base import GranularMujocoEnv
 from ..biped import BipedSand
 from ..hexapod import HexapodSand
 from ..humanoid import HumanoidSand
-from ..randomization import TerrainRandomization
 from ..tasks import METRICS
 from .env import MjxEnv, State
 

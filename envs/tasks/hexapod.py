@@ -5,7 +5,6 @@ observation; the tables are in :class:`mjrft.envs.hexapod.HexapodSand`."""
 from __future__ import annotations
 
 import mujoco
-import numpy as np
 
 from .base import LocomotionTask
 
