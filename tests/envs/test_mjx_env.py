@@ -131,55 +131,72 @@ def test_terrain_randomization_draws_per_world_and_repeats_for_a_seed(mjx_env):
     assert not set(drawn) & set(plain.info) and float(plain.info["sand"].surface) == 0.0
 
 
-def _training_wrapper(env, episode_length):
-    """MuJoCo Playground's ``wrap_for_brax_training`` where the ``playground`` package is installed, else Brax's
-    ``training.wrap`` (which Brax's PPO uses in the recipe tests below)."""
+def test_brax_and_playground_training_wrappers_take_the_env(mjx_env):
+    """Brax's training wrappers (``brax.envs.wrappers.training.wrap``: vmap, episode length, auto-reset) and, where
+    the ``playground`` package is installed, MuJoCo Playground's ``wrap_for_brax_training`` take the env as it is:
+    their batched reset and step trace through it (``jax.eval_shape``: nothing compiled) to States of the env's
+    shapes. (Brax's wrappers and PPO also train it in the recipe tests below.)"""
+    from brax.envs.wrappers import training
+
+    env = mjx_env[0]
+    wrapped = {"brax": training.wrap(env, episode_length=5)}
     try:
         from mujoco_playground import wrapper
     except ImportError:
-        from brax.envs.wrappers import training
-
-        return training.wrap(env, episode_length=episode_length)
-    return wrapper.wrap_for_brax_training(env, episode_length=episode_length)
+        pass
+    else:
+        wrapped["playground"] = wrapper.wrap_for_brax_training(env, episode_length=5)
+    keys = jax.random.split(jax.random.PRNGKey(0), 3)
+    for name, w in wrapped.items():
+        state = jax.eval_shape(w.step, jax.eval_shape(w.reset, keys), jnp.zeros((3, env.action_size)))
+        assert state.obs.shape == (3, env.observation_size) and state.data.qpos.shape == (3, env.mj_model.nq), name
+        assert state.info["sand"].u.shape == (3, env.sand.n_elements, 3) and state.info["steps"].shape == (3,), name
+        assert set(state.metrics) >= set(STEP_METRICS) and state.done.shape == (3,), name
 
 
 def test_auto_reset_starts_each_episode_on_fresh_sand(mjx_env):
-    """Under the training wrapper's auto-reset (which restores the first ``data`` and leaves ``info`` alone) an episode
-    after the first starts from the first state on sand without memory and without the ended episode's divergence
-    record: its first step is the first episode's, bit for bit. Control: the same step with the ended episode's sand
-    state kept (the world's time nudged off 0, the rule's trigger) carries the divergence on."""
-    env, _, step = mjx_env
-    wrapped = _training_wrapper(env, episode_length=2)
-    w_reset, w_step = jax.jit(wrapped.reset), jax.jit(wrapped.step)
-    action = jnp.full((2, 6), 2 / 3)
-    s1 = w_step(w_reset(jax.random.split(jax.random.PRNGKey(5), 2)), action)
-    s2 = w_step(s1, action)  # the episode's last step: the wrapper puts the first state back
-    assert np.all(np.asarray(s2.done) == 1.0) and np.all(np.asarray(s2.data.time) == 0.0)
-    assert float(jnp.max(jnp.abs(s2.info["sand"].u))) > 1e-5  # the ended episode's memory is still in info
-    # as if world 0's ended episode had diverged: its sand state records a body, sticky until a reset
-    stale = s2.info["sand"]._replace(bad_body=jnp.array([3, -1], jnp.int32), bad_time=jnp.array([0.015, 0.0]))
-    s2 = s2.replace(info={**s2.info, "sand": stale})
-    s3 = w_step(s2, action)
+    """What the auto-resets of Brax and Playground do, restore the first ``data`` and ``obs`` and leave ``info`` (the
+    sand's state) alone, starts an episode from the first state on sand without memory and without the ended
+    episode's divergence record: its first step is the first episode's, bit for bit. Control: the same step with
+    the world's time nudged off 0 (the rule's trigger) carries the ended episode's divergence on."""
+    env, reset, step = mjx_env
+    first = reset(jax.random.PRNGKey(5))
+    action = jnp.full(6, 2 / 3)
+    s1 = step(first, action)
+    s2 = step(s1, action)
+    assert float(jnp.max(jnp.abs(s2.info["sand"].u))) > 1e-5  # the episode's memory
+    # as if the ended episode had diverged: its sand state records a body, sticky until a reset
+    stale = s2.info["sand"]._replace(bad_body=jnp.array(3, jnp.int32), bad_time=jnp.array(0.015, jnp.float32))
+    restarted = s2.replace(data=first.data, obs=first.obs, info={**s2.info, "sand": stale})
+    s3 = step(restarted, action)
     np.testing.assert_array_equal(np.asarray(s3.obs), np.asarray(s1.obs))
-    assert np.all(np.asarray(s3.metrics["diverged"]) == 0.0) and np.all(np.asarray(s3.done) == 0.0)
-    first = jax.tree_util.tree_map(lambda x: x[0], s2)
-    info = {k: first.info[k] for k in ("sand", "sinkage", "granular_force")}
-    metrics = {k: first.metrics[k] for k in STEP_METRICS}
-    kept = step(first.replace(data=first.data.replace(time=jnp.float32(1e-7)), info=info, metrics=metrics),
-                action[0])
+    assert float(s3.metrics["diverged"]) == 0.0 and float(s3.done) == 0.0
+    kept = step(restarted.replace(data=first.data.replace(time=jnp.float32(1e-7))), action)
     assert float(kept.metrics["diverged"]) == 1.0 and float(kept.done) == 1.0 and float(kept.reward) == 0.0
 
 
 @pytest.mark.parametrize("name", ["BipedSand", "HumanoidSand"])
 def test_biped_and_humanoid_on_sand_follow_their_gymnasium_envs(name):
-    """The biped's and the humanoid's MJX envs (float32) against their gymnasium envs (float64) from the same state
+    """The biped's and the humanoid's MJX envs (float32) against their gymnasium envs (float64) from the gymnasium
+    env's reset state (put on the device; the same pytree as the MJX env's reset, traced, to compile only the step)
     with the same actions: equal to rounding over the first control steps, the same reward terms, the feet in the
     sand on both."""
+    from mujoco import mjx
+
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         env = envs.load(name)
-        state = jax.jit(env.reset)(jax.random.PRNGKey(1))
-        cpu = env.gym_env(state)
+        cpu = env.gym_env()
+        u = cpu.unwrapped
+        n_feet = len(env.task.feet)
+        zero = jnp.zeros(())
+        state = envs.State(mjx.put_data(env.mj_model, u.data), jnp.asarray(u.task.observation(np, u.data, u.data.ctrl)),
+                           zero, zero, {k: zero for k in STEP_METRICS},
+                           {"sand": env.sand.init(), "sinkage": jnp.zeros(n_feet), "granular_force": jnp.zeros((n_feet, 3))})
+        shapes = jax.eval_shape(env.reset, jax.random.PRNGKey(0))
+        assert jax.tree_util.tree_structure(state) == jax.tree_util.tree_structure(shapes)
+        assert all(a.shape == b.shape and a.dtype == b.dtype for a, b in
+                   zip(jax.tree_util.tree_leaves(state), jax.tree_util.tree_leaves(shapes)))
         step = jax.jit(env.step)
         rng = np.random.default_rng(2)
         for _ in range(2):
@@ -189,6 +206,7 @@ def test_biped_and_humanoid_on_sand_follow_their_gymnasium_envs(name):
             np.testing.assert_allclose(np.asarray(state.obs), obs, rtol=2e-3, atol=2e-3)
             assert float(state.reward) == pytest.approx(reward, rel=0.02, abs=2e-3)
             assert float(state.metrics["reward_healthy"]) == info["reward_healthy"] and float(state.done) == terminated
+            assert float(state.metrics["power"]) == pytest.approx(info["power"], rel=0.05)
         assert np.max(info["sinkage"]) > 1e-4  # the feet are in the sand
         np.testing.assert_allclose(np.asarray(state.info["sinkage"]), info["sinkage"], atol=2e-4)
     cpu.close()
