@@ -41,10 +41,10 @@ def run(curvature_rp: float, f: float = 2.0, seconds: float = 3.0, medium: str =
         w = u.terrain.wrench
         rec["A"].append(w[ids["A"], 2].sum())
         rec["B"].append(w[ids["B"], 2].sum())
-        rec["belly"].append(w[u._torso_id, 2])
+        rec["belly"].append(w[u.task.torso, 2])
         rec["legs_x"].append(w[ids["A"] + ids["B"], 0].sum())
-        rec["belly_x"].append(w[u._torso_id, 0])
-        rec["z"].append(data.xpos[u._torso_id, 2])
+        rec["belly_x"].append(w[u.task.torso, 0])
+        rec["z"].append(data.xpos[u.task.torso, 2])
 
     u.each_physics_step(record)
     gait = make_gait(f"tripod:f={f:g}", env)

@@ -2,7 +2,8 @@
 same physics?
 
 A deterministic policy of an MJX run folder (``mjrft train-mjx``) walks ``--episodes`` episodes of ``--seconds`` on
-``mjrft/HexapodSand-v0`` (MuJoCo's C library, the numba kernel) and on ``HexapodSandMJX`` (MJX, ``mjrft.mjx.Sand``),
+``mjrft/HexapodSand-v0`` (MuJoCo's C library, the numba kernel) and on ``HexapodSand`` of ``mjrft.mjx.envs`` (MJX,
+``mjrft.mjx.Sand``),
 each episode from the same initial state (the MJX env's reset for seed k, put into the CPU env), in float64 and with
 the policy network in float32 on both. Two MJX variants: ``mjrft`` (``mjrft.mjx.Sand.step``, whose integrator stage
 follows MuJoCo's rule for clamped servos, ``mjrft.mjx.integrator``) and ``mjx own`` (the control: MJX's
@@ -31,11 +32,10 @@ from mujoco import mjx  # noqa: E402
 
 import mjrft.envs  # noqa: E402,F401  (registers the ids)
 import mjrft.mjx.terrain as sand_terrain  # noqa: E402
-from mjrft.envs.hexapod_mjx import HexapodSandMJX  # noqa: E402
+import mjrft.mjx.envs as envs  # noqa: E402
 from mjrft.train.mjx_ppo import load_policy  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
-G = 9.81
 
 
 def mjx_rollout(policy, integrate, seeds, steps):
@@ -44,7 +44,7 @@ def mjx_rollout(policy, integrate, seeds, steps):
     saved = sand_terrain.integrate
     sand_terrain.integrate = integrate
     try:
-        env = HexapodSandMJX()
+        env = envs.load("HexapodSand")
         act = policy.jax_fn()
         key = jax.random.PRNGKey(0)
 
@@ -52,7 +52,7 @@ def mjx_rollout(policy, integrate, seeds, steps):
             def body(state, _):
                 action, _ = act(state.obs.astype(jnp.float32), key)
                 state = env.step(state, action.astype(state.obs.dtype))
-                return state, (state.pipeline_state.data.qpos, state.metrics["power"] * env.dt)
+                return state, (state.data.qpos, state.metrics["power"] * env.dt)
 
             _, (qpos, energy) = jax.lax.scan(body, env.reset(rng), None, length=steps)
             return qpos, energy.sum()
@@ -66,9 +66,9 @@ def mjx_rollout(policy, integrate, seeds, steps):
 def cpu_rollout(policy, env, seed, steps):
     """(initial torso x, qpos per step (steps, nq), energy) of the policy on the CPU env from the MJX env's reset
     for ``seed`` (fewer steps if the episode ends)."""
-    cpu = env.cpu_env(jax.jit(env.reset)(jax.random.PRNGKey(seed)))
+    cpu = env.gym_env(jax.jit(env.reset)(jax.random.PRNGKey(seed)))
     u = cpu.unwrapped
-    obs = u._get_obs()
+    obs = u.task.observation(np, u.data, u.target)
     x_start = float(u.data.qpos[0])
     qpos, energy = [], 0.0
     for _ in range(steps):
@@ -103,7 +103,7 @@ def main(argv=None) -> int:
         runs[name] = (qpos, energy)
     if abs(env.dt - 0.01) > 1e-12:
         raise SystemExit(f"the env's control step is {env.dt} s, not 10 ms")
-    weight = env._mass * G
+    weight = env.task.weight
     lines.append(f"{'episode':>7s} {'backend':>8s} {'x travel m':>10s} {'speed m/s':>9s} {'CoT':>6s} "
                  f"{'max |qpos - cpu|':>16s}")
     for k, seed in enumerate(seeds):

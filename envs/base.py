@@ -21,9 +21,11 @@ Common keyword arguments (all environments):
                            (1 ms x 10, 1 ms x 10, 0.5 ms x 20: always a 10 ms control period) where
                            they are left as None; explicit keyword arguments win.
 ``forward_reward_weight``  weight of the forward speed ``dx/dt`` (m/s) of the torso.
-``energy_cost_weight``     weight of the dimensionless power ``P / (m g)`` in m/s; ``P = sum |tau_i
-                           qdot_i|`` (W) over the actuators. With weight 1 the ratio of this cost to
-                           the forward reward is the cost of transport (``info["cost_of_transport"]``).
+``energy_cost_weight``     weight of the dimensionless power ``P / (m g)`` in m/s; ``P`` (W) the actuators'
+                           power ``sum_a |actuator_force_a x actuator_velocity_a|`` averaged over every
+                           physics step of the control step (``info["power"]``). With weight 1 the ratio of
+                           this cost to the forward reward is the cost of transport
+                           (``info["cost_of_transport"]``).
 ``ctrl_cost_weight``       weight of ``sum(action**2)`` (default 0).
 ``healthy_reward``         reward per step while healthy (see each class for the thresholds).
 ``terminate_when_unhealthy``  end the episode (``terminated=True``) when not healthy.
@@ -49,7 +51,8 @@ Common keyword arguments (all environments):
                            environments only. Options and their meaning: :mod:`mjrft.envs.randomization`.
 =========================  ============================================================================
 
-Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power`` (W),
+Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power`` (W, the actuators' mean
+mechanical power over the step's physics steps: :meth:`GranularMujocoEnv.step_power`),
 ``cost_of_transport`` (``P / (m g max(|v_x|, 1e-3))``), ``reward_forward``, ``reward_energy``,
 ``reward_ctrl``, ``reward_healthy``, ``is_healthy``, ``sinkage`` (array (n_feet,), deepest element
 depth below the surface of each foot/leg body in m, order ``foot_names``; zeros on rigid ground) and
@@ -76,12 +79,26 @@ from gymnasium.envs.mujoco import MujocoEnv
 
 from mjrft.coupler import GranularTerrain, mujoco_reset_error, mujoco_resets
 from mjrft.errors import NonFiniteError, check_positive
+from mjrft.stepping import actuator_power
 from mjrft.models import model_path
 from mjrft.tools.presets import resolve as resolve_preset
 
 from .randomization import TerrainRandomization, TerrainRandomizer, upload_surface
 
 G = 9.81
+
+
+def rigid_steps(model: mujoco.MjModel, data: mujoco.MjData, nstep: int) -> float:
+    """``nstep`` calls of ``mujoco.mj_step``; returns the actuators' power ``sum_a |actuator_force_a x
+    actuator_velocity_a|`` (W) averaged over them, each step's of the state at its start, as
+    :attr:`mjrft.GranularTerrain.actuator_power` averages the terrain's steps (the same compiled sum). The physics is
+    ``mj_step(model, data, nstep)``'s, bit for bit."""
+    force, velocity = data.actuator_force, data.actuator_velocity
+    work = 0.0
+    for _ in range(nstep):
+        mujoco.mj_step(model, data)
+        work += actuator_power(force, velocity)
+    return work / nstep if nstep > 0 else 0.0
 
 
 def split_env_kwargs(kwargs: dict) -> tuple[dict, dict]:
@@ -92,7 +109,9 @@ def split_env_kwargs(kwargs: dict) -> tuple[dict, dict]:
 
 
 class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
-    """Base class; subclasses define ``_make_xml``, ``_get_obs``, ``_healthy_z_range``, ``_max_tilt`` and the action mapping."""
+    """Base class; a robot's subclass builds its MJCF and its task (:meth:`_make_task`, :mod:`mjrft.envs.tasks`:
+    observation, action mapping, reward terms, termination, metrics), which :attr:`task` holds; this class steps
+    the physics and assembles ``step``'s return values from the task's functions."""
 
     metadata = {"render_modes": ["human", "rgb_array", "depth_array", "rgbd_tuple"]}
     #: committed model whose path is handed to MujocoEnv (the simulation itself is built from the XML)
@@ -117,10 +136,10 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                  width: int = 480, height: int = 480, camera_name: str | None = None,
                  camera_id: int | None = None, pickle_kwargs: dict | None = None,
                  preset: str | None = None, timestep: float | None = None, terrain_randomization=None):
-        self._healthy_z_range = tuple(float(v) for v in healthy_z_range)
-        if len(self._healthy_z_range) != 2 or not self._healthy_z_range[0] < self._healthy_z_range[1]:
+        healthy_z_range = tuple(float(v) for v in healthy_z_range)
+        if len(healthy_z_range) != 2 or not healthy_z_range[0] < healthy_z_range[1]:
             raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
-        self._max_tilt = check_positive("max_tilt", max_tilt)
+        max_tilt = check_positive("max_tilt", max_tilt)
         for name, val in (("width", width), ("height", height)):
             if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
                 raise ValueError(f"{name} must be an integer >= 1 (pixels), got {val!r}")
@@ -146,13 +165,16 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
         self._xml = xml
         self.sand = bool(sand)
-        self._forward_reward_weight = float(forward_reward_weight)
-        self._energy_cost_weight = float(energy_cost_weight)
-        self._ctrl_cost_weight = float(ctrl_cost_weight)
-        self._healthy_reward = float(healthy_reward)
-        self._terminate_when_unhealthy = bool(terminate_when_unhealthy)
-        self._reset_noise_scale = float(reset_noise_scale)
+        #: the simulation settings as resolved (:func:`mjrft.tools.presets.resolve`; the MJX envs build their
+        #: terrain from the same)
+        self.settings = sim
         self._episode_seconds = None if episode_seconds is None else float(episode_seconds)
+        # the task's arguments common to every robot (costs have negative scales, mjrft.envs.tasks.base)
+        common = dict(scales={"forward": float(forward_reward_weight), "healthy": float(healthy_reward),
+                              "energy": -float(energy_cost_weight), "ctrl": -float(ctrl_cost_weight)},
+                      healthy_z_range=healthy_z_range, max_tilt=max_tilt,
+                      terminate_when_unhealthy=terminate_when_unhealthy, reset_noise_scale=reset_noise_scale,
+                      torso=self.torso_name, feet=self.foot_names)
 
         # per-instance metadata so MujocoEnv's render_fps check matches this frame_skip
         self.metadata = dict(self.metadata)
@@ -170,11 +192,11 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         self.randomizer = (None if randomization is None else
                            TerrainRandomizer(randomization, self.terrain, self.model))
         self.terrain_info: dict | None = None  # info["terrain"] of this episode (with terrain_randomization)
+        self._each_step = None  # each_physics_step's function
+        self._mean_power = 0.0  # the actuators' mean power over the last step's physics steps, where no terrain has it
         self.diverged: str | None = None  # the NonFiniteError message once the simulation diverged
-        self._torso_id = self.model.body(self.torso_name).id
-        self._foot_ids = np.array([self.model.body(n).id for n in self.foot_names], dtype=np.int64)
-        self._total_mass = float(self.model.body_subtreemass[0])
-        self._act_dof = np.array([self.model.jnt_dofadr[j] for j in self.model.actuator_trnid[:, 0]])
+        #: the robot's task (:mod:`mjrft.envs.tasks`), shared with its MJX env
+        self.task = self._make_task(**common)
 
         self._setup_action()
         obs = self._get_obs()
@@ -195,28 +217,28 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         self.action_space = spaces.Box(-1.0, 1.0, shape=(nu,), dtype=np.float32)
         return self.action_space
 
+    def _make_task(self, **common):
+        """The robot's task (:mod:`mjrft.envs.tasks`) on ``self.model``; ``common``: the arguments of
+        :class:`~mjrft.envs.tasks.LocomotionTask` from the common keyword arguments."""
+        raise NotImplementedError
+
     def _setup_action(self) -> None:
-        """Normalised joint targets: ``a = 0`` is the initial pose, ``a = -1 / +1`` the ctrlrange ends."""
-        nu = self.model.nu
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(nu,), dtype=np.float32)
-        lo, hi = self.model.actuator_ctrlrange.T.copy()
-        q0 = self.init_qpos[self.model.jnt_qposadr[self.model.actuator_trnid[:, 0]]]
-        self._ctrl_lo, self._ctrl_hi = lo, hi
-        self._ctrl_mid = np.clip(q0, lo, hi)
+        """The normalised action space ``Box(-1, 1, (nu,))`` (the task maps it to the servo targets)."""
+        self.action_space = spaces.Box(-1.0, 1.0, shape=(self.model.nu,), dtype=np.float32)
 
     def action_to_ctrl(self, action: np.ndarray) -> np.ndarray:
-        """Piecewise-linear map [-1, 0, 1] -> [ctrl_low, q_initial, ctrl_high] (per actuator)."""
-        a = np.clip(action, -1.0, 1.0)
-        mid = self._ctrl_mid
-        return np.where(a >= 0, mid + a * (self._ctrl_hi - mid), mid + a * (mid - self._ctrl_lo))
+        """The servo targets of ``action`` (the task's :meth:`action_to_ctrl`; for joint-angle targets the
+        piecewise-linear map [-1, 0, 1] -> [ctrl_low, q_initial, ctrl_high] per actuator)."""
+        return self.task.action_to_ctrl(np, self.data.qpos, self.data.ctrl, action)
 
     def ctrl_to_action(self, ctrl: np.ndarray) -> np.ndarray:
-        """Inverse of :meth:`action_to_ctrl` (targets outside the ctrlrange are clipped)."""
-        mid = self._ctrl_mid
-        c = np.clip(ctrl, self._ctrl_lo, self._ctrl_hi)
-        up = np.where(self._ctrl_hi > mid, (c - mid) / np.maximum(self._ctrl_hi - mid, 1e-12), 0.0)
-        down = np.where(mid > self._ctrl_lo, (c - mid) / np.maximum(mid - self._ctrl_lo, 1e-12), 0.0)
-        return np.where(c >= mid, up, down).astype(np.float32)
+        """Inverse of :meth:`action_to_ctrl` for joint-angle targets (targets outside the ctrlrange are clipped)."""
+        return self.task.ctrl_to_action(np, ctrl).astype(np.float32)
+
+    def set_servo_targets(self, ctrl) -> None:
+        """Set the servo targets ``data.ctrl`` (e.g. to go on from another backend's state; the hexapod keeps
+        them as its integrated targets too)."""
+        self.data.ctrl[:] = ctrl
 
     def do_simulation(self, ctrl, n_frames) -> None:
         """``n_frames`` physics steps with ``ctrl``: one ``terrain.step(data, n_frames)`` on sand."""
@@ -236,16 +258,32 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
         A divergence is noted in ``self.diverged`` (the error message) for :meth:`_end_step`."""
         try:
-            if self.terrain is not None:
-                self.terrain.step(self.data, n_frames)
+            if self.terrain is not None and self._each_step is None:
+                self.terrain.step(self.data, n_frames)  # averages the actuators' power (terrain.actuator_power)
+            elif self.terrain is not None:  # one physics step per call, each_physics_step's function after each
+                work = 0.0
+                for _ in range(n_frames):
+                    self.terrain.step(self.data, 1)
+                    work += self.terrain.actuator_power
+                    self._each_step(self.data)
+                self._mean_power = work / n_frames if n_frames > 0 else 0.0
             else:
                 before, t0 = mujoco_resets(self.data), self.data.time
-                mujoco.mj_step(self.model, self.data, nstep=n_frames)
+                self._mean_power = rigid_steps(self.model, self.data, n_frames)
                 if mujoco_resets(self.data) > before:
                     raise mujoco_reset_error(self.model, self.data, f"between t = {t0:.6g} s and the end of "
                                                                     f"{n_frames} step(s)")
         except NonFiniteError as exc:
             self.diverged = str(exc)
+
+    def step_power(self) -> float:
+        """The actuators' mechanical power ``sum_a |actuator_force_a x actuator_velocity_a|`` (W) averaged over every
+        physics step of the last ``step`` (``info["power"]``): the energy they delivered over the control step
+        divided by its duration (on sand :attr:`mjrft.GranularTerrain.actuator_power`, on rigid ground the same
+        mean over the ``mj_step`` calls)."""
+        if self.terrain is not None and self._each_step is None:
+            return self.terrain.actuator_power
+        return self._mean_power
 
     # ------------------------------------------------------------------ measurements
     def each_physics_step(self, fn) -> None:
@@ -255,44 +293,40 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         if self.terrain is None:
             raise ValueError(f"each_physics_step needs the granular terrain; {type(self).__name__} with sand=False "
                              "has none (step the rigid env and read data after each env step instead)")
-        inner = self.terrain.step
-
-        def step(data, n=1):
-            for _ in range(n):
-                inner(data, 1)
-                fn(data)
-
-        self.terrain.step = step
+        self._each_step = fn
 
     def torso_height(self) -> float:
-        return float(self.data.xpos[self._torso_id, 2])
+        return float(self.task.torso_height(np, self.data))
 
     def torso_tilt(self) -> float:
         """Angle (rad) between the torso's z axis and the world vertical."""
-        return float(np.arccos(np.clip(self.data.xmat[self._torso_id, 8], -1.0, 1.0)))
+        return float(self.task.torso_tilt(np, self.data))
 
     def power(self) -> float:
-        """Mechanical power ``sum |tau_i * qdot_i|`` (W) of the actuators."""
-        return float(np.sum(np.abs(self.data.actuator_force * self.data.qvel[self._act_dof])))
+        """The actuators' mechanical power ``sum_a |actuator_force_a x actuator_velocity_a|`` (W) at the current
+        state (the integrand of ``info["power"]``, :meth:`step_power`)."""
+        return float(self.task.power(np, self.data))
 
     def foot_sinkage(self) -> np.ndarray:
         if self.terrain is None:
-            return np.zeros(len(self._foot_ids))
-        return self.terrain.sinkage()[self._foot_ids].copy()
+            return np.zeros(len(self.task.feet))
+        return self.terrain.sinkage()[self.task.feet].copy()
 
     def foot_granular_force(self) -> np.ndarray:
         if self.terrain is None:
-            return np.zeros((len(self._foot_ids), 3))
-        return self.terrain.wrench[self._foot_ids, :3].copy()
+            return np.zeros((len(self.task.feet), 3))
+        return self.terrain.wrench[self.task.feet, :3].copy()
 
     @property
     def is_healthy(self) -> bool:
         """Torso height inside ``healthy_z_range``, tilt below ``max_tilt`` and a finite state."""
-        lo, hi = self._healthy_z_range
-        return bool(lo < self.torso_height() < hi and self.torso_tilt() < self._max_tilt
-                    and np.all(np.isfinite(self.data.qpos)))
+        return bool(self.task.is_healthy(np, self.data))
 
     # ------------------------------------------------------------------ gym API
+    def _get_obs(self) -> np.ndarray:
+        """The task's observation of the current state (float64)."""
+        return self.task.observation(np, self.data, self.data.ctrl).astype(np.float64)
+
     def _check_action(self, action) -> np.ndarray:
         a = np.asarray(action, dtype=np.float64)
         if a.shape != self.action_space.shape:
@@ -300,9 +334,6 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         if not np.all(np.isfinite(a)):
             raise ValueError(f"action contains NaN or infinite values: {a!r}")
         return a
-
-    def _forward_reward(self, x_velocity: float, xy_velocity: np.ndarray) -> float:
-        return self._forward_reward_weight * x_velocity
 
     def step(self, action):
         before = self._begin_step(action)
@@ -313,7 +344,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         """``step`` before the physics: check the action, note the start state, set ``data.ctrl``."""
         a = self._check_action(action)
         x_before = self.data.qpos[0].copy()
-        com_before = self.data.subtree_com[self._torso_id, :2].copy()
+        com_before = self.data.subtree_com[self.task.torso, :2].copy()
         self._set_ctrl(self.action_to_ctrl(a))
         return a, x_before, com_before
 
@@ -323,27 +354,20 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
             return self._diverged_step(float(x_before))
         x_after = self.data.qpos[0]
         x_velocity = float((x_after - x_before) / self.dt)
-        xy_velocity = (self.data.subtree_com[self._torso_id, :2] - com_before) / self.dt
+        xy_velocity = (self.data.subtree_com[self.task.torso, :2] - com_before) / self.dt
 
-        power = self.power()
-        healthy = self.is_healthy
-        forward_reward = self._forward_reward(x_velocity, xy_velocity)
-        healthy_reward = self._healthy_reward if (healthy or not self._terminate_when_unhealthy) else 0.0
-        energy_cost = self._energy_cost_weight * power / (self._total_mass * G)
-        ctrl_cost = self._ctrl_cost_weight * float(np.sum(np.square(a)))
-        reward = forward_reward + healthy_reward - energy_cost - ctrl_cost
-
-        terminated = (not healthy) and self._terminate_when_unhealthy
+        task = self.task
+        power = self.step_power()
+        healthy = task.is_healthy(np, self.data)
+        rewards = task.rewards(np, x_velocity=x_velocity, xy_velocity=xy_velocity, power=power, action=a,
+                               healthy=healthy)
+        reward = task.total(rewards)
+        terminated = task.terminated(np, healthy)
         truncated = self._episode_seconds is not None and self.data.time >= self._episode_seconds - 1e-9
+        metrics = task.metrics(np, x_velocity=x_velocity, power=power, rewards=rewards)
         info = {
             "x_position": float(x_after),
-            "x_velocity": x_velocity,
-            "power": power,
-            "cost_of_transport": power / (self._total_mass * G * max(abs(x_velocity), 1e-3)),
-            "reward_forward": forward_reward,
-            "reward_energy": -energy_cost,
-            "reward_ctrl": -ctrl_cost,
-            "reward_healthy": healthy_reward,
+            **{name: float(value) for name, value in metrics.items()},
             "is_healthy": bool(healthy),
             "sinkage": self.foot_sinkage(),
             "granular_force": self.foot_granular_force(),
@@ -363,7 +387,7 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         info = {"x_position": x_before,
                 "x_velocity": 0.0, "power": 0.0, "cost_of_transport": 0.0, "reward_forward": 0.0,
                 "reward_energy": 0.0, "reward_ctrl": 0.0, "reward_healthy": 0.0, "is_healthy": False,
-                "sinkage": np.zeros(len(self._foot_ids)), "granular_force": np.zeros((len(self._foot_ids), 3)),
+                "sinkage": np.zeros(len(self.task.feet)), "granular_force": np.zeros((len(self.task.feet), 3)),
                 "diverged": self.diverged}
         if self.terrain_info is not None:
             info["terrain"] = dict(self.terrain_info)  # a new dict each call, as gymnasium asks
@@ -371,10 +395,10 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
     def reset_model(self):
         self.diverged = None
-        noise = self._reset_noise_scale
+        noise = self.task.reset_noise_scale
         qpos = self.init_qpos + self.np_random.uniform(-noise, noise, size=self.model.nq)
         qvel = self.init_qvel + self.np_random.uniform(-noise, noise, size=self.model.nv)
-        self._normalise_free_quat(qpos)
+        qpos = self.task.normalise_quaternions(np, qpos)
         if self.randomizer is not None:  # after the start pose's noise: an unrandomised env draws the same noise
             self.terrain_info = self.randomizer.apply(self.np_random)
             upload_surface(self, self.terrain)  # the render contexts already made see the drawn surface
@@ -387,12 +411,6 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
 
     def _reset_extra(self) -> None:
         pass
-
-    def _normalise_free_quat(self, qpos) -> None:
-        for j in range(self.model.njnt):
-            if self.model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:
-                adr = self.model.jnt_qposadr[j] + 3
-                qpos[adr:adr + 4] /= np.linalg.norm(qpos[adr:adr + 4])
 
     def _get_reset_info(self):
         info = {

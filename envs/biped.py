@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from mjrft.models.biped import biped_xml
 
 from .base import GranularMujocoEnv, split_env_kwargs
+from .tasks import BipedTask
 
 
 class BipedSand(GranularMujocoEnv):
@@ -49,7 +48,7 @@ class BipedSand(GranularMujocoEnv):
     |----------|----------------------------------------------------------------|----------------|
     | forward  | ``forward_reward_weight * dx/dt`` (m/s)                         | 1.0            |
     | healthy  | ``healthy_reward`` per step while healthy                       | 0.5            |
-    | energy   | ``-energy_cost_weight * sum|tau qdot| / (m g)`` (m/s)            | 0.05           |
+    | energy   | ``-energy_cost_weight * P / (m g)`` (m/s; ``P``: ``info["power"]``)    | 0.05           |
     | ctrl     | ``-ctrl_cost_weight * sum(a**2)``                               | 0.0            |
 
     ## Termination and truncation
@@ -81,8 +80,8 @@ class BipedSand(GranularMujocoEnv):
         xml = biped_xml(foot=foot, foot_size=foot_size, pitch_free=pitch_free, sand=sand, **model_kw)
         super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 
-    def _get_obs(self) -> np.ndarray:
-        return np.concatenate([self.data.qpos[1:], self.data.qvel]).astype(np.float64)
+    def _make_task(self, **common) -> BipedTask:
+        return BipedTask(self.model, init_qpos=self.init_qpos, **common)
 
 
 class BipedRigid(BipedSand):

@@ -4,7 +4,6 @@ the shoal: dry sand, saturated sand, shallow water (``mjrft/HexapodShoal-v0``)."
 from __future__ import annotations
 
 import numpy as np
-from gymnasium import spaces
 
 from mjrft.errors import check_positive
 from mjrft.models.hexapod import LEG_NAMES, TRIPOD_A, TRIPOD_B, hexapod_xml
@@ -12,6 +11,7 @@ from mjrft.models.shoal import SHOAL
 
 from .base import GranularMujocoEnv, split_env_kwargs
 from .randomization import DEFAULT_SURFACE_GRID, TerrainRandomization
+from .tasks import HexapodTask
 
 
 #: the sand envs' physics step (s) and steps per env step when neither ``preset``, ``timestep`` nor
@@ -70,7 +70,7 @@ class HexapodSand(GranularMujocoEnv):
     |-----------------|-------------------------------------------------------------------|----------------|
     | forward         | ``forward_reward_weight * dx/dt`` (torso x velocity, m/s)          | 1.0            |
     | healthy         | ``healthy_reward`` per step while healthy                          | 0.1            |
-    | energy          | ``-energy_cost_weight * sum|tau qdot| / (m g)`` (m/s)               | 0.05           |
+    | energy          | ``-energy_cost_weight * P / (m g)`` (m/s; ``P``: ``info["power"]``)       | 0.05           |
     | ctrl            | ``-ctrl_cost_weight * sum(a**2)``                                  | 0.0            |
 
     ## Termination and truncation
@@ -124,8 +124,8 @@ class HexapodSand(GranularMujocoEnv):
         here: ``defaults``); any other keyword goes to :func:`~mjrft.models.hexapod_xml`."""
         pickle_kwargs = dict(sand=sand, variant=variant, curvature=curvature, max_hip_speed=max_hip_speed,
                              max_lag=max_lag, planar=planar, **kwargs)
-        self._max_hip_speed = check_positive("max_hip_speed", max_hip_speed)
-        self._max_lag = check_positive("max_lag", max_lag)
+        self._action_options = dict(max_hip_speed=check_positive("max_hip_speed", max_hip_speed),
+                                    max_lag=check_positive("max_lag", max_lag), planar=bool(planar))
         self.planar = bool(planar)
         env_kw, model_kw = split_env_kwargs(kwargs)
         randomization = TerrainRandomization.from_value(env_kw.get("terrain_randomization"))
@@ -134,37 +134,30 @@ class HexapodSand(GranularMujocoEnv):
         xml = hexapod_xml(curvature, variant=variant, sand=sand, planar=planar, **model_kw)
         super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 
+    def _make_task(self, **common) -> HexapodTask:
+        return HexapodTask(self.model, dt=self.dt, **self._action_options, **common)
+
     # ------------------------------------------------------------------ actions
     def _setup_action(self) -> None:
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(6,), dtype=np.float32)
-        joints = self.model.actuator_trnid[:, 0]
-        self._hip_qadr = self.model.jnt_qposadr[joints].copy()
-        self._hip_dadr = self.model.jnt_dofadr[joints].copy()
-        self._target = self.data.qpos[self._hip_qadr].copy()
+        super()._setup_action()
+        #: the hip servos' targets (rad), advanced by each action (:meth:`action_to_ctrl`)
+        self.target = self.data.qpos[self.task.hip_qadr].copy()
 
     def action_to_ctrl(self, action: np.ndarray) -> np.ndarray:
         """Integrate the hip-velocity command into the servo targets (changes the env's state)."""
-        a = np.clip(action, -1.0, 1.0)
-        q = self.data.qpos[self._hip_qadr]
-        self._target = np.clip(self._target + a * self._max_hip_speed * self.dt, q - self._max_lag,
-                               q + self._max_lag)
-        return self._target.copy()
+        self.target = self.task.action_to_ctrl(np, self.data.qpos, self.target, action)
+        return self.target.copy()
+
+    def set_servo_targets(self, ctrl) -> None:
+        self.target = np.array(ctrl, dtype=np.float64)
+        self.data.ctrl[:] = self.target
 
     def _reset_extra(self) -> None:
-        self._target = self.data.qpos[self._hip_qadr].copy()
+        self.target = self.data.qpos[self.task.hip_qadr].copy()
 
-    # ------------------------------------------------------------------ observation / health
+    # ------------------------------------------------------------------ observation
     def _get_obs(self) -> np.ndarray:
-        qpos, qvel = self.data.qpos, self.data.qvel
-        hips = qpos[self._hip_qadr]
-        if self.planar:  # rootx, rootz, rooty: the free-joint layout rebuilt from the joints
-            half = 0.5 * qpos[2]
-            pose = np.array([self.model.body_pos[self._torso_id, 2] + qpos[1], np.cos(half), 0.0, np.sin(half), 0.0])
-            twist = np.array([qvel[0], 0.0, qvel[1], 0.0, qvel[2], 0.0])
-        else:
-            pose, twist = qpos[2:7], qvel[:6]
-        return np.concatenate([pose, np.sin(hips), np.cos(hips), twist, qvel[self._hip_dadr],
-                               self._target - hips]).astype(np.float64)
+        return self.task.observation(np, self.data, self.target).astype(np.float64)
 
 
 class HexapodRigid(HexapodSand):

@@ -2,13 +2,11 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from mjrft.models.humanoid import FOOT_LENGTH, FOOT_WIDTH, humanoid_xml
 
 from .base import GranularMujocoEnv, split_env_kwargs
-
-TASKS = ("walk", "stand")
+from .tasks import HumanoidTask
+from .tasks.humanoid import MODES as TASKS
 
 
 class HumanoidSand(GranularMujocoEnv):
@@ -44,7 +42,7 @@ class HumanoidSand(GranularMujocoEnv):
     |----------|-----------------------------------------------|---------------------------------------------|---------|
     | forward  | ``forward_reward_weight * dx/dt`` (m/s)        | ``-forward_reward_weight * |v_xy|`` (CoM)     | 1.0     |
     | healthy  | ``healthy_reward`` per step while healthy      | same                                        | 1.0     |
-    | energy   | ``-energy_cost_weight * sum|tau qdot|/(m g)``  | same                                        | 0.05    |
+    | energy   | ``-energy_cost_weight * P / (m g)``            | same (``P``: ``info["power"]``)             | 0.05    |
     | ctrl     | ``-ctrl_cost_weight * sum(a**2)``              | same                                        | 0.0     |
 
     ## Termination and truncation
@@ -74,19 +72,14 @@ class HumanoidSand(GranularMujocoEnv):
                              foot_cutout=foot_cutout, **kwargs)
         if task not in TASKS:
             raise ValueError(f"unknown task {task!r}; valid choices: {', '.join(TASKS)}")
-        self.task = task
+        self._mode = task
         env_kw, model_kw = split_env_kwargs(kwargs)
         xml = humanoid_xml(foot_length=foot_length, foot_width=foot_width, foot_cutout=foot_cutout, sand=sand,
                            **model_kw)
         super().__init__(xml, sand=sand, pickle_kwargs=pickle_kwargs, **{**self.defaults, **env_kw})
 
-    def _forward_reward(self, x_velocity: float, xy_velocity: np.ndarray) -> float:
-        if self.task == "stand":
-            return -self._forward_reward_weight * float(np.linalg.norm(xy_velocity))
-        return self._forward_reward_weight * x_velocity
-
-    def _get_obs(self) -> np.ndarray:
-        return np.concatenate([self.data.qpos[2:], self.data.qvel]).astype(np.float64)
+    def _make_task(self, **common) -> HumanoidTask:
+        return HumanoidTask(self.model, init_qpos=self.init_qpos, mode=self._mode, **common)
 
 
 class HumanoidRigid(HumanoidSand):

@@ -52,36 +52,53 @@ RUN_KEYS = ("policy", "hyperparams_given", "device", "torch_threads", "start_met
             "created", "num_timesteps", "model", "runs", "checkpoint", "config")
 
 
-def named_configs() -> list[str]:
-    """Names of the configurations shipped with mjrft (``mjrft train --config NAME``)."""
-    return sorted(p.stem for p in CONFIG_DIR.glob("*.yaml"))
+def named_in(folder: Path) -> list[str]:
+    """Names of the recipes in ``folder`` (its ``<name>.yaml`` files)."""
+    return sorted(p.stem for p in Path(folder).glob("*.yaml"))
 
 
-def config_path(name_or_path) -> Path:
-    """The file of a named configuration, or the given path (which must exist)."""
+def find_recipe(name_or_path, folder: Path, what: str) -> Path:
+    """The file of the recipe ``name_or_path``: a path ending in .yaml / .yml / .json (or any existing file), else
+    ``folder/<name>.yaml``; ``what`` names the kind in the errors (e.g. ``"training config"``). The one lookup of
+    both trainers' recipes (``mjrft train`` and ``mjrft train-mjx``)."""
     path = Path(name_or_path)
     if path.suffix.lower() in (".yaml", ".yml", ".json") or path.is_file():
         if not path.is_file():
-            raise ValueError(f"training config file {str(path)!r} does not exist")
+            raise ValueError(f"{what} file {str(path)!r} does not exist")
         return path
-    named = CONFIG_DIR / f"{name_or_path}.yaml"
+    named = Path(folder) / f"{name_or_path}.yaml"
     if not named.is_file():
-        err = unknown("training config", str(name_or_path), named_configs())
+        err = unknown(what, str(name_or_path), named_in(folder))
         raise type(err)(f"{err}; or give the path of a .yaml / .json file") from None
     return named
 
 
-def _read(path: Path) -> dict:
-    text = path.read_text()
+def read_recipe(path: Path, what: str):
+    """The contents of a YAML or JSON recipe file (by its suffix); a file that does not parse is refused with
+    the parser's reason and the file's name."""
+    text = Path(path).read_text()
     try:
-        if path.suffix.lower() == ".json":
-            data = json.loads(text)
-        else:
-            import yaml
+        if Path(path).suffix.lower() == ".json":
+            return json.loads(text)
+        import yaml
 
-            data = yaml.safe_load(text)
+        return yaml.safe_load(text)
     except Exception as exc:  # yaml.YAMLError / json.JSONDecodeError: name the file and the parser's reason
-        raise ValueError(f"training config {str(path)!r} cannot be read: {exc}") from None
+        raise ValueError(f"{what} {str(path)!r} cannot be read: {exc}") from None
+
+
+def named_configs() -> list[str]:
+    """Names of the configurations shipped with mjrft (``mjrft train --config NAME``)."""
+    return named_in(CONFIG_DIR)
+
+
+def config_path(name_or_path) -> Path:
+    """The file of a named configuration, or the given path (which must exist)."""
+    return find_recipe(name_or_path, CONFIG_DIR, "training config")
+
+
+def _read(path: Path) -> dict:
+    data = read_recipe(path, "training config")
     if not isinstance(data, dict):
         raise ValueError(f"training config {str(path)!r} must hold a mapping of keys ({', '.join(KEYS)}), "
                          f"got {type(data).__name__}")
@@ -105,7 +122,7 @@ def check_training_config(data: dict, source: str = "training config") -> dict:
     cfg = {**DEFAULTS, **{k: v for k, v in data.items() if v is not None}}
     cfg["hyperparams"], cfg["env_kwargs"] = dict(cfg["hyperparams"]), dict(cfg["env_kwargs"])
     for key in ("timesteps", "n_envs", "seed", "checkpoint_every"):
-        value = cfg[key] = _integer(cfg[key])
+        value = cfg[key] = integer_value(cfg[key])
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):
             raise ValueError(f"{source}: {key!r} must be an integer >= {0 if key == 'seed' else 1}, got {value!r}")
     check_kind(cfg["vec_env"])
@@ -114,7 +131,7 @@ def check_training_config(data: dict, source: str = "training config") -> dict:
     return {k: cfg[k] for k in KEYS}
 
 
-def _integer(value):
+def integer_value(value):
     """An integer written as a number in any notation: ``100000``, ``1e5`` (YAML reads it as a string),
     ``1.0e+5`` (a float) or ``100_000``; anything else is returned unchanged (and refused by the caller)."""
     if isinstance(value, float) and value.is_integer():

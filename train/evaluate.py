@@ -18,7 +18,11 @@ Metrics (one row per episode; the summary holds their mean and standard deviatio
                     coordinate of its root joint, ``qpos[0]``)
 ``cot``             cost of transport (dimensionless): actuator energy ``sum(info["power"]) x dt``
                     divided by ``m g |dx|`` (m: total mass, dx: the x displacement); ``|dx|`` is floored
-                    at 1 mm/s x duration, the same floor as the env's per-step ``info["cost_of_transport"]``
+                    at 1 mm/s x duration, the same floor as the env's per-step ``info["cost_of_transport"]``.
+                    ``info["power"]`` is the actuators' mean power over every physics step of the env step,
+                    so the sum is the energy they delivered; a third-party env on sand (``GranularWrapper``,
+                    no ``power`` in its info) gives the same mean (``terrain.actuator_power``), any other env
+                    the power ``sum |force x velocity|`` at the end of each step
 ``sink_mean_mm``    mean sinkage (mm) of the feet that are in the sand: the average of ``info["sinkage"]``
                     (deepest element of each foot/leg body) over every step and every foot whose sinkage
                     is > 0 (a foot in the air does not dilute it); 0 when no foot ever entered the sand (or the
@@ -323,6 +327,7 @@ class _Meter:
         self.dt = float(u.dt)
         self.mass = float(u.model.body_subtreemass[0])
         sand = _granular_wrapper(env)  # a third-party env on sand: its selected bodies are the feet
+        self.sand_terrain = None if sand is None else sand.terrain
         if sand is not None:
             self.foot_ids, terrain = np.asarray(sand.body_ids, dtype=np.int64), sand.terrain
         else:  # mjrft's envs name their feet; another MuJoCo env has none to measure
@@ -355,7 +360,7 @@ class _Meter:
         self.ret += float(reward)
         self.steps += 1
         self.x = self._x(info)
-        power = info["power"] if "power" in info else self._power()
+        power = info["power"] if "power" in info else self._step_power()
         self.energy += float(power) * self.dt
         sink = np.asarray(info.get("sinkage", ()), dtype=float)
         inside = sink > 0
@@ -367,8 +372,15 @@ class _Meter:
         self.slip_num += num
         self.slip_den += den
 
+    def _step_power(self) -> float:
+        """The actuators' mechanical power (W) of the last step, for envs whose info has no ``power``: on sand
+        (``GranularWrapper``) its mean over the step's physics steps, else ``sum |force x velocity|`` now."""
+        if self.sand_terrain is not None:
+            return self.sand_terrain.actuator_power
+        return self._power()
+
     def _power(self) -> float:
-        """Mechanical power (W) of the actuators, ``sum |force x velocity|`` (envs whose info has no ``power``)."""
+        """Mechanical power (W) of the actuators, ``sum |force x velocity|`` at the current state."""
         d = self.env.data
         return float(np.sum(np.abs(d.actuator_force * d.actuator_velocity)))
 
@@ -605,7 +617,8 @@ def add_arguments(parser) -> None:
                         help="cpu: the gymnasium env (default); mjx: a policy of 'mjrft train-mjx' on the MJX env, "
                              "all episodes as one batch (mjrft.train.mjx_ppo.evaluate_mjx)")
     parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
-                        help="environment keyword arguments (override the run's), e.g. max_episode_steps=500")
+                        help="environment keyword arguments (override the run's), e.g. max_episode_steps=500; "
+                             "with --backend mjx the MJX env's configuration overrides, e.g. terrain.medium=poppy_lp")
 
 
 
@@ -641,8 +654,9 @@ def main(args) -> int:
     return 0
 
 
-def _main_mjx(args, env_kwargs: dict) -> int:
-    """``mjrft eval --backend mjx``: the policy of an MJX run folder on the MJX env, every episode in one batch."""
+def _main_mjx(args, overrides: dict) -> int:
+    """``mjrft eval --backend mjx``: the policy of an MJX run folder on its MJX env, every episode in one batch;
+    ``overrides``: the command line's KEY=VALUE, configuration overrides of the MJX env (``terrain.medium=...``)."""
     if not _is_mjx_policy(args.policy):
         raise ValueError(f"--backend mjx evaluates a run folder of 'mjrft train-mjx' (policy.json + policy.npz); "
                          f"{args.policy!r} is not one")
@@ -652,10 +666,9 @@ def _main_mjx(args, env_kwargs: dict) -> int:
     from .mjx_ppo import evaluate_mjx, load_policy as load_mjx_policy
 
     policy = load_mjx_policy(args.policy)
-    kwargs = {**(policy.meta.get("env_kwargs") or {}), **env_kwargs}
-    res = evaluate_mjx(policy, episodes=args.episodes, seed=args.seed, env_kwargs=kwargs)
-    print(f"{args.policy} on HexapodSandMJX ({res['device']}), {res['episodes']} episode(s), seed {args.seed}, "
-          "deterministic")
+    res = evaluate_mjx(policy, episodes=args.episodes, seed=args.seed, config_overrides=overrides)
+    print(f"{args.policy} on the MJX env {res['env']} ({res['device']}), {res['episodes']} episode(s), seed "
+          f"{args.seed}, deterministic")
     print(f"  speed {res['speed']:.3f} +- {res['speed_std']:.3f} m/s   CoT {res['cost_of_transport']:.2f}   "
           f"fell {res['fell']:.0%}   diverged {res['diverged']}")
     if args.json:

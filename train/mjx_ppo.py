@@ -1,9 +1,9 @@
-"""Brax PPO on MJX environments: thousands of worlds per GPU; the hexapod's policy runs in ``mjrft eval`` on the CPU.
+"""Brax PPO on mjrft's MJX environments: thousands of worlds per GPU, the policy saved for ``mjrft eval`` on the
+CPU env.
 
-``mjrft train-mjx --config hexapod-sand --out runs/hex-mjx`` trains :class:`mjrft.envs.hexapod_mjx.HexapodSandMJX`
-(``mjrft/HexapodSand-v0`` for MJX), and a recipe with ``env:`` an environment of the MJX registry
-(:mod:`mjrft.mjx.envs`, e.g. ``go2-joystick-sand``), with ``brax.training.agents.ppo.train`` on every local device
-(several hosts with ``--coordinator``, ``--num-processes``, ``--process-id``: :func:`start_distributed`) under a named recipe
+``mjrft train-mjx --config hexapod-sand --out runs/hex-mjx`` trains an environment of the registry
+(:mod:`mjrft.mjx.envs`: ``load(env, config_overrides=env_config)``, here ``HexapodSand``, ``mjrft/HexapodSand-v0``
+on MJX) with ``brax.training.agents.ppo.train`` and Brax's own training wrappers under a named recipe
 (``train/configs/mjx/<name>.yaml``) or a YAML / JSON file, and writes to the run folder:
 
 * ``policy.npz`` (the observation normaliser and the policy and value networks' weights, plain arrays,
@@ -22,9 +22,9 @@ function of one observation; ``mjrft eval --policy runs/hex-mjx`` runs it on the
 (:mod:`mjrft.train.evaluate`) and ``--backend mjx`` on the MJX env (:func:`evaluate_mjx`): the same policy on
 both backends is the cross-check of the two physics paths.
 
-Recipe keys (:data:`RECIPE_KEYS`): ``env`` (a name of the MJX registry :mod:`mjrft.mjx.envs`, e.g.
-``Go2JoystickSand``; none: the hexapod), ``env_kwargs`` (of the hexapod env; for a registry env its
-``config_overrides``, e.g. ``{"sand.medium": "poppy_lp"}``), ``num_timesteps``, ``num_envs``,
+Recipe keys (:data:`RECIPE_KEYS`): ``env`` (a name of :func:`mjrft.mjx.envs.names`), ``env_config`` (its
+configuration overrides, ``{"dotted.key": value}``, e.g. ``{"reward_config.scales.energy": -0.1}``),
+``num_timesteps``, ``num_envs``,
 ``episode_length`` (control steps), ``seed``, ``network`` (``policy_hidden_layer_sizes``,
 ``value_hidden_layer_sizes``), ``ppo`` (keyword arguments of Brax's ``ppo.train``: ``learning_rate``,
 ``unroll_length``, ``batch_size``, ``num_minibatches``, ``num_updates_per_batch``, ``entropy_cost``,
@@ -45,11 +45,11 @@ from pathlib import Path
 
 import numpy as np
 
-from mjrft.errors import unknown
+from .config import find_recipe, integer_value, named_in, read_recipe
 
 #: folder of the named MJX recipes (``<name>.yaml``)
 RECIPE_DIR = Path(__file__).resolve().parent / "configs" / "mjx"
-RECIPE_DEFAULTS = {"env": None, "env_kwargs": {}, "num_timesteps": 10_000_000, "num_envs": 2048, "episode_length": 1000,
+RECIPE_DEFAULTS = {"env": "HexapodSand", "env_config": {}, "num_timesteps": 10_000_000, "num_envs": 2048, "episode_length": 1000,
                    "seed": 0, "network": {}, "ppo": {}, "description": ""}
 RECIPE_KEYS = tuple(RECIPE_DEFAULTS)
 NETWORK_KEYS = ("policy_hidden_layer_sizes", "value_hidden_layer_sizes")
@@ -102,46 +102,33 @@ def import_mjx_quietly() -> None:
 # ---------------------------------------------------------------------- recipes
 def named_recipes() -> list[str]:
     """Names of the MJX recipes shipped with mjrft (``mjrft train-mjx --config NAME``)."""
-    return sorted(p.stem for p in RECIPE_DIR.glob("*.yaml"))
+    return named_in(RECIPE_DIR)
 
 
 def load_recipe(name_or_path) -> dict:
-    """A named recipe or a YAML / JSON file, checked, with :data:`RECIPE_DEFAULTS` filled in."""
-    path = Path(name_or_path)
-    if not (path.suffix.lower() in (".yaml", ".yml", ".json") or path.is_file()):
-        path = RECIPE_DIR / f"{name_or_path}.yaml"
-        if not path.is_file():
-            raise unknown("MJX training recipe", str(name_or_path), named_recipes())
-    if not path.is_file():
-        raise ValueError(f"MJX training recipe file {str(path)!r} does not exist")
-    try:
-        if path.suffix.lower() == ".json":
-            data = json.loads(path.read_text())
-        else:
-            import yaml
-
-            data = yaml.safe_load(path.read_text())
-    except Exception as exc:  # the parser's reason, with the file's name
-        raise ValueError(f"MJX training recipe {str(path)!r} cannot be read: {exc}") from None
-    return check_recipe(data, f"MJX training recipe {str(path)!r}")
+    """A named recipe or a YAML / JSON file, checked, with :data:`RECIPE_DEFAULTS` filled in (found and read by
+    :mod:`mjrft.train.config`, as ``mjrft train``'s configurations)."""
+    path = find_recipe(name_or_path, RECIPE_DIR, "MJX training recipe")
+    return check_recipe(read_recipe(path, "MJX training recipe"), f"MJX training recipe {str(path)!r}")
 
 
 def check_recipe(data, source: str = "MJX training recipe") -> dict:
     """Validate a recipe's keys and values (before anything is compiled); return it with the defaults filled in."""
     if not isinstance(data, dict):
         raise ValueError(f"{source} must hold a mapping of keys ({', '.join(RECIPE_KEYS)}), got {type(data).__name__}")
+    if "env_kwargs" in data:
+        raise ValueError(f"{source}: 'env_kwargs' is replaced by 'env' (a name of mjrft.mjx.envs.names()) and "
+                         "'env_config' (its configuration overrides, e.g. {'reward_config.scales.energy': -0.1})")
     bad = sorted(set(data) - set(RECIPE_KEYS))
     if bad:
         raise ValueError(f"{source}: unknown key(s) {', '.join(map(repr, bad))}; valid keys: {', '.join(RECIPE_KEYS)}")
     cfg = {**RECIPE_DEFAULTS, **{k: v for k, v in data.items() if v is not None}}
-    for key in ("env_kwargs", "network", "ppo"):
+    for key in ("env_config", "network", "ppo"):
         if not isinstance(cfg[key], dict):
             raise ValueError(f"{source}: {key!r} must be a mapping, got {cfg[key]!r}")
         cfg[key] = dict(cfg[key])
     for key in ("num_timesteps", "num_envs", "episode_length", "seed"):
-        value = cfg[key]
-        if isinstance(value, float) and value.is_integer():
-            value = cfg[key] = int(value)
+        value = cfg[key] = integer_value(cfg[key])
         if isinstance(value, bool) or not isinstance(value, int) or value < (0 if key == "seed" else 1):
             raise ValueError(f"{source}: {key!r} must be an integer >= {0 if key == 'seed' else 1}, got {value!r}")
     bad = sorted(set(cfg["network"]) - set(NETWORK_KEYS))
@@ -155,14 +142,14 @@ def check_recipe(data, source: str = "MJX training recipe") -> dict:
         raise ValueError(f"{source}: ppo key(s) {', '.join(map(repr, reserved))} are set by mjrft from the recipe's "
                          f"own keys ({', '.join(RECIPE_KEYS)}) and cannot be given under 'ppo'")
     require_extra()
-    if cfg["env"] is not None:
-        from mjrft.mjx import envs as registry
-
-        if cfg["env"] not in registry.names():
-            raise ValueError(f"{source}: unknown env {cfg['env']!r}; the MJX registry has {', '.join(registry.names())}")
     import inspect
 
     from brax.training.agents.ppo import train as ppo
+
+    from mjrft.envs import mjx as envs
+
+    if cfg["env"] not in envs.names():
+        raise ValueError(f"{source}: unknown env {cfg['env']!r}; valid choices: {', '.join(envs.names())}")
 
     valid = set(inspect.signature(ppo.train).parameters) - set(PPO_RESERVED)
     bad = sorted(set(cfg["ppo"]) - valid)
@@ -350,6 +337,8 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
     from brax.training.agents.ppo import networks as ppo_networks
     from brax.training.agents.ppo import train as ppo
 
+    from mjrft.envs import mjx as envs
+
     cfg = check_recipe(cfg)
     if not cfg["ppo"].get("normalize_observations", False):
         raise ValueError("the MJX recipes normalise observations (ppo: normalize_observations: true): the saved "
@@ -359,7 +348,10 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
     out = Path(out)
     if writer_process:
         out.mkdir(parents=True, exist_ok=True)
-    env, env_id, wrap = make_env(cfg)
+    env = envs.load(cfg["env"], config_overrides=cfg["env_config"])
+    # an environment whose State keeps Brax's pipeline_state takes Brax's own training wrappers; one in MuJoCo
+    # Playground's form (data only) takes wrap_for_training
+    wrap = {} if _has_pipeline_state(env) else {"wrap_env_fn": wrap_for_training}
     net_kw = {k: tuple(v) for k, v in cfg["network"].items()}
     factory = functools.partial(ppo_networks.make_ppo_networks, **net_kw)
     rows = []
@@ -382,7 +374,8 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
                    f"length {length:.0f}")
 
         def meta(steps: int, complete: bool) -> dict:
-            return {"env_id": env_id, "env_kwargs": cfg["env_kwargs"], "recipe": cfg,
+            return {"env": cfg["env"], "env_config": cfg["env_config"], "env_id": getattr(env, "gym_id", None),
+                    "env_kwargs": getattr(env, "gym_kwargs", None), "recipe": cfg,
                     "observation_size": env.observation_size, "action_size": env.action_size,
                     "network": {k: list(v) for k, v in net_kw.items()}, "normalize_observations": True,
                     "num_timesteps": int(steps), "complete": complete, "wall_s": round(time.perf_counter() - t0, 1),
@@ -410,6 +403,67 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
     return summary
 
 
+# ---------------------------------------------------------------------- evaluation on MJX
+def mjx_env_of(meta: dict, config_overrides=None):
+    """The MJX environment a policy was trained on (its ``policy.json``: ``env`` and ``env_config``), with
+    ``config_overrides`` on top. A run folder from before the registry (no ``env``) trained ``HexapodSand``."""
+    from mjrft.envs import mjx as envs
+
+    if "env" not in meta and meta.get("env_kwargs"):
+        raise ValueError(f"this policy's environment is given by the keyword arguments {meta['env_kwargs']!r} of "
+                         "mjrft/HexapodSand-v0; evaluate it on the CPU env (mjrft eval without --backend mjx)")
+    overrides = {**(meta.get("env_config") or {}), **(config_overrides or {})}
+    return envs.load(meta.get("env", "HexapodSand"), config_overrides=overrides)
+
+
+def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, seed: int = 0,
+                 config_overrides=None) -> dict:
+    """The policy on its MJX env (:func:`mjx_env_of`), ``episodes`` worlds in one batch, each for ``seconds`` or
+    until it ends (a fall or a divergence): the metrics of ``mjrft eval`` on the CPU env, computed the same way per
+    episode (speed = torso x displacement / time, CoT = actuator energy / (m g max(|dx|, 1e-3 t)), fell = ended
+    without diverging) and averaged over the episodes that did not diverge."""
+    import jax
+    import jax.numpy as jnp
+
+    env = mjx_env_of(policy.meta, config_overrides)
+    steps = int(round(seconds / env.dt))
+    act = policy.jax_fn()
+    key = jax.random.PRNGKey(0)
+
+    def run(rng):
+        state = env.reset(rng)
+        x0 = state.data.qpos[0]
+
+        def body(carry, _):
+            state, alive, energy, n, diverged = carry
+            action, _ = act(state.obs, key)
+            nxt = env.step(state, action)
+            state = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), nxt, state)
+            energy = energy + jnp.where(alive, nxt.metrics["power"] * env.dt, 0.0)
+            n = n + alive
+            diverged = diverged | (alive & (nxt.metrics["diverged"] > 0.5))
+            alive = alive & (nxt.done < 0.5)
+            return (state, alive, energy, n, diverged), None
+
+        init = (state, jnp.array(True), jnp.zeros(()), jnp.zeros(()), jnp.array(False))
+        (state, alive, energy, n, diverged), _ = jax.lax.scan(body, init, None, length=steps)
+        return state.data.qpos[0] - x0, energy, n, alive, diverged
+
+    keys = jax.random.split(jax.random.PRNGKey(seed), episodes)
+    dx, energy, n, alive, diverged = map(np.asarray, jax.jit(jax.vmap(run))(keys))
+    t = n * env.dt
+    ok = ~diverged
+    speed = np.where(t > 0, dx / np.maximum(t, 1e-12), 0.0)
+    cot = energy / (env.task.mass * 9.81 * np.maximum(np.maximum(np.abs(dx), 1e-3 * t), 1e-12))
+    mean = (lambda v: float(v[ok].mean())) if ok.any() else (lambda v: math.nan)
+    std = (lambda v: float(v[ok].std())) if ok.any() else (lambda v: math.nan)
+    return {"episodes": int(episodes), "diverged": int(diverged.sum()), "speed": mean(speed), "speed_std": std(speed),
+            "cost_of_transport": mean(cot), "cost_of_transport_std": std(cot),
+            "fell": mean((~alive).astype(float)), "seconds": mean(t), "backend": "mjx", "env": env.name,
+            "device": str(jax.devices()[0])}
+
+
+# ---------------------------------------------------------------------- command line
 class _NoFile:
     """The progress file of a host that does not write the run folder."""
 
@@ -431,18 +485,13 @@ def check_devices(cfg: dict) -> None:
                          "device the same number of worlds")
 
 
-def make_env(cfg: dict):
-    """(environment, its id for ``policy.json``, the keyword arguments for Brax's ``ppo.train`` that wrap it) of the
-    recipe ``cfg``: the hexapod (Brax's own training wrappers), or the registry env ``cfg["env"]`` with
-    ``env_kwargs`` as its config overrides (:func:`wrap_for_training`: MuJoCo Playground's form keeps ``data``)."""
-    if cfg["env"] is None:
-        from mjrft.envs.hexapod_mjx import HexapodSandMJX
+def _has_pipeline_state(env) -> bool:
+    """Whether ``env``'s state keeps Brax's ``pipeline_state`` (mjrft's own MJX envs; Brax's wrappers then work as
+    they are), judged from the shape of a reset traced without running it."""
+    import jax
 
-        return HexapodSandMJX(**cfg["env_kwargs"]), "mjrft/HexapodSand-v0", {}
-    from mjrft.mjx import envs as registry
-
-    env = registry.load(cfg["env"], config_overrides=cfg["env_kwargs"] or None)
-    return env, cfg["env"], {"wrap_env_fn": wrap_for_training}
+    state = jax.eval_shape(env.reset, jax.random.PRNGKey(0))
+    return hasattr(state, "pipeline_state")
 
 
 def wrap_for_training(env, episode_length: int = 1000, action_repeat: int = 1, randomization_fn=None):
@@ -491,56 +540,6 @@ class _AutoReset:
         return state.replace(data=data, obs=obs)
 
 
-# ---------------------------------------------------------------------- evaluation on MJX
-def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, seed: int = 0, env_kwargs=None) -> dict:
-    """The policy on the MJX env, ``episodes`` worlds in one batch, each for ``seconds`` or until it ends (a fall or
-    a divergence): the metrics of ``mjrft eval`` on the CPU env, computed the same way per episode (speed = torso x
-    displacement / time, CoT = actuator energy / (m g max(|dx|, 1e-3 t)), fell = ended without diverging) and
-    averaged over the episodes that did not diverge."""
-    import jax
-    import jax.numpy as jnp
-
-    from mjrft.envs.hexapod_mjx import HexapodSandMJX
-
-    env = HexapodSandMJX(**(policy.meta.get("env_kwargs", {}) if env_kwargs is None else env_kwargs))
-    steps = int(round(seconds / env.dt))
-    act = policy.jax_fn()
-    key = jax.random.PRNGKey(0)
-
-    def run(rng):
-        state = env.reset(rng)
-        x0 = state.pipeline_state.data.qpos[0]
-
-        def body(carry, _):
-            state, alive, energy, n, diverged = carry
-            action, _ = act(state.obs, key)
-            nxt = env.step(state, action)
-            state = jax.tree_util.tree_map(lambda a, b: jnp.where(alive, a, b), nxt, state)
-            energy = energy + jnp.where(alive, nxt.metrics["power"] * env.dt, 0.0)
-            n = n + alive
-            diverged = diverged | (alive & (nxt.metrics["diverged"] > 0.5))
-            alive = alive & (nxt.done < 0.5)
-            return (state, alive, energy, n, diverged), None
-
-        init = (state, jnp.array(True), jnp.zeros(()), jnp.zeros(()), jnp.array(False))
-        (state, alive, energy, n, diverged), _ = jax.lax.scan(body, init, None, length=steps)
-        return state.pipeline_state.data.qpos[0] - x0, energy, n, alive, diverged
-
-    keys = jax.random.split(jax.random.PRNGKey(seed), episodes)
-    dx, energy, n, alive, diverged = map(np.asarray, jax.jit(jax.vmap(run))(keys))
-    t = n * env.dt
-    ok = ~diverged
-    speed = np.where(t > 0, dx / np.maximum(t, 1e-12), 0.0)
-    cot = energy / (env._mass * 9.81 * np.maximum(np.maximum(np.abs(dx), 1e-3 * t), 1e-12))
-    mean = (lambda v: float(v[ok].mean())) if ok.any() else (lambda v: math.nan)
-    std = (lambda v: float(v[ok].std())) if ok.any() else (lambda v: math.nan)
-    return {"episodes": int(episodes), "diverged": int(diverged.sum()), "speed": mean(speed), "speed_std": std(speed),
-            "cost_of_transport": mean(cot), "cost_of_transport_std": std(cot),
-            "fell": mean((~alive).astype(float)), "seconds": mean(t), "backend": "mjx",
-            "device": str(jax.devices()[0])}
-
-
-# ---------------------------------------------------------------------- command line
 def add_arguments(parser) -> None:
     parser.add_argument("--config", default="hexapod-sand",
                         help=f"named MJX recipe ({', '.join(named_recipes()) or 'none'}) or a .yaml / .json file")
@@ -592,17 +591,17 @@ def main(args) -> int:
     import jax
 
     check_devices(cfg)
-    print(f"Brax PPO on {cfg['env'] or 'HexapodSandMJX'} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) "
-          f"on {jax.device_count()} device(s) ({jax.devices()[0].platform}, {jax.process_count()} host(s)); "
+    print(f"Brax PPO on {cfg['env']} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
+          f"{jax.device_count()} device(s) ({jax.devices()[0].platform}, {jax.process_count()} host(s)); "
           f"run folder {args.out}")
     summary = train_recipe(cfg, args.out)
     if jax.process_index() != 0:
         return 0
     print(f"trained in {summary['wall_s']:.1f} s; policy {Path(args.out) / POLICY_FILE}")
-    if cfg["env"] is not None:
+    if summary["env_id"] is None:  # an environment of MJX only (a Playground task): Brax's own evaluation
         ret = summary["final"].get("eval/episode_reward")
         print((f"final evaluation: return {ret:.3f}; " if ret is not None else "")
-              + f"{cfg['env']} has no CPU env (mjrft eval runs the hexapod's policies)")
+              + f"{cfg['env']} has no gymnasium env on the CPU (mjrft eval runs mjrft's robots' policies)")
         return 0
     if args.eval_episodes > 0:
         res = evaluate_mjx(load_policy(args.out), episodes=args.eval_episodes)

@@ -49,35 +49,23 @@ one vector); perturbation kicks are not modelled.
 from __future__ import annotations
 
 import os
-from typing import Any
 
 import jax
 import jax.numpy as jnp
 import mujoco
 import numpy as np
-from flax import struct
 from ml_collections import config_dict
 from mujoco import mjx
 
 import mjrft.models
+
+from .env import State
 
 XML = os.path.join(os.path.dirname(mjrft.models.__file__), "third_party", "unitree_go2", "scene_mjx.xml")
 FEET = ("FR", "FL", "RR", "RL")  # the foot geoms; the foot sites are "<foot>_foot"
 FLOOR = "floor"
 IMU = "imu"
 G = 9.81
-
-
-@struct.dataclass
-class State:
-    """One world's state in MuJoCo Playground's form."""
-
-    data: mjx.Data
-    obs: jax.Array
-    reward: jax.Array
-    done: jax.Array
-    metrics: dict[str, jax.Array]
-    info: dict[str, Any]
 
 
 def default_config() -> config_dict.ConfigDict:

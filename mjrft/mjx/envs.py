@@ -1,54 +1,20 @@
-"""The registry of mjrft's MJX environments, as MuJoCo Playground's ``registry``: names, configs, loading.
+"""The registry of mjrft's MJX environments, in MuJoCo Playground's form: ``names()``, ``load(name, config=None,
+config_overrides=None)``, ``get_default_config(name)``, ``register(...)``.
 
->>> mjrft.mjx.envs.names()
-('Go2JoystickRigid', 'Go2JoystickSand')
->>> env = mjrft.mjx.envs.load("Go2JoystickSand", config_overrides={"sand.medium": "poppy_lp"})
-
-Each environment module of :mod:`mjrft.envs.mjx` lists its entries in ``ENVS`` (name -> (make(config,
-config_overrides), default config)); this module collects them, and :func:`register` adds one of a user's.
+The environments belong to the env layer (:mod:`mjrft.envs.mjx`, where they are documented); this module only
+re-exports its names, so that ``mjrft.mjx.envs.load("HexapodSand")`` sits next to :class:`mjrft.mjx.Sand` as
+``mujoco_playground.registry.load`` sits next to Playground's environments. ``import mjrft.mjx`` does not import it.
 """
 
-from __future__ import annotations
+import mjrft.envs.mjx as _registry
 
-from mjrft.errors import unknown
+ALL_ENVS = _registry.ALL_ENVS
+MjxEnv = _registry.MjxEnv
+State = _registry.State
+get_default_config = _registry.get_default_config
+load = _registry.load
+names = _registry.names
+register = _registry.register
+render_array = _registry.render_array
 
-
-_REGISTERED: dict = {}  # register()'s entries
-
-
-def _entries() -> dict:
-    from mjrft.envs.mjx import go2_joystick
-
-    return {**go2_joystick.ENVS, **_REGISTERED}
-
-
-def register(name: str, make, default_config) -> None:
-    """Add an environment: ``make(config, config_overrides)`` builds it, ``default_config()`` gives its configuration
-    (Playground's ``register_environment``); ``mjrft train-mjx`` recipes can then name it."""
-    if not isinstance(name, str) or not name:
-        raise ValueError(f"an MJX environment's name must be a non-empty string, got {name!r}")
-    _REGISTERED[name] = (make, default_config)
-
-
-def names() -> tuple[str, ...]:
-    """The registered environment names."""
-    return tuple(_entries())
-
-
-def _entry(name: str):
-    entries = _entries()
-    if name not in entries:
-        raise unknown("MJX environment", name, entries)
-    return entries[name]
-
-
-def get_default_config(name: str):
-    """A fresh copy of ``name``'s default configuration (an ``ml_collections.ConfigDict``)."""
-    return _entry(name)[1]()
-
-
-def load(name: str, config=None, config_overrides: dict | None = None):
-    """The environment ``name`` with ``config`` (default :func:`get_default_config`) and ``config_overrides`` (a flat
-    dict, ``{"sand.medium": "poppy_lp"}``)."""
-    make, default = _entry(name)
-    return make(default() if config is None else config, config_overrides)
+__all__ = ["ALL_ENVS", "MjxEnv", "State", "get_default_config", "load", "names", "register", "render_array"]

@@ -249,7 +249,7 @@ def tripod_angles(env, t: float, f: float, duty: float = 0.5, sweep: float = mat
 
 def _build_tripod(env, p: dict) -> Callable[[float], np.ndarray]:
     f, duty, sweep, offset = p["f"], p["duty"], p["sweep"], p["offset"]
-    ms, dt = float(env._max_hip_speed), float(env.dt)
+    ms, dt = float(env.task.max_hip_speed), float(env.dt)
     stance_speed = sweep * f / duty
     swing_speed = (2.0 * math.pi - sweep) * f / (1.0 - duty)
     need = max(stance_speed, swing_speed)
@@ -265,7 +265,7 @@ def _build_tripod(env, p: dict) -> Callable[[float], np.ndarray]:
 
     def act(t: float) -> np.ndarray:
         ref = tripod_angles(env, t + dt, f, duty, sweep, offset, p["phase"])
-        err = ref - env._target
+        err = ref - env.target
         # whole turns do not matter: bring the error into [-pi/2, 3 pi/2) (catch up forward)
         err = np.mod(err + 0.5 * np.pi, 2.0 * np.pi) - 0.5 * np.pi
         return np.clip(err / (ms * dt), -1.0, 1.0).astype(np.float32)

@@ -152,8 +152,8 @@ def test_common_kwargs_reach_every_env():
     for env_id in ("mjrft/HexapodSand-v0", "mjrft/BipedRigid-v0", "mjrft/HumanoidSand-v0", "mjrft/HexapodShoal-v0"):
         env = gymnasium.make(env_id, render_mode="rgb_array", width=64, height=48, max_tilt=0.7)
         u = env.unwrapped
-        assert (u.width, u.height, u._max_tilt) == (64, 48, 0.7)
-        assert u._healthy_z_range == tuple(u.defaults["healthy_z_range"])
+        assert (u.width, u.height, u.task.max_tilt) == (64, 48, 0.7)
+        assert u.task.healthy_z_range == tuple(u.defaults["healthy_z_range"])
         env.close()
 
 
@@ -208,8 +208,8 @@ def test_hexapod_alternating_tripod_moves_forward_on_poppy_seeds():
     env = HexapodSand(medium="poppy_lp")
     env.reset(seed=0)
     u = env.unwrapped
-    a_run = 2 * np.pi * 2.0 / u._max_hip_speed  # 2 Hz
-    n_offset = int(round(np.pi / (u._max_hip_speed * u.dt)))  # tripod B half a turn ahead at full speed
+    a_run = 2 * np.pi * 2.0 / u.task.max_hip_speed  # 2 Hz
+    n_offset = int(round(np.pi / (u.task.max_hip_speed * u.dt)))  # tripod B half a turn ahead at full speed
     x0 = u.data.qpos[0]
     steps = int(round(2.0 / u.dt))
     for k in range(steps):
@@ -251,7 +251,7 @@ def test_each_physics_step_calls_after_every_physics_step_and_changes_no_step():
         env.reset(seed=0)
         seen = []
         if hooked:
-            u.each_physics_step(lambda data: seen.append((data.time, u.terrain.wrench[u._torso_id, 2])))
+            u.each_physics_step(lambda data: seen.append((data.time, u.terrain.wrench[u.task.torso, 2])))
         for _ in range(3):
             env.step(np.full(6, 0.5, dtype=np.float32))
         runs[hooked] = (u.data.qpos.copy(), seen, u.frame_skip, u.model.opt.timestep)
@@ -263,3 +263,50 @@ def test_each_physics_step_calls_after_every_physics_step_and_changes_no_step():
     rigid = gymnasium.make("mjrft/HexapodRigid-v0").unwrapped
     with pytest.raises(ValueError, match="each_physics_step needs the granular terrain"):
         rigid.each_physics_step(print)
+
+
+@pytest.mark.parametrize("env_id", ["mjrft/HexapodSand-v0", "mjrft/HexapodRigid-v0", "mjrft/BipedRigid-v0"])
+def test_power_is_the_mean_over_every_physics_step_of_the_step(env_id):
+    """``info["power"]`` (the energy term's and ``mjrft eval``'s power) is the actuators' ``sum |force x velocity|``
+    averaged over every physics step of the env step, here computed independently from each physics step's
+    ``MjData`` (on sand by a twin env calling back after every physics step, on rigid ground by ``mj_step`` on a
+    copy of the data). Control: the power at the step's last physics step, a sample at the end of the step,
+    is not it (the servo targets jump at the start of each step)."""
+    import copy
+
+    import mujoco
+
+    env, twin = (gymnasium.make(env_id).unwrapped for _ in range(2))
+    env.reset(seed=3)
+    twin.reset(seed=3)
+    per = []
+
+    def power(d):
+        return float(np.sum(np.abs(d.actuator_force * d.actuator_velocity)))
+
+    if env.terrain is not None:
+        twin.each_physics_step(lambda d: per.append(power(d)))
+    rng = np.random.default_rng(0)
+    gaps = []
+    for _ in range(6):
+        action = rng.uniform(-1.0, 1.0, env.action_space.shape).astype(np.float32)
+        per.clear()
+        before = copy.copy(env.data)
+        _, reward, _, _, info = env.step(action)
+        if env.terrain is not None:
+            twin_info = twin.step(action)[4]
+            assert twin_info["power"] == pytest.approx(info["power"], rel=1e-12)
+        else:  # the same physics steps on a copy, the power read after each
+            before.ctrl[:] = env.data.ctrl
+            for _ in range(env.frame_skip):
+                mujoco.mj_step(env.model, before)
+                per.append(power(before))
+            assert np.array_equal(before.qpos, env.data.qpos)
+        assert len(per) == env.frame_skip
+        assert info["power"] == pytest.approx(np.mean(per), rel=1e-12)
+        assert info["reward_energy"] == pytest.approx(-0.05 * np.mean(per) / env.task.weight, rel=1e-12)
+        gaps.append(abs(per[-1] - np.mean(per)) / np.mean(per))
+        assert env.power() == pytest.approx(per[-1], rel=1e-12)  # power(): the state's own, the last step's
+    assert max(gaps) > 0.1  # control: the end-of-step sample is another number
+    env.close()
+    twin.close()

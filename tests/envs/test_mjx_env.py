@@ -1,6 +1,7 @@
-"""The MJX hexapod env (Brax interface) against mjrft/HexapodSand-v0, and the Brax PPO recipe end to end on CPU JAX:
-``mjrft train-mjx`` trains a few hundred steps, writes pickle-free policy files, and ``mjrft eval`` runs the policy
-on the CPU env and on the MJX env."""
+"""The MJX envs stepped against their gymnasium envs (the hexapod, and the biped and the humanoid on sand), under
+Brax's and MuJoCo Playground's training wrappers, and the Brax PPO recipe end to end on CPU JAX: ``mjrft train-mjx``
+trains a few hundred steps, writes pickle-free policy files, and ``mjrft eval`` runs the policy on the CPU env and on
+the MJX env."""
 
 from __future__ import annotations
 
@@ -17,7 +18,8 @@ gymnasium = pytest.importorskip("gymnasium")
 import jax.numpy as jnp  # noqa: E402
 
 import mjrft.envs  # noqa: E402,F401  (registers the ids)
-from mjrft.envs.hexapod_mjx import HexapodSandMJX  # noqa: E402
+import mjrft.mjx.envs as envs  # noqa: E402
+from mjrft.envs.mjx.locomotion import STEP_METRICS  # noqa: E402
 from mjrft.tools.cli import main as cli  # noqa: E402
 from mjrft.train import mjx_ppo  # noqa: E402
 
@@ -30,7 +32,7 @@ TRIPOD = np.full(6, 2 * np.pi * 2.0 / (6 * np.pi))  # 2 Hz on every hip: the leg
 def mjx_env():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        env = HexapodSandMJX()
+        env = envs.load("HexapodSand")
     return env, jax.jit(env.reset), jax.jit(env.step)
 
 
@@ -39,9 +41,10 @@ def test_env_matches_the_cpu_env_step_for_step(mjx_env):
     state = reset(jax.random.PRNGKey(3))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        cpu = env.cpu_env(state)
+        cpu = env.gym_env(state)
     assert env.observation_size == cpu.observation_space.shape[0] and env.action_size == cpu.action_space.shape[0]
-    np.testing.assert_allclose(np.asarray(state.obs), cpu.unwrapped._get_obs(), atol=1e-6)
+    u = cpu.unwrapped
+    np.testing.assert_allclose(np.asarray(state.obs), u.task.observation(np, u.data, u.target), atol=1e-6)
     for k in range(30):
         state = step(state, jnp.asarray(TRIPOD))
         obs, reward, terminated, truncated, info = cpu.step(TRIPOD)
@@ -49,9 +52,9 @@ def test_env_matches_the_cpu_env_step_for_step(mjx_env):
             np.testing.assert_allclose(np.asarray(state.obs), obs, rtol=1e-3, atol=2e-3)
             assert float(state.reward) == pytest.approx(reward, rel=0.05, abs=5e-3)
     # after 0.3 s of gait the two simulations still walk the same way
-    assert float(state.pipeline_state.data.qpos[0]) == pytest.approx(info["x_position"], abs=3e-3)
+    assert float(state.data.qpos[0]) == pytest.approx(info["x_position"], abs=3e-3)
     assert float(state.done) == 0.0 and not terminated
-    np.testing.assert_allclose(np.asarray(env.foot_sinkage(state)), info["sinkage"], atol=3e-3)
+    np.testing.assert_allclose(np.asarray(state.info["sinkage"]), info["sinkage"], atol=3e-3)
     assert float(state.metrics["power"]) == pytest.approx(info["power"], rel=0.3)
     cpu.close()
 
@@ -60,25 +63,37 @@ def test_env_follows_the_cpu_env_when_the_servos_clamp():
     """In float64, actions that drive the hip servos into their force clamp (each leg commanded at full speed,
     alternating in sign): the MJX env and the CPU env stay together to rounding, step for step. (MJX's own
     implicitfast keeps a clamped servo's kv in its derivative, MuJoCo does not: with it the two envs are 3 mrad
-    apart after one step; mjrft.mjx integrates as MuJoCo, tests/mjrft/mjx/test_mjx.py.)"""
+    apart after one step; mjrft.mjx integrates as MuJoCo, tests/mjrft/mjx/test_mjx.py.) The MJX env's power is the
+    mean of the actuators' power over the step's physics steps, computed here from the CPU env's MjData after each;
+    control: the last physics step's power (a sample at the end of the step) is not it."""
     with jax.enable_x64(True), warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        env = HexapodSandMJX()
+        env = envs.load("HexapodSand")
         step = jax.jit(env.step)
         state = jax.jit(env.reset)(jax.random.PRNGKey(3))
-        cpu = env.cpu_env(state)
+        cpu = env.gym_env(state)
         signs = np.array([1.0, -1.0, 1.0, -1.0, 1.0, -1.0])
-        clamped = []  # per physics step of the CPU env: how many servo forces sit at their clamp
-        cpu.unwrapped.each_physics_step(lambda d: clamped.append(int(np.sum(np.abs(d.actuator_force) >= 0.3))))
+        clamped, power = [], []  # per physics step of the CPU env: servo forces at their clamp, actuators' power
+
+        def record(d):
+            clamped.append(int(np.sum(np.abs(d.actuator_force) >= 0.3)))
+            power.append(float(np.sum(np.abs(d.actuator_force * d.actuator_velocity))))
+
+        cpu.unwrapped.each_physics_step(record)
+        gaps = []
         for k in range(12):
             action = signs * (1.0 if k % 4 < 2 else -1.0)
             state = step(state, jnp.asarray(action))
             cpu.step(action)
             data = cpu.unwrapped.data
-            np.testing.assert_allclose(np.asarray(state.pipeline_state.data.qpos), data.qpos, rtol=0, atol=1e-9)
-            np.testing.assert_allclose(np.asarray(state.pipeline_state.data.qvel), data.qvel, rtol=0, atol=1e-7)
+            np.testing.assert_allclose(np.asarray(state.data.qpos), data.qpos, rtol=0, atol=1e-9)
+            np.testing.assert_allclose(np.asarray(state.data.qvel), data.qvel, rtol=0, atol=1e-7)
+            mean = np.mean(power[-env.n_substeps:])
+            assert float(state.metrics["power"]) == pytest.approx(mean, rel=1e-6)
+            gaps.append(abs(power[-1] - mean) / mean)
         cpu.close()
     assert sum(clamped) > 0  # the servos did clamp: the case where MJX's own integrator departs from MuJoCo
+    assert len(power) == 12 * env.n_substeps and max(gaps) > 0.1
 
 
 def test_nonfinite_action_ends_the_episode_as_diverged(mjx_env):
@@ -90,38 +105,111 @@ def test_nonfinite_action_ends_the_episode_as_diverged(mjx_env):
     assert float(ok.done) == 0.0 and float(ok.metrics["diverged"]) == 0.0
 
 
-def test_terrain_randomization_draws_per_world_and_repeats_for_a_seed():
+def test_terrain_randomization_draws_per_world_and_repeats_for_a_seed(mjx_env):
     media = ["poppy_cp", "poppy_lp", "glass03_cp"]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        env = HexapodSandMJX(terrain_randomization={"media": media, "stress_scale": [0.7, 1.3],
-                                                    "surface_height": [-0.005, 0.005]})
+        env = envs.load("HexapodSand", config_overrides={"randomization.media": media,
+                                                         "randomization.stress_scale": [0.7, 1.3],
+                                                         "randomization.surface_height": [-0.005, 0.005]})
     reset = jax.jit(jax.vmap(env.reset))
     keys = jax.random.split(jax.random.PRNGKey(0), 16)
     a, b = reset(keys), reset(keys)
-    info = {k: np.asarray(v) for k, v in a.info.items()}
+    drawn = ("medium", "stress_scale", "surface_height")
+    info = {k: np.asarray(a.info[k]) for k in drawn}
     assert env.media == tuple(media) and set(info["medium"]) == {0, 1, 2}  # 16 worlds draw every medium
     assert np.all((info["stress_scale"] >= 0.7) & (info["stress_scale"] <= 1.3))
     assert np.all(np.abs(info["surface_height"]) <= 0.005) and np.std(info["surface_height"]) > 1e-3
-    for k in a.info:
+    for k in drawn:
         np.testing.assert_array_equal(np.asarray(a.info[k]), np.asarray(b.info[k]))
-    sand = a.pipeline_state.sand
+    sand = a.info["sand"]
     k = 3
     expected = env.sand.params_of(media[info["medium"][k]], stress_scale=float(info["stress_scale"][k]))
     np.testing.assert_allclose(np.asarray(sand.params[k]), expected, rtol=1e-6)
     np.testing.assert_allclose(np.asarray(sand.surface), info["surface_height"], atol=1e-7)
-    plain = jax.jit(jax.vmap(HexapodSandMJX().reset))(keys)  # control: no option, no draw
-    assert plain.info == {} and np.all(np.asarray(plain.pipeline_state.sand.surface) == 0.0)
+    plain = mjx_env[1](keys[0])  # control: no option, no draw
+    assert not set(drawn) & set(plain.info) and float(plain.info["sand"].surface) == 0.0
 
 
-def test_env_refuses_cpu_only_options():
-    with pytest.raises(NotImplementedError, match="roughness"):
-        HexapodSandMJX(terrain_randomization={"roughness": 0.002})
-    with pytest.raises(ValueError, match="unknown terrain_randomization medium .poppy_cpx."):
-        HexapodSandMJX(terrain_randomization={"media": ["poppy_cpx"]})
-    with pytest.raises(NotImplementedError, match="planar"), warnings.catch_warnings():
+def test_brax_and_playground_training_wrappers_take_the_env(mjx_env):
+    """Brax's training wrappers (``brax.envs.wrappers.training.wrap``: vmap, episode length, auto-reset) and, where
+    the ``playground`` package is installed, MuJoCo Playground's ``wrap_for_brax_training`` take the env as it is:
+    their batched reset and step trace through it (``jax.eval_shape``: nothing compiled) to States of the env's
+    shapes. (Brax's wrappers and PPO also train it in the recipe tests below.)"""
+    from brax.envs.wrappers import training
+
+    env = mjx_env[0]
+    wrapped = {"brax": training.wrap(env, episode_length=5)}
+    try:
+        from mujoco_playground import wrapper
+    except ImportError:
+        pass
+    else:
+        wrapped["playground"] = wrapper.wrap_for_brax_training(env, episode_length=5)
+    keys = jax.random.split(jax.random.PRNGKey(0), 3)
+    for name, w in wrapped.items():
+        state = jax.eval_shape(w.step, jax.eval_shape(w.reset, keys), jnp.zeros((3, env.action_size)))
+        assert state.obs.shape == (3, env.observation_size) and state.data.qpos.shape == (3, env.mj_model.nq), name
+        assert state.info["sand"].u.shape == (3, env.sand.n_elements, 3) and state.info["steps"].shape == (3,), name
+        assert set(state.metrics) >= set(STEP_METRICS) and state.done.shape == (3,), name
+
+
+def test_auto_reset_starts_each_episode_on_fresh_sand(mjx_env):
+    """What the auto-resets of Brax and Playground do, restore the first ``data`` and ``obs`` and leave ``info`` (the
+    sand's state) alone, starts an episode from the first state on sand without memory and without the ended
+    episode's divergence record: its first step is the first episode's, bit for bit. Control: the same step with
+    the world's time nudged off 0 (the rule's trigger) carries the ended episode's divergence on."""
+    env, reset, step = mjx_env
+    first = reset(jax.random.PRNGKey(5))
+    action = jnp.full(6, 2 / 3)
+    s1 = step(first, action)
+    s2 = step(s1, action)
+    assert float(jnp.max(jnp.abs(s2.info["sand"].u))) > 1e-5  # the episode's memory
+    # as if the ended episode had diverged: its sand state records a body, sticky until a reset
+    stale = s2.info["sand"]._replace(bad_body=jnp.array(3, jnp.int32), bad_time=jnp.array(0.015, jnp.float32))
+    restarted = s2.replace(data=first.data, obs=first.obs, info={**s2.info, "sand": stale})
+    s3 = step(restarted, action)
+    np.testing.assert_array_equal(np.asarray(s3.obs), np.asarray(s1.obs))
+    assert float(s3.metrics["diverged"]) == 0.0 and float(s3.done) == 0.0
+    kept = step(restarted.replace(data=first.data.replace(time=jnp.float32(1e-7))), action)
+    assert float(kept.metrics["diverged"]) == 1.0 and float(kept.done) == 1.0 and float(kept.reward) == 0.0
+
+
+@pytest.mark.parametrize("name", ["BipedSand", "HumanoidSand"])
+def test_biped_and_humanoid_on_sand_follow_their_gymnasium_envs(name):
+    """The biped's and the humanoid's MJX envs (float32) against their gymnasium envs (float64) from the gymnasium
+    env's reset state (put on the device; the same pytree as the MJX env's reset, traced, to compile only the step)
+    with the same actions: equal to rounding over the first control steps, the same reward terms, the feet in the
+    sand on both."""
+    from mujoco import mjx
+
+    with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        HexapodSandMJX(planar=True)
+        env = envs.load(name)
+        cpu = env.gym_env()
+        u = cpu.unwrapped
+        n_feet = len(env.task.feet)
+        zero = jnp.zeros(())
+        state = envs.State(mjx.put_data(env.mj_model, u.data), jnp.asarray(u.task.observation(np, u.data, u.data.ctrl)),
+                           zero, zero, {k: zero for k in STEP_METRICS},
+                           {"sand": env.sand.init(), "sinkage": jnp.zeros(n_feet), "granular_force": jnp.zeros((n_feet, 3))})
+        shapes = jax.eval_shape(env.reset, jax.random.PRNGKey(0))
+        assert jax.tree_util.tree_structure(state) == jax.tree_util.tree_structure(shapes)
+        assert all(a.shape == b.shape and a.dtype == b.dtype for a, b in
+                   zip(jax.tree_util.tree_leaves(state), jax.tree_util.tree_leaves(shapes)))
+        step = jax.jit(env.step)
+        rng = np.random.default_rng(2)
+        for _ in range(2):
+            action = rng.uniform(-0.5, 0.5, env.action_size)
+            state = step(state, jnp.asarray(action))
+            obs, reward, terminated, _, info = cpu.step(action)
+            np.testing.assert_allclose(np.asarray(state.obs), obs, rtol=2e-3, atol=2e-3)
+            assert float(state.reward) == pytest.approx(reward, rel=0.02, abs=2e-3)
+            assert float(state.metrics["reward_healthy"]) == info["reward_healthy"] and float(state.done) == terminated
+            assert float(state.metrics["power"]) == pytest.approx(info["power"], rel=0.05)
+        assert np.max(info["sinkage"]) > 1e-4  # the feet are in the sand
+        np.testing.assert_allclose(np.asarray(state.info["sinkage"]), info["sinkage"], atol=2e-4)
+    cpu.close()
 
 
 TINY = {"num_timesteps": 400, "num_envs": 4, "episode_length": 50,
@@ -144,6 +232,7 @@ def test_recipe_trains_and_writes_pickle_free_files(trained):
     assert sorted(p.name for p in trained.iterdir()) == ["checkpoints", "policy.json", "policy.npz", "progress.csv"]
     meta = json.loads((trained / "policy.json").read_text())
     assert meta["format"] == mjx_ppo.FORMAT and meta["env_id"] == "mjrft/HexapodSand-v0"
+    assert (meta["env"], meta["env_config"], meta["env_kwargs"]) == ("HexapodSand", {}, {})
     assert meta["recipe"]["num_timesteps"] == 400 and meta["observation_size"] == 35 and meta["complete"] is True
     rows = (trained / "progress.csv").read_text().splitlines()
     assert rows[0].startswith("steps,") and len(rows) == 3 and rows[-1].startswith("400,")
@@ -172,7 +261,7 @@ def test_eval_runs_the_policy_on_both_backends(trained, capsys):
     assert "mjrft/HexapodSand-v0" in cpu_out and "fall rate 0%" in cpu_out
     assert cli(["eval", "--policy", str(trained), "--episodes", "2", "--backend", "mjx"]) == 0
     mjx_out = capsys.readouterr().out
-    assert "HexapodSandMJX" in mjx_out and "diverged 0" in mjx_out
+    assert "on the MJX env HexapodSand" in mjx_out and "diverged 0" in mjx_out
 
 
 def test_damaged_or_foreign_policy_files_are_named(trained, tmp_path):
@@ -200,6 +289,8 @@ def test_damaged_or_foreign_policy_files_are_named(trained, tmp_path):
     ({"ppo": {"learning_rat": 1e-3}}, "unknown ppo key"),
     ({"network": {"policy_hidden_layer_sizes": [0]}}, "list of layer sizes"),
     ({"num_envs": 3}, "must divide one another"),
+    ({"env": "HexapodSandy"}, "unknown env 'HexapodSandy'; valid choices: BipedRigid"),
+    ({"env_kwargs": {}}, "replaced by 'env'"),
 ])
 def test_bad_recipes_are_refused_before_compiling(change, match):
     cfg = {**TINY, **change}

@@ -331,8 +331,8 @@ def test_shoal_env_checks_and_walks_into_the_water():
     u.data.qpos[0] = 0.95  # just before the water (x >= 1)
     mujoco.mj_forward(u.model, u.data)
     seen, wet_force = set(), 0.0
-    a = np.full(6, 2 * np.pi * 2.0 / u._max_hip_speed, dtype=np.float32)  # tripod at 2 Hz, legs half a turn apart
-    u._target[list(u.TRIPOD_B_IDX)] += np.pi
+    a = np.full(6, 2 * np.pi * 2.0 / u.task.max_hip_speed, dtype=np.float32)  # tripod at 2 Hz, legs half a turn apart
+    u.target[list(u.TRIPOD_B_IDX)] += np.pi
     for _ in range(60):
         obs, reward, terminated, truncated, info = env.step(a)
         assert np.isfinite(obs).all() and np.isfinite(reward)

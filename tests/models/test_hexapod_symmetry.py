@@ -31,8 +31,8 @@ def _run(phase: float, steps: int = 60):
     gait = make_gait(f"tripod:phase={phase}", u)
     obs, _ = env.reset(seed=0)
     q = tripod_angles(u, 0.0, 2.0, phase=phase)
-    d.qpos[u._hip_qadr] = q
-    u._target[:] = q
+    d.qpos[u.task.hip_qadr] = q
+    u.target[:] = q
     d.ctrl[:] = q
     mujoco.mj_forward(m, d)
     obs = u._get_obs()

@@ -22,7 +22,7 @@ pytest.importorskip("ml_collections", reason="the MJX environments need ml_colle
 from mjrft.tools.cli import main as cli  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
-TINY = {"env": "Block", "env_kwargs": {"floor": False}, "num_timesteps": 320, "num_envs": 4, "episode_length": 20,
+TINY = {"env": "Block", "env_config": {"floor": False}, "num_timesteps": 320, "num_envs": 4, "episode_length": 20,
         "network": {"policy_hidden_layer_sizes": [8], "value_hidden_layer_sizes": [8]},
         "ppo": {"unroll_length": 5, "batch_size": 4, "num_minibatches": 2, "num_updates_per_batch": 1,
                 "num_evals": 2, "run_evals": False, "normalize_observations": True}}  # no evaluator: less to compile
@@ -53,7 +53,8 @@ def test_train_mjx_uses_every_local_device_and_joins_a_distributed_run(tmp_path)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     assert "on 2 device(s) (cpu, 1 host(s))" in run.stdout
     meta = json.loads((out / "policy.json").read_text())
-    assert (meta["devices"], meta["processes"], meta["env_id"], meta["complete"]) == (2, 1, "Block", True)
+    assert (meta["devices"], meta["processes"], meta["env"], meta["env_id"], meta["complete"]) == (2, 1, "Block", None,
+                                                                                               True)
     rows = (out / "progress.csv").read_text().splitlines()
     assert len(rows) == 2 and rows[-1].startswith("320,")  # the header and the one update's row
 

@@ -154,11 +154,11 @@ def test_tripod_walks_the_hexapod_forward_on_poppy_seeds():
     assert u.data.qpos[0] > 0.1  # 10 cm in 2 s (measured 0.43 m)
     assert np.all(info["sinkage"] >= 0) and info["sinkage"].max() > 0
     # the tripods are half a cycle apart and on the Buehler clock
-    hips = u.data.qpos[u._hip_qadr]
+    hips = u.data.qpos[u.task.hip_qadr]
     a, b = hips[list(u.TRIPOD_A_IDX)], hips[list(u.TRIPOD_B_IDX)]
-    assert np.ptp(u._target[list(u.TRIPOD_A_IDX)]) < 1e-6
+    assert np.ptp(u.target[list(u.TRIPOD_A_IDX)]) < 1e-6
     ref_a = buehler_angle(2.0 * u.data.time, 0.5, math.pi)
-    assert u._target[u.TRIPOD_A_IDX[0]] == pytest.approx(ref_a, abs=0.05)
+    assert u.target[u.TRIPOD_A_IDX[0]] == pytest.approx(ref_a, abs=0.05)
     assert np.mean(b - a) == pytest.approx(math.pi, abs=0.6)
     env.close()
 
@@ -230,7 +230,7 @@ def test_tripod_that_needs_all_the_hip_speed_warns_and_walks_in_step():
         for _ in range(100):
             action, _ = gait.predict(obs)
             obs, *_ = env.step(action)
-        q = u.data.qpos[u._hip_qadr]
+        q = u.data.qpos[u.task.hip_qadr]
         gap = (q[list(u.TRIPOD_B_IDX)].mean() - q[list(u.TRIPOD_A_IDX)].mean()) / (2 * math.pi)
         env.close()
         return gap, [w for w in caught if issubclass(w.category, GaitWarning)]

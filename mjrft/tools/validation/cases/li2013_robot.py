@@ -131,9 +131,9 @@ def start_on_gait(env, f: float, phase: float) -> None:
     mujoco.mj_forward(m, d)
     z_low = _lowest_point(m, d)
     q = tripod_angles(u, 0.0, f, phase=phase)
-    d.qpos[u._hip_qadr] = q
+    d.qpos[u.task.hip_qadr] = q
     d.qvel[:] = 0.0
-    u._target[:] = q
+    u.target[:] = q
     d.ctrl[:] = q
     mujoco.mj_forward(m, d)
     d.qpos[1] += z_low - _lowest_point(m, d)  # rootz
@@ -161,7 +161,7 @@ def trial(curvature: float, f: float, law: str, strides: int, phase: float = 0.0
         raise ValueError(f"unknown start {start!r}; valid: gait, env")
     gait = make_gait(f"tripod:f={f:.10g},phase={phase:.10g}", env)
     legs = [m.body(f"leg_{n}").id for n in LEG_NAMES]
-    torso = u._torso_id
+    torso = u.task.torso
     forces = []
     measuring = [False]
 
@@ -177,7 +177,7 @@ def trial(curvature: float, f: float, law: str, strides: int, phase: float = 0.0
     heights = []
     for i in range(n_total):
         if i == n_settle:
-            x0, t0, hips0 = float(d.qpos[0]), float(d.time), d.qpos[u._hip_qadr].copy()
+            x0, t0, hips0 = float(d.qpos[0]), float(d.time), d.qpos[u.task.hip_qadr].copy()
             measuring[0] = True
         action, _ = gait.predict(obs)
         obs, _, _, _, info = env.step(action)
@@ -191,7 +191,7 @@ def trial(curvature: float, f: float, law: str, strides: int, phase: float = 0.0
             heights.append(u.torso_height())
     span = float(d.time) - t0
     out = {"speed": (float(d.qpos[0]) - x0) / span,
-           "f_real": float(np.mean(d.qpos[u._hip_qadr] - hips0)) / (2 * math.pi * span),
+           "f_real": float(np.mean(d.qpos[u.task.hip_qadr] - hips0)) / (2 * math.pi * span),
            "tilt": tilt_all, "tilt_window": tilt_win, "height": float(np.mean(heights))}
     out.update(zip(("legs_fz", "belly_fz", "belly_fx"), np.mean(forces, axis=0).tolist()))
     env.close()
@@ -233,7 +233,7 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
         if data.time >= seconds / 2:
             w = u.terrain.wrench
             half = int(math.floor(2 * (phase + f * data.time))) % 2
-            half_rows.append((half, data.xpos[u._torso_id, 2], w[legs, 2].sum()))
+            half_rows.append((half, data.xpos[u.task.torso, 2], w[legs, 2].sum()))
 
     u.each_physics_step(measure)
     planar = u.planar  # held in the x-z plane (qpos: x, z, pitch): no heading, no sideways path
@@ -253,7 +253,7 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
         if i >= n_settle and not planar:
             path = max(path, abs(math.atan2(float(d.qpos[1]) - y0, float(d.qpos[0]) - x0)))
         if d.time >= seconds / 2:
-            lag = u._target - d.qpos[u._hip_qadr]
+            lag = u.target - d.qpos[u.task.hip_qadr]
             lags.append((lag[list(u.TRIPOD_A_IDX)].mean(), lag[list(u.TRIPOD_B_IDX)].mean()))
             saturated.append(np.abs(d.actuator_force) >= limit)
     yaws = np.unwrap(yaws)

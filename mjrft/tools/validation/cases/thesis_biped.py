@@ -107,7 +107,7 @@ def walk(foot: str, angle: float, medium: str = "poppy_cp", sand: bool = True, s
         if info.get("diverged"):
             raise RuntimeError(f"thesis_biped: {foot} at {angle:g} deg on {medium if sand else 'rigid ground'} "
                                f"diverged: {info['diverged']}")
-        rows.append((d.time, d.qpos[0], d.xpos[env._torso_id, 2], d.site_xpos[soles[0], 0],
+        rows.append((d.time, d.qpos[0], d.xpos[env.task.torso, 2], d.site_xpos[soles[0], 0],
                      d.site_xpos[soles[1], 0], *info["sinkage"], *info["granular_force"][:, 0]))
     env.close()
     r = np.array(rows)

@@ -84,7 +84,7 @@ def run_trial(spec: str, foot_width: float, cutout: bool, t_end: float, yield_di
             sink.append(float(info["sinkage"].max()))
             if tilt[-1] > FALL_TILT:
                 fall = env.data.time
-                z = env.data.xmat[env._torso_id].reshape(3, 3)[:, 2]
+                z = env.data.xmat[env.task.torso].reshape(3, 3)[:, 2]
                 direction = (float(z[0]), float(z[1]))
                 break
     env.close()

@@ -175,13 +175,13 @@ def test_planar_env_layout_and_checkers():
     d = u.data
     # the free-joint layout: height, a pure-pitch quaternion, (v_x, 0, v_z), (0, pitch rate, 0)
     mujoco.mj_kinematics(u.model, d)  # the body poses of the current qpos
-    assert obs[0] == pytest.approx(d.xpos[u._torso_id, 2])
-    assert np.allclose(obs[1:5], d.xquat[u._torso_id])
+    assert obs[0] == pytest.approx(d.xpos[u.task.torso, 2])
+    assert np.allclose(obs[1:5], d.xquat[u.task.torso])
     assert obs[2] == 0.0 and obs[4] == 0.0
     assert obs[1] == pytest.approx(math.cos(d.qpos[2] / 2)) and obs[3] == pytest.approx(math.sin(d.qpos[2] / 2))
     assert obs[17] == d.qvel[0] and obs[18] == 0.0 and obs[19] == d.qvel[1]
     assert obs[20] == 0.0 and obs[21] == d.qvel[2] and obs[22] == 0.0
-    assert d.xpos[u._torso_id, 1] == 0.0  # held in the sagittal plane
+    assert d.xpos[u.task.torso, 1] == 0.0  # held in the sagittal plane
     assert info["x_position"] == pytest.approx(d.qpos[0]) and info["x_position"] > 0
     env.close()
     check_env(gymnasium.make("mjrft/HexapodSand-v0", planar=True).unwrapped, skip_render_check=True)
@@ -197,9 +197,9 @@ def test_start_on_gait_keeps_the_clearance():
         env.reset(seed=0)
         start_on_gait(env, 2.0, phase)
         assert _lowest_point(u.model, u.data) == pytest.approx(z0, abs=1e-9)
-        assert np.allclose(u.data.qpos[u._hip_qadr], tripod_angles(u, 0.0, 2.0, phase=phase))
+        assert np.allclose(u.data.qpos[u.task.hip_qadr], tripod_angles(u, 0.0, 2.0, phase=phase))
         # the two tripods are half a cycle apart: a constant-speed rotation puts them pi apart
-        a, b = u.data.qpos[u._hip_qadr[list(u.TRIPOD_A_IDX)]], u.data.qpos[u._hip_qadr[list(u.TRIPOD_B_IDX)]]
+        a, b = u.data.qpos[u.task.hip_qadr[list(u.TRIPOD_A_IDX)]], u.data.qpos[u.task.hip_qadr[list(u.TRIPOD_B_IDX)]]
         assert np.allclose(np.mod(b - a, 2 * np.pi), np.pi)
     env.close()
 
