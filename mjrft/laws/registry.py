@@ -11,15 +11,9 @@ the validity checks (:mod:`mjrft.laws.validity`) and the laws of the JAX path (:
 
 Adding a law: write its module (a compiled ``*_stress(depth, nx, ny, nz, mx, my, mz, speed, p)`` returning the
 stress in Pa on one element, m the unit motion direction, speed in m/s, p the parameter vector; its constants
-<<<<<<< HEAD
 in slots from ``mjrft.params.P_FIRST_FREE`` on, named in :mod:`mjrft.params`) and append its entry here with the next id;
-with a JAX twin (a function ``f(depth, n, m, p)`` in :mod:`mjrft.mjx.laws`) the entry names it in ``jax``,
-without one it says in ``no_jax`` why mjrft.mjx refuses the law.
-=======
-in slots from ``mjrft.media.P_FIRST_FREE`` on, after the laws' below) and append its entry here with the next id;
 with a JAX twin (a function ``f(depth, n, m, p, speed=None)`` in :mod:`mjrft.mjx.laws`) the entry names it in
 ``jax``, without one it says in ``no_jax`` why mjrft.mjx refuses the law.
->>>>>>> h42laws
 """
 
 from __future__ import annotations
