@@ -25,7 +25,8 @@ import mjrft.mjx.envs as envs  # noqa: E402
 from mjrft.envs.hexapod_mjx import HexapodSandMJX, config_of  # noqa: E402
 from mjrft.envs.mjx import Hexapod, State  # noqa: E402
 
-NAMES = ("BipedRigid", "BipedSand", "HexapodRigid", "HexapodSand", "HumanoidRigid", "HumanoidSand")
+NAMES = ("BipedRigid", "BipedSand", "HexapodRigid", "HexapodSand", "HumanoidRigid", "HumanoidSand")  # gymnasium's
+QUADRUPED = ("Go2JoystickRigid", "Go2JoystickSand")  # Playground's joystick task (tests/mjrft/mjx/test_sand_env.py)
 
 
 @pytest.fixture(autouse=True)
@@ -36,7 +37,7 @@ def _quiet():
 
 
 def test_every_env_is_its_gymnasium_env_in_playgrounds_form():
-    assert envs.names() == NAMES == envs.ALL_ENVS
+    assert envs.names() == tuple(sorted(NAMES + QUADRUPED)) == envs.ALL_ENVS
     for name in NAMES:
         cfg = envs.get_default_config(name)
         assert isinstance(cfg, config_dict.ConfigDict) and not cfg.is_locked
