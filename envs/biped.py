@@ -7,12 +7,21 @@ from mjrft.models.biped import biped_xml
 from .base import GranularMujocoEnv, split_env_kwargs
 from .tasks import BipedTask
 
+#: the sand biped's physics step (s) and steps per env step when neither ``preset``, ``timestep`` nor
+#: ``frame_skip`` is given: 0.5 ms x 20 = the 10 ms control period. Under random actions the feet's explicit
+#: granular-stiffness limit (:mod:`mjrft.stability`) falls to 0.98 ms on poppy_cp, below the model's 1 ms
+#: step; at 0.5 ms no step passes it (``tests/envs/test_biped_timestep.py``).
+SAND_TIMESTEP = 0.0005
+SAND_FRAME_SKIP = 20
+
 
 class BipedSand(GranularMujocoEnv):
     """Planar 1.6 kg biped (x-z plane, 4 pitch servos per leg) walking forward (+x) on sand.
 
     Model: :func:`mjrft.models.biped_xml` (``foot``, ``foot_size``, ``foot_width``, ``sand``, ...);
-    granular bodies ``left_foot right_foot``. Physics step 1 ms, default ``frame_skip = 10``.
+    granular bodies ``left_foot right_foot``. Physics step 0.5 ms, ``frame_skip = 20`` (``dt = 0.01`` s;
+    ``SAND_TIMESTEP``, ``SAND_FRAME_SKIP``) when neither ``preset``, ``timestep`` nor ``frame_skip`` is given;
+    on the rigid floor 1 ms and ``frame_skip = 10``.
     Feet (``foot``): ``"cone"`` (default; the thesis robot's conical foot, circular sole 8.5 cm across),
     ``"wedge"`` (the thesis simulation's 8.5 x 8.5 x 7.5 cm wedge) or ``"roller"`` (a cylinder lying
     across); ``foot_size`` is the sole's diameter or length (m). The planarised robot of the thesis'
@@ -69,6 +78,7 @@ class BipedSand(GranularMujocoEnv):
     default_camera_config = {"trackbodyid": 1, "distance": 1.2, "elevation": -10.0}
 
     defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.5, "healthy_z_range": (0.05, 0.6), "max_tilt": 1.0}
+    sand_step = (SAND_TIMESTEP, SAND_FRAME_SKIP)
 
     def __init__(self, sand: bool = True, *, foot: str = "cone", foot_size: float = 0.085,
                  pitch_free: bool = True, **kwargs):
