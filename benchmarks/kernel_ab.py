@@ -64,6 +64,7 @@ def kernel_of(rev: str) -> types.ModuleType:
     mod.__file__ = f"<{rev}:mjrft/kernel.py>"
     sys.modules[name] = mod
     source = re.sub(r"from \.(media|laws\.wet) import (P_[A-Z_]+(, P_[A-Z_]+)*)(, )?", _params_import, out.stdout)
+    mod.__dict__["__kernel_source__"] = source
     exec(compile(source.replace("cache=True", "cache=False"), mod.__file__, "exec"), mod.__dict__)
     return mod
 
@@ -118,7 +119,7 @@ def n_params(kernel_function) -> int:
 def flat_args(t, dt) -> tuple:
     """A terrain's kernel arguments in the flat order of the kernels that took each array on its own."""
     tm, st = t.terrain_model, t.terrain_state
-    el, sf, rg, cs = tm.tables
+    el, sf, rg, cs = tuple(tm.tables)[:4]
     v = t._views if hasattr(t, "_views") else None
     return (el.group_geom, el.group_body, el.group_start, el.group_aabb, st.group_active, el.lpos, el.lnrm, el.area,
             *v, el.body_root, sf.height, sf.top, rg.bounds, rg.law, rg.params, sf.hfield_z, sf.hfield_frame, rg.map,
@@ -127,11 +128,21 @@ def flat_args(t, dt) -> tuple:
             st.scr_f, st.scr_i, st.imp, st.dstiff, cs.solid, cs.stick)
 
 
+def n_groups(kernel_function) -> int:
+    """How many groups of the model's tables a grouped ``terrain_kernel`` unpacks (``el, sf, rg, cs[, gr] = tables``:
+    a kernel before the ground memory takes the first four)."""
+    src = kernel_function.py_func.__globals__.get("__kernel_source__") or inspect.getsource(kernel_function.py_func)
+    m = re.search(r"^\s*([\w, ]+)= tables\s*$", src, re.M)
+    return len(m.group(1).split(",")) if m else 5
+
+
 def kernel_args(kernel_function, t, dt) -> tuple:
     """The arguments ``kernel_function`` (a revision's ``terrain_kernel``) takes for terrain ``t``."""
     n = n_params(kernel_function)
     if n == 5:
         _, tables, mjd, _, gravity, dt, st = t.step_arguments(t._data, dt)
+        if n_groups(kernel_function) < len(tables):
+            tables = tuple(tables)[:n_groups(kernel_function)]
         return tables, mjd, gravity, dt, st
     return flat_args(t, dt)[:n]
 

@@ -49,6 +49,9 @@ Common keyword arguments (all environments):
                            field) and a strip layout (``strips``, ``strip_length``, ``strip_start``),
                            from the env's ``np_random`` (``reset(seed=s)`` reproduces it). Sand
                            environments only. Options and their meaning: :mod:`mjrft.envs.randomization`.
+``ground_memory``          ``True`` (or a :class:`mjrft.ground.GroundOptions`): the ground remembers footprints,
+                           ridges and the grains' packing within the episode (:class:`mjrft.GranularTerrain`'s
+                           ``ground_memory``); ``reset()`` restores the prepared bed. Default False.
 =========================  ============================================================================
 
 Info dict (every ``step``): ``x_position``, ``x_velocity`` (m/s, torso), ``power`` (W, the actuators' mean
@@ -135,7 +138,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                  episode_seconds: float | None = None, render_mode: str | None = None,
                  width: int = 480, height: int = 480, camera_name: str | None = None,
                  camera_id: int | None = None, pickle_kwargs: dict | None = None,
-                 preset: str | None = None, timestep: float | None = None, terrain_randomization=None):
+                 preset: str | None = None, timestep: float | None = None, terrain_randomization=None,
+                 ground_memory=False):
         healthy_z_range = tuple(float(v) for v in healthy_z_range)
         if len(healthy_z_range) != 2 or not healthy_z_range[0] < healthy_z_range[1]:
             raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
@@ -187,7 +191,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         utils.EzPickle.__init__(self, **(pickle_kwargs or {}))
 
         self.terrain = (GranularTerrain(self.model, sim.medium, sim.law, resolution=sim.resolution,
-                                        resolution_scale=sim.resolution_scale) if self.sand else None)
+                                        resolution_scale=sim.resolution_scale, ground_memory=ground_memory)
+                        if self.sand else None)
         # terrain randomisation: None costs nothing (no draw, no info entry)
         self.randomizer = (None if randomization is None else
                            TerrainRandomizer(randomization, self.terrain, self.model))

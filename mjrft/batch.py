@@ -46,7 +46,7 @@ import numpy as np
 from numba import njit, prange, typed
 
 from . import coupler, kernel
-from .stepping import run_steps
+from .stepping import run_steps, run_steps_ground
 from .coupler import GranularTerrain
 from .errors import NonFiniteError
 
@@ -60,13 +60,16 @@ def python_callbacks_installed() -> list[str]:
     return [g.__name__[4:] for g in _CALLBACK_GETTERS if g() is not None]
 
 
-@njit(cache=True, error_model="numpy")
-def _step_one(e, nsteps, f_step1, f_step2, m_addr, d_addr, args, out):
+@njit(cache=True, error_model="numpy", inline="always")
+def _step_one(e, nsteps, f_step1, f_step2, m_addr, d_addr, args, out, ground):
     n = nsteps[e]
     if n <= 0:
         out[e, 0], out[e, 1], out[e, 2] = kernel.OK, -1, 0
         return
-    status, body, done = run_steps(n, f_step1, f_step2, m_addr[e], d_addr[e], *args[e])
+    if ground:
+        status, body, done = run_steps_ground(n, f_step1, f_step2, m_addr[e], d_addr[e], *args[e])
+    else:
+        status, body, done = run_steps(n, f_step1, f_step2, m_addr[e], d_addr[e], *args[e])
     out[e, 0], out[e, 1], out[e, 2] = status, body, done
 
 
@@ -75,7 +78,7 @@ def run_batch_serial(nsteps, f_step1, f_step2, m_addr, d_addr, args, out):
     """For each environment ``e``: ``run_steps(nsteps[e], f_step1, f_step2, m_addr[e], d_addr[e], *args[e])``;
     ``out[e] = (status, body, steps done)``."""
     for e in range(len(args)):
-        _step_one(e, nsteps, f_step1, f_step2, m_addr, d_addr, args, out)
+        _step_one(e, nsteps, f_step1, f_step2, m_addr, d_addr, args, out, False)
 
 
 @njit(cache=True, error_model="numpy", parallel=True)
@@ -83,7 +86,22 @@ def run_batch_parallel(nsteps, f_step1, f_step2, m_addr, d_addr, args, out):
     """:func:`run_batch_serial` with the environments spread over numba's threads."""
     n = len(args)
     for k in prange(n):
-        _step_one(np.int64(k), nsteps, f_step1, f_step2, m_addr, d_addr, args, out)
+        _step_one(np.int64(k), nsteps, f_step1, f_step2, m_addr, d_addr, args, out, False)
+
+
+@njit(cache=True, error_model="numpy")
+def run_batch_serial_ground(nsteps, f_step1, f_step2, m_addr, d_addr, args, out):
+    """:func:`run_batch_serial` of terrains with a ground memory (:func:`mjrft.stepping.run_steps_ground`)."""
+    for e in range(len(args)):
+        _step_one(e, nsteps, f_step1, f_step2, m_addr, d_addr, args, out, True)
+
+
+@njit(cache=True, error_model="numpy", parallel=True)
+def run_batch_parallel_ground(nsteps, f_step1, f_step2, m_addr, d_addr, args, out):
+    """:func:`run_batch_parallel` of terrains with a ground memory."""
+    n = len(args)
+    for k in prange(n):
+        _step_one(np.int64(k), nsteps, f_step1, f_step2, m_addr, d_addr, args, out, True)
 
 
 def _unchanged(old: tuple, args: tuple) -> bool:
@@ -130,6 +148,11 @@ class BatchedTerrain:
                     raise ValueError(f"environments {seen[id(obj)]} and {e} share one {what}; each environment needs "
                                      f"its own")
                 seen[id(obj)] = e
+            if t.ground_memory != self.terrains[0].ground_memory:
+                raise ValueError(f"environment {e}'s terrain {'has' if t.ground_memory else 'has no'} ground memory and "
+                                 f"environment 0's {'has' if self.terrains[0].ground_memory else 'has none'}; batch "
+                                 "terrains that all have one or all have none")
+        self.ground = bool(self.terrains[0].ground_memory)
         if not isinstance(parallel, (bool, np.bool_)):
             raise ValueError(f"parallel must be True or False, got {parallel!r}")
         self.parallel = bool(parallel)
@@ -222,7 +245,11 @@ class BatchedTerrain:
             self._step_each(active, counts)
             return
         self._refresh(active)
-        run = run_batch_parallel if self.parallel and not python_callbacks_installed() else run_batch_serial
+        parallel = self.parallel and not python_callbacks_installed()
+        if self.ground:
+            run = run_batch_parallel_ground if parallel else run_batch_serial_ground
+        else:
+            run = run_batch_parallel if parallel else run_batch_serial
         out = self._out
         run(counts, functions[0], functions[1], self._m_addr, self._d_addr, self._list, out)
         errors = []

@@ -19,6 +19,7 @@ import numpy as np
 
 from .elements import build_elements, check_element_count
 from .floor import remove_contacts
+from .ground import build_ground_packing, build_ground, make_ground_state, with_ground_surface
 from .laws.solidify import STICK_SPEED, check_solidify
 from .params import P_WATER_DEPTH
 from .regions import build_regions
@@ -31,7 +32,8 @@ def build_model(model: mujoco.MjModel, medium=None, law=None, *, bodies=None, ge
                 resolution=None, resolution_scale=1.0, yield_displacement=None, damping_time=None, v_eps=None,
                 water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None,
                 drag_coefficient=None, water_density=None, inertial=None, inertial_drag=None, max_elements=None,
-                implicit=False, solidify=0.0, stick_speed=STICK_SPEED, stacklevel: int = 2) -> TerrainModel:
+                implicit=False, solidify=0.0, stick_speed=STICK_SPEED, ground_memory=False,
+                stacklevel: int = 2) -> TerrainModel:
     """The :class:`~mjrft.types.TerrainModel` of a terrain on ``model``; the arguments are
     :class:`~mjrft.GranularTerrain`'s (see there). Raises on the first bad or conflicting value, naming it, before
     anything is built. ``stacklevel``: as :func:`warnings.warn` counts from here (2 names the caller) for the
@@ -47,7 +49,8 @@ def build_model(model: mujoco.MjModel, medium=None, law=None, *, bodies=None, ge
                          yield_displacement=yield_displacement, damping_time=damping_time, v_eps=v_eps,
                          water_depth=water_depth, regions=regions, region_map=region_map, transition=transition,
                          buoyancy=buoyancy, drag_coefficient=drag_coefficient, water_density=water_density,
-                         inertial=inertial, inertial_drag=inertial_drag, stacklevel=stacklevel + 1)
+                         inertial=inertial, inertial_drag=inertial_drag, ground_memory=ground_memory,
+                         stacklevel=stacklevel + 1)
     if solid > 0.0 and s.yield_displacement <= 0.0:
         raise ValueError(f"solidify={solid:g} needs the rest memory (yield_displacement > 0); "
                          "the viscous mode (yield_displacement=0) has no memory to solidify")
@@ -56,8 +59,9 @@ def build_model(model: mujoco.MjModel, medium=None, law=None, *, bodies=None, ge
     geometry, element_tables = build_elements(model, s.geom_ids, s.resolution)
     constants = TerrainConstants(float(s.yield_displacement), float(s.damping_time), float(s.v_eps), float(solid),
                                  float(stick), bool(implicit), bool(inertial_on))
-    return TerrainModel(s, element_tables, surface_tables(s.surface, s.hf_z, s.hf_frame, region_tables.params),
-                        region_tables, constants, region_list, geometry, 1.0)
+    sf = surface_tables(s.surface, s.hf_z, s.hf_frame, region_tables.params)
+    ground = build_ground(model, s.ground, s, region_list, 1.0, sf)
+    return TerrainModel(s, element_tables, sf, region_tables, constants, region_list, geometry, 1.0, ground)
 
 
 def check_model(model: mujoco.MjModel) -> None:
@@ -96,9 +100,14 @@ def with_regions(tm: TerrainModel, settings: TerrainSettings, stress_scale: floa
     switch follow; the elements are kept. Raises before anything is made when a region is bad."""
     region_list, region_tables, inertial_on = build_regions(settings, stress_scale)
     sf = tm.surface
+    ground = tm.ground
+    if ground.on:  # the packing constants of the new medium, the packing rows of the new regions
+        fresh = build_ground_packing(ground, settings, region_list, stress_scale)
+        ground = ground._replace(pack=fresh.pack, dparams=fresh.dparams)
     return replace(tm, settings=settings, regions=region_tables, region_list=region_list,
                    surface=surface_tables(sf.height, sf.hfield_z, sf.hfield_frame, region_tables.params),
-                   constants=tm.constants._replace(inertial=bool(inertial_on)), stress_scale=float(stress_scale))
+                   constants=tm.constants._replace(inertial=bool(inertial_on)), stress_scale=float(stress_scale),
+                   ground=ground)
 
 
 def with_surface(tm: TerrainModel, height: float, hfield_z: np.ndarray | None = None) -> TerrainModel:
@@ -106,7 +115,8 @@ def with_surface(tm: TerrainModel, height: float, hfield_z: np.ndarray | None = 
     shape as the model's; ``height`` is then their mean)."""
     sf = tm.surface
     z = sf.hfield_z if hfield_z is None else hfield_z
-    return replace(tm, surface=surface_tables(height, z, sf.hfield_frame, tm.regions.params))
+    surface = surface_tables(height, z, sf.hfield_frame, tm.regions.params)
+    return replace(tm, surface=surface, ground=with_ground_surface(tm.ground, surface))
 
 
 def remove_floor_contacts(model: mujoco.MjModel, tm: TerrainModel) -> tuple[int, int] | None:
@@ -130,6 +140,7 @@ def make_state(tm: TerrainModel, model: mujoco.MjModel) -> TerrainState:
         dstiff=np.zeros((nbody, 10)), imp=np.zeros((nbody if tm.constants.implicit else 0, 10)),
         saved=np.zeros((nbody, 6)), stiff_max=np.zeros((nbody, TRACK_SLOTS, 10)), damp_max=np.zeros(nbody),
         inert_max=np.zeros((nbody, 10)), dstiff_max=np.zeros((nbody, 10)), power=np.zeros(1),
-        scr_f=np.zeros((13, n)), scr_i=np.zeros((2, n), dtype=np.int64),
+        scr_f=np.zeros((14 if tm.ground.on else 13, n)), scr_i=np.zeros((2, n), dtype=np.int64),
         imp_jac=np.zeros((6 * nb, nv)), imp_minv_jac=np.zeros((6 * nb, nv)), imp_blocks=np.zeros((nb, 6, 6)),
-        imp_a=np.zeros((6 * nb, 6 * nb)), imp_rhs=np.zeros(12 * nb + 6), imp_rows=np.zeros(nb, dtype=np.int64))
+        imp_a=np.zeros((6 * nb, 6 * nb)), imp_rhs=np.zeros(12 * nb + 6), imp_rows=np.zeros(nb, dtype=np.int64),
+        **make_ground_state(tm.ground, n, len(tm.elements.group_geom)))

@@ -41,6 +41,7 @@ from ._jit_cache import load_cached_callees_first
 from .build import (build_model, check_model, make_state, remove_floor_contacts, water_depth, with_regions,
                     with_surface)
 from .errors import NonFiniteError, SandContactWarning, check_finite, check_positive, unknown
+from .ground import C_H, C_PHI, sample_many
 from .implicit_step import IMPLICIT_FUNCTIONS
 from .laws.solidify import STICK_SPEED
 from .media import get_medium
@@ -48,7 +49,7 @@ from .mujoco_c import mujoco_functions, mujoco_step_functions
 from .reach import reach_warning, sinking_warning
 from .regions import Region, _region_entries
 from .stability import largest_rate, track_chatter, track_depth_springs, track_stiffness
-from .stepping import CompiledCall, actuator_power, add_rows, restore_rows, run_steps
+from .stepping import CompiledCall, actuator_power, add_rows, restore_rows, run_steps, run_steps_ground
 from .surface import region_weights_many, surface_heights
 from .types import MjViews, StepViews, TerrainModel, TerrainState
 from .watch import StabilityWatch, ValidityWatch
@@ -189,6 +190,12 @@ class GranularTerrain:
         max_elements: the most elements the terrain may build (default ``MAX_ELEMENTS`` = 1,000,000). The
             count is estimated from the geoms' surface areas before anything is built, and a finer
             ``resolution`` raises a ``ValueError`` naming the count and the setting to change.
+        ground_memory: ``True`` (or a :class:`mjrft.ground.GroundOptions`) gives the ground a memory: a height map
+            with footprints and ridges, slopes relaxed to the angle of repose, and a packing per cell between the
+            medium's loosely and closely packed states that shear and load change; the elements read their depth
+            and parameter row from it (:mod:`mjrft.ground`; read it with :meth:`ground_height` and
+            :meth:`ground_packing`; :meth:`reset` restores the prepared bed). Default False: every element meets a
+            level surface at the prepared packing, and the option costs nothing. CPU kernel only.
 
     Water layer. Where a region has ``water_depth`` ``h_w > 0``, an element between the sand surface
     and the water surface (``-h_w < depth <= 0``) feels the SGRFT water drag ``C rho_w v^2 S`` on its
@@ -263,7 +270,7 @@ class GranularTerrain:
                  surface=None, resolution=None, resolution_scale=1.0, yield_displacement=None, damping_time=None,
                  v_eps=None, water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None,
                  drag_coefficient=None, water_density=None, inertial=None, inertial_drag=None, max_elements=None,
-                 implicit=False, solidify=0.0, stick_speed=STICK_SPEED):
+                 implicit=False, solidify=0.0, stick_speed=STICK_SPEED, ground_memory=False):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         if not isinstance(implicit, (bool, np.bool_)):
@@ -278,7 +285,8 @@ class GranularTerrain:
                          water_depth=water_depth, regions=regions, region_map=region_map, transition=transition,
                          buoyancy=buoyancy, drag_coefficient=drag_coefficient, water_density=water_density,
                          inertial=inertial, inertial_drag=inertial_drag, max_elements=max_elements,
-                         implicit=implicit, solidify=solidify, stick_speed=stick_speed, stacklevel=3)
+                         implicit=implicit, solidify=solidify, stick_speed=stick_speed, ground_memory=ground_memory,
+                         stacklevel=3)
         self._setup(model, tm)
 
     @classmethod
@@ -310,8 +318,9 @@ class GranularTerrain:
         self.terrain_state = make_state(tm, model)
         self._f_implicit = (np.array(_IMPLICIT_FUNCTIONS, dtype=np.int64) if tm.constants.implicit
                             else _NO_IMPLICIT)
-        self._run_steps = CompiledCall(run_steps)
-        self._kernel = CompiledCall(kernel.terrain_kernel)
+        # a terrain with a ground memory steps through its own compiled loop and kernel (compiled only when used)
+        self._run_steps = CompiledCall(run_steps_ground if tm.ground.on else run_steps)
+        self._kernel = CompiledCall(kernel.terrain_kernel_ground if tm.ground.on else kernel.terrain_kernel)
         self._stability = StabilityWatch(model, tm.elements.body_ids)
         self._validity = ValidityWatch(tm.region_list, tm.constants.inertial, stacklevel=3)
         self._data = None
@@ -512,11 +521,12 @@ class GranularTerrain:
         self._bind(data)
 
     def reset(self) -> None:
-        """Forget every element's memory (call after changing the state by hand); a model edited since into a
-        non-finite mass, inertia, gravity or timestep is refused here (:func:`mjrft.build.check_model`), before
-        MuJoCo steps it."""
+        """Forget every element's memory (call after changing the state by hand); a ground memory returns to the
+        prepared bed (level, every cell at the medium's prepared packing). A model edited since into a non-finite
+        mass, inertia, gravity or timestep is refused here (:func:`mjrft.build.check_model`), before MuJoCo steps
+        it."""
         check_model(self.model)
-        self.terrain_state.forget()
+        self.terrain_state.forget(float(self.terrain_model.ground.pack[3]))
         self._last_time = -np.inf
         self._check_time = -np.inf
 
@@ -876,6 +886,39 @@ class GranularTerrain:
         sf = self.terrain_model.surface
         surface_heights(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), sf.height, sf.hfield_z,
                         sf.hfield_frame, out.reshape(-1))
+        return out
+
+    @property
+    def ground_memory(self) -> bool:
+        """Whether the ground remembers (``ground_memory=``)."""
+        return bool(self.terrain_model.ground.on)
+
+    def ground_height(self, x, y) -> np.ndarray:
+        """Height (m) of the grains' surface at world ``(x, y)`` (arrays broadcast) as the ground memory holds it now:
+        the undisturbed surface (:meth:`surface_height`) plus the footprints, ridges and the packing's change, bilinear
+        between the cell centres (a footprint a body still stands in shows; the body's own elements read the level
+        the cell had before it came, docs/terrain.md). Without a ground memory, :meth:`surface_height`."""
+        gt = self.terrain_model.ground
+        if not gt.on:
+            return self.surface_height(x, y)
+        return self._sample_ground(x, y, C_H, True)
+
+    def ground_packing(self, x, y) -> np.ndarray:
+        """Volume fraction of the grains at world ``(x, y)`` (arrays broadcast), bilinear between the cell centres of
+        the ground memory; without one, the medium's prepared volume fraction (NaN when the medium has none)."""
+        gt = self.terrain_model.ground
+        if not gt.on:
+            x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+            vf = self.medium.volume_fraction
+            return np.full(x.shape, np.nan if vf is None else float(vf))
+        return self._sample_ground(x, y, C_PHI, False)
+
+    def _sample_ground(self, x, y, field: int, add_base: bool) -> np.ndarray:
+        x, y = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(y, dtype=np.float64))
+        out = np.empty(x.shape)
+        gt = self.terrain_model.ground
+        sample_many(np.ascontiguousarray(x).ravel(), np.ascontiguousarray(y).ravel(), gt.frame, gt.base,
+                    self.terrain_state.g_cells, field, add_base, out.reshape(-1))
         return out
 
     def region_weights(self, x, y) -> np.ndarray:

@@ -21,7 +21,8 @@ from .laws.common import memory_motion, relax_memory
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
 from .laws.registry import LAW_IDS
-from .laws.rft import rft_stress_batch, trails
+from .ground import ground_sample, ground_step, ground_top
+from .laws.rft import rft_stress_batch, rft_stress_batch_packed, trails
 from .laws.solidify import solid_memory
 from .laws.wet import water_stress
 from .params import P_INERTIA, P_WATER_DEPTH, P_WATER_SKIN
@@ -332,6 +333,19 @@ def _lowest_corner(geom_xpos, G, g_aabb, g, gid):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
+def _group_ground_top(geom_xpos, G, g_aabb, g, gid, frame, blocks):
+    """(the ground memory's highest surface (m, above the undisturbed one) under cull group ``g``'s box (geom ``gid``,
+    rotation ``G``), the last update that changed the ground there: :func:`mjrft.ground.ground_top` of the box's
+    horizontal extent; the box's centre x, y)."""
+    cx = geom_xpos[gid, 0] + G[0] * g_aabb[g, 0] + G[1] * g_aabb[g, 1] + G[2] * g_aabb[g, 2]
+    cy = geom_xpos[gid, 1] + G[3] * g_aabb[g, 0] + G[4] * g_aabb[g, 1] + G[5] * g_aabb[g, 2]
+    ex = abs(G[0]) * g_aabb[g, 3] + abs(G[1]) * g_aabb[g, 4] + abs(G[2]) * g_aabb[g, 5]
+    ey = abs(G[3]) * g_aabb[g, 3] + abs(G[4]) * g_aabb[g, 4] + abs(G[5]) * g_aabb[g, 5]
+    top, newest = ground_top(cx, cy, ex, ey, frame, blocks)
+    return top, newest, cx, cy
+
+
+@njit(cache=True, error_model="numpy", inline="always")
 def _inside_strip(geom_xpos, G, g_aabb, g, gid, reg_bounds, breg, blend):
     """Whether cull group ``g``'s box lies wholly inside strip ``breg``, farther than ``blend / 2`` from its edges."""
     gxc = geom_xpos[gid, 0] + G[0] * g_aabb[g, 0] + G[1] * g_aabb[g, 1] + G[2] * g_aabb[g, 2]
@@ -383,6 +397,18 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
         nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2], mx, my, mz,
                        ml, mob, out_depth[i], all_faces, t_mem)
     return OK, nbat
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _packed_rows(rows, reg_params, dparams, t, reg):
+    """The regions' parameter rows at an element's packing ``t`` (the change of its loose-to-close weight from the
+    prepared state, :mod:`mjrft.ground`): ``rows[r] = reg_params[r] + t dparams[r]`` for region ``reg`` (``-1``:
+    every region, for a blended element); returns ``rows``."""
+    for r in range(reg_params.shape[0]):
+        if reg < 0 or r == reg:
+            for k in range(reg_params.shape[1]):
+                rows[r, k] = reg_params[r, k] + t * dparams[r, k]
+    return rows
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -451,8 +477,23 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
     :class:`mjrft.types.MjViews` after ``mj_step1``), ``gravity`` (m/s^2, downward), ``dt`` (s, the step the memory
     advances by), ``st`` (state in and out: :class:`mjrft.types.TerrainState`).
     """
+    return _kernel(tables, mjd, gravity, dt, st, False)
+
+
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"}, _nrt=False)
+def terrain_kernel_ground(tables, mjd, gravity, dt, st):
+    """:func:`terrain_kernel` of a terrain with a ground memory (:mod:`mjrft.ground`; ``tables.ground.on``): the
+    elements read their depth and packing from it, and it is updated once per its period. A separate compiled
+    function, so that the kernel of a terrain without one compiles to the code it had before the memory existed."""
+    return _kernel(tables, mjd, gravity, dt, st, True)
+
+
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"}, _nrt=False, inline="always")
+def _kernel(tables, mjd, gravity, dt, st, gr_on):
+    """The body of :func:`terrain_kernel` (``gr_on`` False) and :func:`terrain_kernel_ground` (True): inlined into
+    each with ``gr_on`` a constant, every ground branch is removed from the first."""
     # Model
-    el, sf, rg, cs = tables
+    el, sf, rg, cs, gr = tables
     g_geom, g_body, g_start, g_aabb = el.group_geom, el.group_body, el.group_start, el.group_aabb
     e_lpos, e_lnrm, e_area, rootid = el.lpos, el.lnrm, el.area, el.body_root
     surface, top, hf_z, hf_frame = sf.height, sf.top, sf.hfield_z, sf.hfield_frame
@@ -467,6 +508,11 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
     out_force, out_region = st.force, st.region
     wrench, stiff, damp, inert, dstiff, imp = st.wrench, st.stiff, st.damp, st.inert, st.dstiff, st.imp
     scr_f, scr_i = st.scr_f, st.scr_i
+    # the ground memory (mjrft.ground): the surface and packing each element reads
+    g_frame, g_el, g_dp = gr.frame, st.g_elem, gr.dparams
+    g_clock = st.g_clock[0]
+    g_drift2 = 0.25 * gr.frame[2] * gr.frame[2]  # (half a cell)^2
+    g_phi0, g_inv_range = gr.pack[3], gr.pack[4]
     nreg = reg_law.shape[0]
     nb = reg_bounds.shape[0]
     has_hf = hf_z.shape[0] > 0
@@ -498,17 +544,23 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
         # A group lying wholly inside the dry Li-RFT strip (farther than blend / 2 from its edges) is
         # treated as the one-region scene: no water over it, so it is culled at the sand's top, only
         # buried elements are within reach, and it takes the short pass 2.
+        gtop = top
+        g_new, gcx, gcy = 0, 0.0, 0.0
+        if gr_on and lowest < top + st.g_blocks.peak[0]:  # the ground memory's highest surface around the group
+            g_bump, g_new, gcx, gcy = _group_ground_top(geom_xpos, G, g_aabb, g, gid, g_frame, st.g_blocks)
+            gtop = top + g_bump
         dry_group = one_dry_rft
-        if not dry_group and breg >= 0 and nb > 0 and not has_map and lowest < top:
+        if not dry_group and breg >= 0 and nb > 0 and not has_map and lowest < gtop:
             dry_group = _inside_strip(geom_xpos, G, g_aabb, g, gid, reg_bounds, breg, blend)
         reach = 0.0 if dry_group else wmax
-        if lowest >= top - wmax + reach:
+        if lowest >= gtop - wmax + reach:
             if g_active[g]:  # first step out of reach: no force, memory or depth
                 for i in range(e0, e1):
                     _clear(u, out_force, i)
                     out_depth[i] = 0.0
                 g_active[g] = False
             continue
+        was_active = g_active[g]
         g_active[g] = True
         b = g_body[g]
         R = xmat[b]
@@ -526,22 +578,56 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
         r0, r1, r2, r3, r4, r5, r6, r7, r8 = rot
         nlist = nbat
         bad = 0.0
-        for i in range(e0, e1):
-            ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
-            pz = oz + r6 * ax + r7 * ay + r8 * az
-            px = ox + r0 * ax + r1 * ay + r2 * az
-            py = oy + r3 * ax + r4 * ay + r5 * az
-            if has_hf:
-                depth = surface_height(px, py, surface, hf_z, hf_frame) - pz
-            else:
-                depth = surface - pz
-            bad += px * 0.0 + py * 0.0 + pz * 0.0  # NaN once any coordinate is not finite
-            if depth <= -reach and out_depth[i] > -wmax:
-                _clear(u, out_force, i)
-            out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
-            out_depth[i] = depth
-            scr_i[0, nlist] = i
-            nlist += 1 if depth > -reach else 0
+        if gr_on:  # the same, from the ground memory's surface (mjrft.ground): what each element read from it at the
+            # last update that changed the ground around the group (or when the group came within reach, or last moved
+            # half a cell), carried to where it is now along the surface's gradient
+            gg = st.g_group
+            fresh = (not was_active or g_new > gg[g, 0]
+                     or (gcx - gg[g, 1]) * (gcx - gg[g, 1]) + (gcy - gg[g, 2]) * (gcy - gg[g, 2]) > g_drift2)
+            if fresh:
+                gg[g, 0], gg[g, 1], gg[g, 2] = g_clock, gcx, gcy
+                for i in range(e0, e1):
+                    ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
+                    pz = oz + r6 * ax + r7 * ay + r8 * az
+                    px = ox + r0 * ax + r1 * ay + r2 * az
+                    py = oy + r3 * ax + r4 * ay + r5 * az
+                    g_h, g_hx, g_hy, g_f = ground_sample(px, py, g_frame, st.g_cells)
+                    g_el[i, 0], g_el[i, 1], g_el[i, 2], g_el[i, 3], g_el[i, 4] = g_h, g_hx, g_hy, px, py
+                    g_el[i, 5] = (g_f - g_phi0) * g_inv_range
+            for i in range(e0, e1):
+                ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
+                pz = oz + r6 * ax + r7 * ay + r8 * az
+                px = ox + r0 * ax + r1 * ay + r2 * az
+                py = oy + r3 * ax + r4 * ay + r5 * az
+                g_h = g_el[i, 0] + g_el[i, 1] * (px - g_el[i, 3]) + g_el[i, 2] * (py - g_el[i, 4])
+                if has_hf:
+                    depth = surface_height(px, py, surface, hf_z, hf_frame) + g_h - pz
+                else:
+                    depth = surface + g_h - pz
+                bad += px * 0.0 + py * 0.0 + pz * 0.0
+                if depth <= -reach and out_depth[i] > -wmax:
+                    _clear(u, out_force, i)
+                out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
+                out_depth[i] = depth
+                scr_i[0, nlist] = i
+                nlist += 1 if depth > -reach else 0
+        else:
+            for i in range(e0, e1):
+                ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
+                pz = oz + r6 * ax + r7 * ay + r8 * az
+                px = ox + r0 * ax + r1 * ay + r2 * az
+                py = oy + r3 * ax + r4 * ay + r5 * az
+                if has_hf:
+                    depth = surface_height(px, py, surface, hf_z, hf_frame) - pz
+                else:
+                    depth = surface - pz
+                bad += px * 0.0 + py * 0.0 + pz * 0.0  # NaN once any coordinate is not finite
+                if depth <= -reach and out_depth[i] > -wmax:
+                    _clear(u, out_force, i)
+                out_pos[i, 0], out_pos[i, 1], out_pos[i, 2] = px, py, pz
+                out_depth[i] = depth
+                scr_i[0, nlist] = i
+                nlist += 1 if depth > -reach else 0
         if bad != 0.0:
             return BAD_STATE, b
         # Pass 2, the listed elements: region, memory, law. First a dry group (one dry Li-RFT region
@@ -587,6 +673,11 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
             if single and depth <= -hw:  # above its region's grains and water: no force, no memory
                 _clear(u, out_force, i)
                 continue
+            pe = p
+            rows = reg_params
+            if gr_on:  # the parameter rows at the element's packing (mjrft.ground)
+                rows = _packed_rows(st.g_rows, reg_params, g_dp, g_el[i, 5], reg if single else -1)
+                pe = rows[reg] if single else p
             nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
             if not _isfinite3(vx, vy, vz):
                 return BAD_STATE, b
@@ -620,7 +711,7 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
             if single and dry:  # one dry region, written out: costs what the kernel cost before regions and water
                 if ml > 0.0:
                     iml = 1.0 / ml
-                    sx, sy, sz = element_stress(law, depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, p)
+                    sx, sy, sz = element_stress(law, depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, pe)
                     k = e_area[i]
                     fx, fy, fz = sx * k, sy * k, sz * k
                     if not _isfinite3(fx, fy, fz):
@@ -635,7 +726,7 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
                     fy *= mob
                     fz *= mob
                 if inertia and p[P_INERTIA] > 0.0:
-                    gx, gy, gz, ci = inertial_force(p, depth, nx, ny, nz, vx, vy, vz, e_area[i])
+                    gx, gy, gz, ci = inertial_force(pe, depth, nx, ny, nz, vx, vy, vz, e_area[i])
                     if not _isfinite3(gx, gy, gz):
                         return BAD_FORCE, b
                     fx += gx
@@ -646,10 +737,10 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
                         _add_moments(inert, b, px - bx, py - by, pz - bz, ci)
             else:  # water, buoyancy or several regions
                 if single:
-                    fx, fy, fz, kk, cw, ci, ok = _element_force(law, p, reg_rho[reg], gravity, e_area[i], depth, nx, ny,
+                    fx, fy, fz, kk, cw, ci, ok = _element_force(law, pe, reg_rho[reg], gravity, e_area[i], depth, nx, ny,
                                                             nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta, v_eps)
                 else:
-                    fx, fy, fz, kk, cw, ci, ok = _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity,
+                    fx, fy, fz, kk, cw, ci, ok = _blended_force(regs, wts, reg_law, rows, reg_rho, gravity,
                                                             e_area[i], depth, nx, ny, nz, mx, my, mz, ml, mob, vx,
                                                             vy, vz, speed, delta, v_eps)
                 if not (ok and _isfinite3(fx, fy, fz)):
@@ -668,10 +759,23 @@ def terrain_kernel(tables, mjd, gravity, dt, st):
             _add_depth_spring(dstiff, b, px - bx, py - by, pz - bz, fx, fy, fz, depth)
     if nbat > 0:
         pb = reg_params[max(breg, 0)]
-        rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
-        return _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
-                              wrench, stiff, damp, pb if inertia and pb[P_INERTIA] > 0.0 else pb[:0], out_vel,
-                              out_nrm, inert, imp, dstiff)
+        if gr_on:  # each gathered element's packing into scratch row 13 (the ground memory's states have it)
+            for j in range(nbat):
+                scr_f[13, j] = g_el[scr_i[0, j], 5]
+            rft_stress_batch_packed(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, g_dp[max(breg, 0)], scr_f[13],
+                                    scr_f[9:12])
+        else:
+            rft_stress_batch(nbat, scr_f[6], scr_f[0:3], scr_f[3:6], pb, scr_f[9:12])
+        status, body = _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta, tau, v_eps,
+                                      wrench, stiff, damp, pb if inertia and pb[P_INERTIA] > 0.0 else pb[:0], out_vel,
+                                      out_nrm, inert, imp, dstiff)
+        if status != OK or not gr_on:
+            return status, body
+    if gr_on and dt > 0.0:  # the ground memory, once per period of simulated time
+        st.g_since[0] += dt
+        if st.g_since[0] >= gr.period * (1.0 - 1e-9):
+            ground_step(gr, el, st, delta, v_eps, st.g_since[0])
+            st.g_since[0] = 0.0
     return OK, -1
 
 

@@ -271,6 +271,46 @@ MEDIA["sea_sand_saturated"] = dataclasses.replace(
              grain_diameter_max=1e-3, water_mass_fraction=0.214)
 
 
+def fluidized(medium, air_flow: float) -> Medium:
+    """``medium`` on an air-fluidised bed: an upward air flow whose pressure drop per unit height is ``air_flow``
+    times the grains' weight per unit volume (0 <= air_flow < 1; 1 is the onset of fluidisation, where "the force
+    of the air exceeded the weight of the grains": the thesis "A robophysics approach to bipedal walking in granular
+    media", sec. 1.3.3; its fluidised-bed experiments weaken the bed up to that onset, sec. 1.4.3 and fig. 4).
+
+    The air carries ``air_flow`` of the grains' weight, so the effective weight of the grains above any depth, and
+    with it every frictional (hydrostatic-like) stress, is ``1 - air_flow`` times the still bed's (the effective
+    stress principle): Li's coefficients, zeta, the measured plate stress and the hybrid law's unit weight scale by
+    it; 3D-RFT's xi_n follows the coefficients (``mu_int`` is dropped: the still medium's internal friction no longer
+    gives its stress). The grains' density, and with it the inertial regime's ``C rho_bulk`` (grain inertia), the
+    packing and the angle of repose stay. ``air_flow = 0`` returns ``medium`` itself. A medium fluidised twice
+    carries the combined flow ``1 - (1 - a)(1 - b)``; its name is ``<base>@air<flow>``."""
+    m = get_medium(medium)
+    q = check_finite("air_flow", air_flow)
+    if not 0.0 <= q < 1.0:
+        raise ValueError(f"air_flow must be in [0, 1) (a fraction of the onset of fluidisation, where the bed no longer "
+                         f"carries any load), got {air_flow!r}")
+    if q == 0.0:
+        return m
+    base = m.get("fluidized_from", m.name)
+    total = 1.0 - (1.0 - float(m.get("air_flow", 0.0))) * (1.0 - q)
+    k = 1.0 - q
+    extra = dict(m.extra)
+    if "hybrid_unit_weight" in extra or m.rho_bulk is None:
+        if "hybrid_unit_weight" not in extra:
+            from .laws.hybrid import GAMMA_S  # the hybrid law's default unit weight
+
+            extra["hybrid_unit_weight"] = GAMMA_S
+        extra["hybrid_unit_weight"] = extra["hybrid_unit_weight"] * k
+    else:
+        extra["hybrid_unit_weight"] = G * m.rho_bulk * k
+    extra.update(fluidized_from=base, air_flow=total)
+    return dataclasses.replace(
+        m, name=f"{base}@air{total:g}", coeffs=tuple(c * k for c in m.coeffs), zeta=m.zeta * k, mu_int=None,
+        alpha_z_measured=None if m.alpha_z_measured is None else m.alpha_z_measured * k,
+        extra=tuple(sorted(extra.items())),
+        description=f"{m.description}; air-fluidised bed at {total:g} of the onset (frictional stresses x {k:g})")
+
+
 def register_medium(medium: Medium) -> Medium:
     """Add a medium to the catalogue so that it can be looked up by name."""
     if not isinstance(medium, Medium):

@@ -18,6 +18,7 @@ import numpy as np
 
 from .errors import check_finite, check_positive
 from .floor import _find_floor, _hfield_surface, rigid_support_notes
+from .ground import GroundOptions
 from .laws import law_id
 from .laws.inertial import INERTIAL_DRAG
 from .media import Medium, get_medium
@@ -76,6 +77,7 @@ class TerrainSettings:
     regions: list
     region_map: object
     floor_warnings: tuple = ()  # the rigid geoms the robot can still stand on (:func:`mjrft.floor._rigid_floors_left`)
+    ground: object = None  # the ground memory's options (:class:`mjrft.ground.GroundOptions`), None when off
 
 
 def check_custom_keys(cfg: dict, stacklevel: int = 3) -> None:
@@ -160,7 +162,7 @@ def resolve_settings(model: mujoco.MjModel, *, medium=None, law=None, bodies=Non
                      surface=None, resolution=None, resolution_scale=1.0, yield_displacement=None, damping_time=None,
                      v_eps=None, water_depth=None, regions=None, region_map=None, transition=None, buoyancy=None,
                      drag_coefficient=None, water_density=None, inertial=None, inertial_drag=None,
-                     stacklevel: int = 2) -> TerrainSettings:
+                     ground_memory=False, stacklevel: int = 2) -> TerrainSettings:
     """The :class:`TerrainSettings` of a terrain on ``model`` (keyword arguments as :class:`GranularTerrain`'s): the
     model's ``<custom>`` entries are read once here (an unknown ``mjrft:*`` key is warned about, ``stacklevel``
     counted as :func:`warnings.warn` counts from here: 2 names the caller); raises on the first bad or conflicting
@@ -216,7 +218,8 @@ def resolve_settings(model: mujoco.MjModel, *, medium=None, law=None, bodies=Non
     if region_map is None:
         region_map = cfg.get("region_map")
     entries = _region_entries(pick("regions", regions), mapped=region_map is not None)
+    ground = GroundOptions.from_value(ground_memory)
     return TerrainSettings(medium, law, geom_ids, floor_id, surface, hfield, hf_z, hf_frame, resolution,
                            resolution_auto, yield_displacement, v_eps, damping_time, transition, buoyancy,
                            bool(inertial), inertial_given, inertial_drag, drag_coefficient, water_density,
-                           pick("water_depth", water_depth), entries, region_map, floor_warnings)
+                           pick("water_depth", water_depth), entries, region_map, floor_warnings, ground)

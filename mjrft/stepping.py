@@ -13,7 +13,7 @@ from __future__ import annotations
 from numba import njit
 
 from .implicit_step import implicit_wrench
-from .kernel import BAD_FORCE, OK, terrain_kernel
+from .kernel import BAD_FORCE, OK, terrain_kernel, terrain_kernel_ground
 from .mujoco_c import call_mj
 from .stability import track_chatter, track_depth_springs, track_stiffness
 
@@ -51,6 +51,20 @@ def restore_rows(target, rows, saved):
 @njit(cache=True, error_model="numpy", _nrt=False)
 def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, f_implicit, tables, mjd, views, gravity, dt, st):
     """``nstep`` x (mj_step1, terrain_kernel, [implicit_wrench], xfrc_applied += wrench, mj_step2, restore
+    xfrc_applied): see :func:`_steps`. A terrain with a ground memory steps with :func:`run_steps_ground`."""
+    return _steps(nstep, f_step1, f_step2, m_addr, d_addr, f_implicit, tables, mjd, views, gravity, dt, st, False)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False)
+def run_steps_ground(nstep, f_step1, f_step2, m_addr, d_addr, f_implicit, tables, mjd, views, gravity, dt, st):
+    """:func:`run_steps` with :func:`mjrft.kernel.terrain_kernel_ground`: the loop of a terrain with a ground memory
+    (:mod:`mjrft.ground`), compiled only when one steps."""
+    return _steps(nstep, f_step1, f_step2, m_addr, d_addr, f_implicit, tables, mjd, views, gravity, dt, st, True)
+
+
+@njit(cache=True, error_model="numpy", _nrt=False, inline="always")
+def _steps(nstep, f_step1, f_step2, m_addr, d_addr, f_implicit, tables, mjd, views, gravity, dt, st, ground):
+    """``nstep`` x (mj_step1, terrain_kernel, [implicit_wrench], xfrc_applied += wrench, mj_step2, restore
     xfrc_applied).
 
     Arguments: ``f_step1``, ``f_step2`` the addresses of MuJoCo's ``mj_step1`` / ``mj_step2``, ``m_addr`` /
@@ -79,7 +93,10 @@ def run_steps(nstep, f_step1, f_step2, m_addr, d_addr, f_implicit, tables, mjd, 
     power[0] = 0.0
     for s in range(nstep):
         call_mj(f_step1, m_addr, d_addr)
-        status, body = terrain_kernel(tables, mjd, gravity, dt, st)
+        if ground:
+            status, body = terrain_kernel_ground(tables, mjd, gravity, dt, st)
+        else:
+            status, body = terrain_kernel(tables, mjd, gravity, dt, st)
         if status != OK:
             if s > 0:
                 power[0] = work / s

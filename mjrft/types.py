@@ -104,6 +104,30 @@ class TerrainConstants(NamedTuple):
     inertial: bool
 
 
+class GroundTables(NamedTuple):
+    """Model: the ground memory (:mod:`mjrft.ground`; all arrays empty when it is off, ``on`` False).
+
+    ``frame`` (4,): the grid's x_min, y_min, cell size and 1 / cell size (cell (j, i) covers
+    ``x_min + i cell <= x < x_min + (i + 1) cell`` and the same in y, its value sits at its centre); ``shape``
+    (2,): (ny, nx); ``base`` (ny, nx): the undisturbed surface's height at each cell centre (the flat surface or
+    the height field); ``pack`` (8,): the packing constants of the terrain's own medium: volume fractions
+    phi_LP, phi_CP, phi_crit (the critical state) and phi_0 (as prepared), 1 / (phi_CP - phi_LP) (0 without a
+    pair), tan of the angle of repose when loosely and closely packed, and the active layer's thickness (m);
+    ``dparams`` (nregion, P_SIZE): each region's closely minus loosely packed parameter row (stresses times the
+    stress scale; zeros for a medium without a pair); ``ridge`` (cells): how far from a footprint the rim is
+    searched for; ``period`` (s): the simulated time between two updates; ``on``: whether the terrain has a ground
+    memory."""
+
+    frame: np.ndarray
+    shape: np.ndarray
+    base: np.ndarray
+    pack: np.ndarray
+    dparams: np.ndarray
+    ridge: int
+    period: float
+    on: bool
+
+
 class TerrainTables(NamedTuple):
     """The part of a :class:`TerrainModel` that the compiled kernels read (:attr:`TerrainModel.tables`)."""
 
@@ -111,6 +135,7 @@ class TerrainTables(NamedTuple):
     surface: SurfaceTables
     regions: RegionTables
     constants: TerrainConstants
+    ground: GroundTables
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,7 +146,8 @@ class TerrainModel:
     kernels read; ``region_list``: the resolved :class:`~mjrft.regions.Region` of each row of ``regions``;
     ``geometry``: the elements as the geometry cut them (:class:`~mjrft.geometry.Elements`: positions, normals,
     areas in their body's frame); ``stress_scale``: the factor already applied to every granular stress of
-    ``regions.params`` (:data:`mjrft.laws.registry.STRESS_SLOTS`)."""
+    ``regions.params`` (:data:`mjrft.laws.registry.STRESS_SLOTS`); ``ground``: the ground memory's tables
+    (:class:`GroundTables`, off unless built with ``ground_memory``)."""
 
     settings: TerrainSettings
     elements: ElementTables
@@ -131,12 +157,17 @@ class TerrainModel:
     region_list: tuple
     geometry: Elements
     stress_scale: float = 1.0
+    ground: GroundTables = None
+
+    def __post_init__(self):
+        if self.ground is None:
+            object.__setattr__(self, "ground", no_ground())
 
     @cached_property
     def tables(self) -> TerrainTables:
-        """The kernels' view: ``(elements, surface, regions, constants)`` (one object per model, so that a caller can
-        tell a new model from the same one by identity)."""
-        return TerrainTables(self.elements, self.surface, self.regions, self.constants)
+        """The kernels' view: ``(elements, surface, regions, constants, ground)`` (one object per model, so that a
+        caller can tell a new model from the same one by identity)."""
+        return TerrainTables(self.elements, self.surface, self.regions, self.constants, self.ground)
 
     @property
     def n_elements(self) -> int:
@@ -167,6 +198,22 @@ class StepViews(NamedTuple):
     actuator_velocity: np.ndarray
 
 
+class GroundBlocks(NamedTuple):
+    """State: the ground memory's blocks of cells (:mod:`mjrft.ground`, ``BLOCK_SHIFT``), which the kernel's culling
+    reads: ``top`` (nby, nbx) the highest surface a cell of the block reads above the undisturbed one (m; a rise
+    shows at once, a fall at the end of the update), ``flag`` (nby, nbx) whether the block is listed, ``list`` its
+    flat index among the listed ones, ``count`` (1,) how many, ``peak`` (1,) the highest rise since the reset (what
+    a cull group is compared with before the blocks are read), ``stamp`` (nby, nbx) the last update that changed the
+    block (whether the elements above it read the ground afresh)."""
+
+    top: np.ndarray
+    flag: np.ndarray
+    list: np.ndarray
+    count: np.ndarray
+    peak: np.ndarray
+    stamp: np.ndarray
+
+
 class TerrainState(NamedTuple):
     """What one terrain remembers and writes (module docstring), all arrays, zeroed by
     :func:`mjrft.build.make_state`. ``n`` elements, ``g`` cull groups, ``nbody`` bodies, ``nb`` bodies with elements.
@@ -180,9 +227,26 @@ class TerrainState(NamedTuple):
     ``damp`` (nbody,). The stepping loop's: ``saved`` (nbody, 6) what other code had in ``xfrc_applied``;
     ``stiff_max`` (nbody, TRACK_SLOTS, 10), ``damp_max``, ``inert_max``, ``dstiff_max``: the stability checks'
     trackers (:mod:`mjrft.stability`); ``power`` (1,): the actuators' mean power over the last step call.
-    Scratch: ``scr_f`` (13, n) and ``scr_i`` (2, n) the batched law's gather, and the implicit step's
+    Scratch: ``scr_f`` (13, n; 14 with a ground memory: row 13 the gathered elements' packing) and ``scr_i`` (2,
+    n) the batched law's gather, and the implicit step's
     ``imp_jac``, ``imp_minv_jac`` (6 nb, nv), ``imp_blocks`` (nb, 6, 6), ``imp_a`` (6 nb, 6 nb), ``imp_rhs``
-    (12 nb + 6), ``imp_rows`` (nb) (all empty with ``implicit=False``)."""
+    (12 nb + 6), ``imp_rows`` (nb) (all empty with ``implicit=False``).
+
+    The ground memory (:mod:`mjrft.ground`; every array empty when it is off): ``g_cells`` (ny, nx, 8) one record per
+    cell (:data:`mjrft.ground.C_READ` ...: the surface the elements read, the volume fraction, the grains' surface,
+    the volume displaced during a body's contact, the swept and the submerged volume, the last update a body was in
+    it, the last relaxation sweep that listed it), with the views ``g_height`` (ny, nx: the grains' surface above
+    the undisturbed one, m) and ``g_phi`` (ny, nx: their volume fraction); per element ``g_elem`` (n, 6) what it read
+    from the ground at the last update (or when its cull group came within reach): the surface (m), its gradient
+    along x and y, the point (x, y) it was read at, and the packing as the law reads it (the change of the
+    loose-to-close weight from the prepared state); per cull group ``g_group`` the update its elements last read
+    the ground at (-1: never); lists of flat cell indices
+    ``g_held`` (2, n: row 0 the cells a body was in at the last update, row 1 those of this one) and ``g_dirty`` (2,
+    cells: the relaxation sweeps' two lists, alternating), their counts in ``g_count`` (held, dirty list 0, dirty
+    list 1); ``g_clock`` (updates, sweeps); ``g_since`` (1,) the time since the last update (s); ``g_blocks``
+    (:class:`GroundBlocks`) the highest surface read in each block of 4 x 4 cells, which the kernel's culling adds;
+    ``g_rim`` (8,) scratch of the ridge; ``g_rows``
+    (nregion, P_SIZE) scratch: the regions' parameter rows at an element's packing (the general pass)."""
 
     u: np.ndarray
     group_active: np.ndarray
@@ -212,9 +276,24 @@ class TerrainState(NamedTuple):
     imp_a: np.ndarray
     imp_rhs: np.ndarray
     imp_rows: np.ndarray
+    g_cells: np.ndarray
+    g_height: np.ndarray
+    g_phi: np.ndarray
+    g_elem: np.ndarray
+    g_group: np.ndarray
+    g_held: np.ndarray
+    g_dirty: np.ndarray
+    g_count: np.ndarray
+    g_clock: np.ndarray
+    g_since: np.ndarray
+    g_blocks: GroundBlocks
+    g_rim: np.ndarray
+    g_rows: np.ndarray
 
-    def forget(self) -> None:
-        """Zero the memory and the last step's outputs (a reset): what :meth:`mjrft.GranularTerrain.reset` does."""
+    def forget(self, phi0: float = 0.0) -> None:
+        """Zero the memory and the last step's outputs (a reset): what :meth:`mjrft.GranularTerrain.reset` does. A
+        ground memory returns to the undisturbed surface with every cell at the volume fraction ``phi0`` (its
+        prepared state, :attr:`GroundTables.pack` [3])."""
         self.u[:] = 0.0
         self.force[:] = 0.0
         self.depth[:] = 0.0
@@ -222,3 +301,19 @@ class TerrainState(NamedTuple):
         self.group_active[:] = False
         self.stiff_max[:] = 0.0
         self.inert_max[:] = 0.0
+        if self.g_cells.size:
+            self.g_cells[:] = 0.0
+            self.g_cells[:, :, 1] = phi0
+            self.g_elem[:] = 0.0
+            self.g_group[:] = -1.0
+            self.g_count[:] = 0
+            self.g_clock[:] = 0
+            self.g_since[:] = 0.0
+            for a in self.g_blocks:
+                a[...] = 0
+
+
+def no_ground() -> GroundTables:
+    """The :class:`GroundTables` of a terrain without a ground memory (every array empty)."""
+    return GroundTables(np.zeros(4), np.zeros(2, dtype=np.int64), np.zeros((0, 0)), np.zeros(8), np.zeros((0, 0)), 0,
+                        0.0, False)

@@ -113,3 +113,54 @@ def rft_stress_batch(count, depth, n, m, p, out):
         out[0, i] = -ax * rx * k
         out[1, i] = -ax * ry * k
         out[2, i] = az * k
+
+
+@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
+def rft_stress_batch_packed(count, depth, n, m, p, dp, t, out):
+    """:func:`rft_stress_batch` with each element's coefficients at its packing (the ground memory,
+    :mod:`mjrft.ground`): element ``j`` takes ``p[k] + t[j] dp[k]`` for the nine coefficients (``dp``: the closely
+    minus loosely packed row; ``t`` (>= count,): the change of its loose-to-close weight from the prepared state).
+    Li's stress is linear in the coefficients, so this is the law of the interpolated row; with ``t = 0`` it is
+    :func:`rft_stress_batch` bit for bit."""
+    for i in range(count):
+        tt = t[i]
+        q0 = p[0] + tt * dp[0]
+        q1 = p[1] + tt * dp[1]
+        q2 = p[2] + tt * dp[2]
+        q3 = p[3] + tt * dp[3]
+        q4 = p[4] + tt * dp[4]
+        q5 = p[5] + tt * dp[5]
+        q6 = p[6] + tt * dp[6]
+        q7 = p[7] + tt * dp[7]
+        q8 = p[8] + tt * dp[8]
+        nx = n[0, i]
+        ny = n[1, i]
+        nz = n[2, i]
+        mx = m[0, i]
+        my = m[1, i]
+        mz = m[2, i]
+        lw = min(1.0, max(0.0, 0.5 + (nx * mx + ny * my + nz * mz) * (0.5 / LEAD_EPS)))
+        q = min(1.0, (mx * mx + my * my) * INV_PLANE_FADE2)
+        pw = PLANE_EPS * (1.0 - q) * (1.0 - q)  # plane_weight
+        hx = mx + pw * nx
+        hy = my + pw * ny
+        h2 = hx * hx + hy * hy
+        use = h2 > TINY * TINY
+        inv = 1.0 / math.sqrt(h2 if use else 1.0)
+        rx = hx * inv if use else 1.0
+        ry = hy * inv if use else 0.0
+        vr = mx * rx + my * ry
+        ivn = 1.0 / math.sqrt(max(vr * vr + mz * mz, TINY * TINY))
+        cg = vr * ivn
+        sg = -mz * ivn
+        nr = nx * rx + ny * ry
+        w2 = nr * nr + nz * nz
+        iw = 1.0 / max(w2, TINY * TINY)
+        c2 = (nz * nz - nr * nr) * iw
+        s2 = -2.0 * nr * nz * iw
+        az = (q0 + q1 * c2 + q2 * (s2 * cg + c2 * sg) + q3 * sg + q4 * (c2 * sg - s2 * cg))
+        ax = (q5 * (c2 * cg - s2 * sg) + q6 * cg + q7 * (c2 * cg + s2 * sg) + q8 * s2)
+        k = lw * math.sqrt(w2) * max(depth[i], 0.0) if w2 >= TINY * TINY else 0.0
+        out[0, i] = -ax * rx * k
+        out[1, i] = -ax * ry * k
+        out[2, i] = az * k

@@ -148,6 +148,9 @@ class Sand:
         return self
 
     def _init_from(self, model: mujoco.MjModel, tm: TerrainModel, cull) -> None:
+        if tm.ground.on:
+            raise NotImplementedError("mjrft.mjx does not model the ground memory (ground_memory=True, mjrft.ground); "
+                                      "step a terrain with one on the CPU path (mjrft.GranularTerrain)")
         if int(tm.elements.body_root.shape[0]) != model.nbody:
             raise ValueError(f"terrain_model was built on a model with {tm.elements.body_root.shape[0]} bodies, not "
                              f"this one ({model.nbody})")

@@ -1,0 +1,161 @@
+"""The ground memory's cost: the kernel with and without it on the same recorded steps, side by side.
+
+    python benchmarks/bench_ground.py [--steps N] [--rounds R] [--out FILE]
+
+The hexapod (its bundled scene: poppy seeds closely packed, Li RFT, 1,696 elements, 1 ms) walks its 2 Hz tripod for
+1 s on the terrain without a memory while a terrain with ``ground_memory=True`` is evaluated on the same states (its
+ground follows the legs; the motion does not depend on the memory's implementation); the next N physics steps are
+recorded as the kernel sees them (the ``mjData`` views after ``mj_step1``). Each timed round replays those N steps in order through the compiled kernel from a
+compiled loop, once on the terrain without a memory and once on the one with it (its state restored to the
+recording's start, so the ground evolves as it did while recording: the same footprints, ridges and avalanches),
+alternately; a round's time per step is its total over N. The fastest round of each is its cost (on a loaded
+machine most rounds run undisturbed). Printed per grid cell and update period: both times per step, the memory's
+share of the kernel ``(with - without) / without``, and the share of its updates (the replay with the memory but a
+zero dt, for which the kernel leaves the ground as it was at the recording's start: what is left is the cost of
+reading it).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+import warnings
+
+import mujoco
+import numpy as np
+from numba import njit
+
+import mjrft
+from mjrft import kernel
+from mjrft.ground import GROUND_PERIOD, GroundOptions
+from mjrft.types import MjViews
+
+
+def record(steps: int, warm: float = 1.0, memory=True):
+    """(model, terrain with memory, terrain without, stacked views, the first's state at the start, dt): the hexapod
+    walks on the terrain without a memory (so the recorded motion does not depend on the memory), while the one with
+    it (``memory``: its ``ground_memory`` argument) is evaluated on every step too, its ground following the legs."""
+    model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod"))
+    data = mujoco.MjData(model)
+    on = mjrft.GranularTerrain(model, ground_memory=memory)
+    off = mjrft.GranularTerrain(model)
+    dt = model.opt.timestep
+
+    def one_step(keep=None):
+        data.ctrl[:] = 2 * np.pi * 2.0 * data.time + np.arange(model.nu) % 2 * np.pi
+        mujoco.mj_step1(model, data)
+        if keep is not None:
+            for k in keep:
+                keep[k].append(getattr(data, k).copy())
+        on.compute(data)
+        off.compute(data)
+        data.xfrc_applied[off.body_ids] = off.wrench[off.body_ids]
+        mujoco.mj_step2(model, data)
+        data.xfrc_applied[:] = 0.0
+
+    while data.time < warm - 1e-9:
+        one_step()
+    start = copy_state(on.terrain_state)
+    views = {k: [] for k in MjViews._fields}
+    for _ in range(steps):
+        one_step(views)
+    stacked = MjViews(*(np.ascontiguousarray(np.array(views[k])) for k in MjViews._fields))
+    return model, on, off, stacked, start, dt
+
+
+@njit
+def replay(tables, views, gravity, dt, st):
+    """The kernel on each recorded step in order (``views``: each field stacked over the steps): the terrain's own
+    (:func:`mjrft.kernel.terrain_kernel_ground` with a ground memory)."""
+    gx, gm, xp, xm, xi, cv, sc = views
+    bad = 0
+    for s in range(gx.shape[0]):
+        mjd = MjViews(gx[s], gm[s], xp[s], xm[s], xi[s], cv[s], sc[s])
+        if tables.ground.on:
+            status, _ = kernel.terrain_kernel_ground(tables, mjd, gravity, dt, st)
+        else:
+            status, _ = kernel.terrain_kernel(tables, mjd, gravity, dt, st)
+        bad += status != kernel.OK
+    return bad
+
+
+def copy_state(st) -> list:
+    """A copy of every array of the state ``st`` (the ground's blocks included)."""
+    return [tuple(b.copy() for b in a) if isinstance(a, tuple) else a.copy() for a in st]
+
+
+def restore(st, start) -> None:
+    """Put the state ``st`` back to the recording's start (a terrain without a memory: every array but the ground's,
+    so both replays start from the same elements' memory)."""
+    for name, a, b in zip(st._fields, st, start):
+        if isinstance(a, tuple):
+            for x, y in zip(a, b):
+                if x.shape == y.shape:
+                    x[...] = y
+        elif a.shape == b.shape:
+            a[...] = b
+        elif not (name.startswith("g_") or name == "scr_f"):
+            raise ValueError(f"state array {name} has shape {a.shape}, the recording's {b.shape}")
+
+
+def measure(steps: int, rounds: int, options: GroundOptions) -> tuple[dict, mjrft.GranularTerrain, float]:
+    """({"without", "with", "with, update skipped"}: the fastest round's time per step (us), the terrain with the
+    memory, dt) of one recording."""
+    model, on, off, views, start, dt = record(steps, memory=options)
+    best = {"without": np.inf, "with": np.inf, "with, update skipped": np.inf}
+    runs = {"without": (off, dt), "with": (on, dt), "with, update skipped": (on, 0.0)}
+    for r in range(rounds + 1):  # round 0 compiles
+        for name, (t, step_dt) in runs.items():
+            restore(t.terrain_state, start)
+            t0 = time.perf_counter_ns()
+            bad = replay(t.terrain_model.tables, views, 9.81, step_dt, t.terrain_state)
+            elapsed = (time.perf_counter_ns() - t0) / steps * 1e-3
+            if bad:
+                raise SystemExit(f"{name}: {bad} steps returned a bad status")
+            if r > 0:
+                best[name] = min(best[name], elapsed)
+    return best, on, dt
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--steps", type=int, default=1000, help="recorded physics steps (default 1000: 1 s)")
+    ap.add_argument("--rounds", type=int, default=15, help="timed rounds per configuration (default 15)")
+    ap.add_argument("--cells", type=float, nargs="+", default=[None],
+                    help="the grid's cells to measure (m; default GroundOptions': twice the elements' size)")
+    ap.add_argument("--periods", type=float, nargs="+", default=[GROUND_PERIOD],
+                    help=f"the ground's update periods to measure (s; default {GROUND_PERIOD})")
+    ap.add_argument("--out", default=None, help="also write the report to this file")
+    args = ap.parse_args(argv)
+    warnings.simplefilter("ignore")
+    lines = [f"python benchmarks/bench_ground.py --steps {args.steps} --rounds {args.rounds}"
+             + ("" if args.cells == [None] else " --cells " + " ".join(f"{c:g}" for c in args.cells))
+             + ("" if args.periods == [GROUND_PERIOD] else " --periods " + " ".join(f"{p:g}" for p in args.periods))]
+    header = False
+    for cell in args.cells:
+        for period in args.periods:
+            best, on, dt = measure(args.steps, args.rounds, GroundOptions(cell=cell, period=period))
+            gt = on.terrain_model.ground
+            if not header:
+                lines += [f"hexapod (bundled scene: {on.medium.name}, {on.law}, {on.n_elements} elements, dt "
+                          f"{dt * 1e3:g} ms), 2 Hz tripod on the terrain without a memory, a terrain with one "
+                          f"evaluated on the same states; {args.steps} recorded steps after 1 s; fastest of "
+                          f"{args.rounds} rounds, kernel time per step (us):",
+                          f"{'cell':>6s} {'period':>7s} {'without':>8s} {'with':>8s} {'update skipped':>15s} "
+                          f"{'memory / kernel':>16s} {'update alone':>13s}"]
+                header = True
+            w, g, k = best["without"], best["with"], best["with, update skipped"]
+            lines.append(f"{gt.frame[2] * 1e3:4.0f}mm {gt.period * 1e3:5.0f}ms {w:8.2f} {g:8.2f} {k:15.2f} "
+                         f"{100 * (g - w) / w:15.1f}% {100 * (g - k) / w:12.1f}%")
+            print(lines[-1] if len(lines) > 3 else "\n".join(lines), flush=True)
+    text = "\n".join(lines)
+    print(text)
+    if args.out:
+        with open(args.out, "w") as fh:
+            fh.write(text + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
