@@ -29,7 +29,7 @@ from .regions import Region
 from .types import TerrainModel, TerrainState
 from .errors import (MjrftError, NonFiniteError, SandContactWarning, TerrainStabilityWarning, UnknownNameError,
                      ValidityRangeWarning)
-from .media import MEDIA, Medium, calibrate, generic, get_medium, medium_3d
+from .media import MEDIA, Medium, calibrate, fluidized, generic, get_medium, medium_3d
 from . import laws
 from . import models
 
@@ -53,4 +53,4 @@ __version__ = "0.1.0"
 
 __all__ = ["GranularTerrain", "MEDIA", "Medium", "MjrftError", "NonFiniteError", "Region", "SandContactWarning",
            "TerrainModel", "TerrainStabilityWarning", "TerrainState", "UnknownNameError", "ValidityRangeWarning",
-           "calibrate", "generic", "get_medium", "laws", "medium_3d", "models", "tools"]
+           "calibrate", "fluidized", "generic", "get_medium", "laws", "medium_3d", "models", "tools"]

@@ -526,7 +526,7 @@ class GranularTerrain:
         mass, inertia, gravity or timestep is refused here (:func:`mjrft.build.check_model`), before MuJoCo steps
         it."""
         check_model(self.model)
-        self.terrain_state.forget(float(self.terrain_model.ground.pack[3]))
+        self.terrain_state.forget(self.terrain_model.ground)
         self._last_time = -np.inf
         self._check_time = -np.inf
 

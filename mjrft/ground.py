@@ -314,12 +314,14 @@ def with_ground_surface(gt: GroundTables, surface) -> GroundTables:
 # ------------------------------------------------------------------------------------------------
 # the compiled part: what the kernel reads per element, and the update
 # ------------------------------------------------------------------------------------------------
-#: the fields of a cell's record in :attr:`~mjrft.types.TerrainState.g_cells` (one cache line per cell): the surface
-#: the elements read (m, above the undisturbed one), the volume fraction, the grains' surface (m), the volume a body
-#: has displaced from the cell during its contact (m, per cell area), the volume the flowing leading faces moved
-#: through since the last update (m^3), the bodies' volume below the surface now (m^3), the last update a body was
-#: in the cell, the last relaxation sweep that listed it
-C_READ, C_PHI, C_H, C_PEND, C_SWEPT, C_SUB, C_STAMP, C_MARK = 0, 1, 2, 3, 4, 5, 6, 7
+#: the fields of a cell's record in :attr:`~mjrft.types.TerrainState.g_cells` (one cache line per cell): the volume
+#: fraction of its column, the grains' surface above the undisturbed one (m), the volume a body has displaced from
+#: the cell during its contact (m, per cell area; the elements read the surface ``C_H + C_PEND``: the level before
+#: the body came), the volume the flowing leading faces moved through since the last update (m^3), the bodies'
+#: volume below the surface now (m^3), the last update a body was in the cell, the last relaxation sweep that
+#: listed it, and the depth below the undisturbed surface down to which the cell's column is held (m; the layer, or
+#: deeper under a deep hole)
+C_PHI, C_H, C_PEND, C_SWEPT, C_SUB, C_STAMP, C_MARK, C_COL = 0, 1, 2, 3, 4, 5, 6, 7
 N_FIELDS = 8
 
 
@@ -351,12 +353,16 @@ def ground_sample(px, py, frame, cells):
     j = min(int(fy), ny - 2)
     tx = fx - i
     ty = fy - j
-    d0 = cells[j, i + 1, 0] - cells[j, i, 0]
-    d1 = cells[j + 1, i + 1, 0] - cells[j + 1, i, 0]
-    r0 = cells[j, i, 0] + tx * d0
-    r1 = cells[j + 1, i, 0] + tx * d1
-    f0 = cells[j, i, 1] + tx * (cells[j, i + 1, 1] - cells[j, i, 1])
-    f1 = cells[j + 1, i, 1] + tx * (cells[j + 1, i + 1, 1] - cells[j + 1, i, 1])
+    a00 = cells[j, i, C_H] + cells[j, i, C_PEND]
+    a01 = cells[j, i + 1, C_H] + cells[j, i + 1, C_PEND]
+    a10 = cells[j + 1, i, C_H] + cells[j + 1, i, C_PEND]
+    a11 = cells[j + 1, i + 1, C_H] + cells[j + 1, i + 1, C_PEND]
+    d0 = a01 - a00
+    d1 = a11 - a10
+    r0 = a00 + tx * d0
+    r1 = a10 + tx * d1
+    f0 = cells[j, i, C_PHI] + tx * (cells[j, i + 1, C_PHI] - cells[j, i, C_PHI])
+    f1 = cells[j + 1, i, C_PHI] + tx * (cells[j + 1, i + 1, C_PHI] - cells[j + 1, i, C_PHI])
     return r0 + ty * (r1 - r0), (d0 + ty * (d1 - d0)) * kx, (r1 - r0) * ky, f0 + ty * (f1 - f0)
 
 
@@ -413,13 +419,24 @@ def sample_many(xs, ys, frame, base, cells, field, add_base, out):
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _mix_in(cells, j, i, bulk, solid, layer):
-    """Add ``bulk`` (m, over the cell's area) of grains holding ``solid`` (m, likewise) to cell (j, i): its surface
-    rises by ``bulk``, its layer's volume fraction becomes the mix, and the surface it reads follows."""
-    m = cells[j, i, C_PHI] * (layer + cells[j, i, C_H]) + solid
+def _mix_in(cells, j, i, bulk, solid):
+    """Add ``bulk`` (m, over the cell's area) of grains holding ``solid`` (m, likewise) on top of cell (j, i): its
+    surface rises by ``bulk`` and its column's volume fraction becomes the mix."""
+    m = cells[j, i, C_PHI] * (cells[j, i, C_COL] + cells[j, i, C_H]) + solid
     cells[j, i, C_H] += bulk
-    cells[j, i, C_PHI] = m / (layer + cells[j, i, C_H])
-    cells[j, i, C_READ] = cells[j, i, C_H] + cells[j, i, C_PEND]
+    cells[j, i, C_PHI] = m / (cells[j, i, C_COL] + cells[j, i, C_H])
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _take(cells, j, i, bulk, layer, phi0):
+    """Take ``bulk`` (m, over the cell's area) of grains off the top of cell (j, i) (at its packing); a column left
+    thinner than half the layer reaches one layer deeper into the prepared bed (its grains, at ``phi0``, join the
+    column: they are counted, not made, :func:`ground_volumes`)."""
+    cells[j, i, C_H] -= bulk
+    while cells[j, i, C_COL] + cells[j, i, C_H] < 0.5 * layer:
+        m = cells[j, i, C_PHI] * (cells[j, i, C_COL] + cells[j, i, C_H]) + phi0 * layer
+        cells[j, i, C_COL] += layer
+        cells[j, i, C_PHI] = m / (cells[j, i, C_COL] + cells[j, i, C_H])
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -437,7 +454,7 @@ def _raise_block(blocks, cells, j, i):
     block is listed (``blocks.flag``, ``blocks.list``, its length ``blocks.count[0]``) for :func:`_blocks` to
     recompute at the end of the update (a fall shows then); ``blocks.peak[0]`` follows every rise."""
     jb, ib = j >> BLOCK_SHIFT, i >> BLOCK_SHIFT
-    v = cells[j, i, C_READ]
+    v = cells[j, i, C_H] + cells[j, i, C_PEND]
     if v > blocks.top[jb, ib]:
         blocks.top[jb, ib] = v
         if v > blocks.peak[0]:
@@ -463,13 +480,13 @@ def _blocks(blocks, cells, update):
         m = 0.0
         for j in range(jb << BLOCK_SHIFT, min(ny, (jb + 1) << BLOCK_SHIFT)):
             for i in range(ib << BLOCK_SHIFT, min(nx, (ib + 1) << BLOCK_SHIFT)):
-                m = max(m, cells[j, i, C_READ])
+                m = max(m, cells[j, i, C_H] + cells[j, i, C_PEND])
         blocks.top[jb, ib] = m
     blocks.count[0] = 0
 
 
 @njit(cache=True, error_model="numpy")
-def _ridge(cells, dirty, count, blocks, rim, j, i, solid, step, reach, crit, layer, sweep, slot):
+def _ridge(cells, dirty, count, blocks, rim, j, i, solid, step, reach, crit, sweep, slot):
     """Put the grains (``solid``: their solid volume over one cell's area, m) that a footprint displaces from cell
     (j, i) on its rim: along each of the 8 grid directions the first cell within ``reach`` cells that no body is in
     takes an equal share, landing at the critical state ``crit`` (sheared grains). ``rim`` (8,): scratch. Returns
@@ -495,14 +512,14 @@ def _ridge(cells, dirty, count, blocks, rim, j, i, solid, step, reach, crit, lay
     for k in range(found):
         jj = rim[k] // nx
         ii = rim[k] - jj * nx
-        _mix_in(cells, jj, ii, share / crit, share, layer)
+        _mix_in(cells, jj, ii, share / crit, share)
         _raise_block(blocks, cells, jj, ii)
         _mark(dirty, count, cells, nx, jj, ii, sweep, slot)
     return True
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
-def relax_sweep(base, cells, dirty, count, clock, blocks, step, cell, tan_lp, tan_cp, phi_lp, inv_range, layer):
+def relax_sweep(base, cells, dirty, count, clock, blocks, step, cell, tan_lp, tan_cp, phi_lp, inv_range, layer, phi0):
     """One sweep of the slopes' relaxation over the listed cells (Gauss-Seidel): between a listed cell no body is in
     and each of its four neighbours no body is in, when the drop ``d = H_high - H_low`` (``H`` = undisturbed surface +
     grains' surface) exceeds ``cell tan(theta)`` (``theta`` the angle of repose at the high cell's packing, between
@@ -538,10 +555,10 @@ def relax_sweep(base, cells, dirty, count, clock, blocks, step, cell, tan_lp, ta
             excess = drop - cell * (tan_lp + s * (tan_cp - tan_lp))
             if excess > RELAX_TOL * cell:
                 q = 0.5 * RELAX * excess
-                cells[jh, ih, C_H] -= q
-                cells[jh, ih, C_READ] = cells[jh, ih, C_H] + cells[jh, ih, C_PEND]
+                solid = cells[jh, ih, C_PHI] * q
+                _take(cells, jh, ih, q, layer, phi0)
                 _raise_block(blocks, cells, jh, ih)
-                _mix_in(cells, jl, il, q, cells[jh, ih, C_PHI] * q, layer)
+                _mix_in(cells, jl, il, q, solid)
                 _raise_block(blocks, cells, jl, il)
                 _mark(dirty, count, cells, nx, jh, ih, sweep + 1, nxt)
                 _mark(dirty, count, cells, nx, jl, il, sweep + 1, nxt)
@@ -561,6 +578,7 @@ def ground_step(gr, el, st, delta, v_eps, dt):
     x0, y0, cell, inv = gr.frame[0], gr.frame[1], gr.frame[2], gr.frame[3]
     phi_cp, crit = gr.pack[1], gr.pack[2]
     phi_lp, inv_range, tan_lp, tan_cp, layer = gr.pack[0], gr.pack[4], gr.pack[5], gr.pack[6], gr.pack[7]
+    phi0 = gr.pack[3]
     base, cells = gr.base, st.g_cells
     held, dirty, count, clock, blocks, rim = st.g_held, st.g_dirty, st.g_count, st.g_clock, st.g_blocks, st.g_rim
     ny, nx = cells.shape[0], cells.shape[1]
@@ -608,35 +626,35 @@ def ground_step(gr, el, st, delta, v_eps, dt):
         c = held[1, k]
         j = c // nx
         i = c - j * nx
+        col = cells[j, i, C_COL]
         h = cells[j, i, C_H]
         phi = cells[j, i, C_PHI]
-        f = cells[j, i, C_SWEPT] * inv_a / layer
+        f = cells[j, i, C_SWEPT] * inv_a / (col + h)
         if f > 0.0 and phi != crit:  # the grains moved through are left at the critical state
-            m = phi * (layer + h)
+            m = phi * (col + h)
             phi += min(f, 1.0) * (crit - phi)
-            h = m / phi - layer
+            h = m / phi - col
+        cells[j, i, C_SWEPT] = 0.0
         dv = cells[j, i, C_SUB] * inv_a - cells[j, i, C_PEND]  # m over the cell's area: the footprint deepens
         if dv > 0.0:
             cells[j, i, C_PEND] += dv
-            cap = (layer + h) * (1.0 - phi / phi_cp) if phi < phi_cp else 0.0
-            va = min(dv, cap)
+            va = min(dv, (col + h) * (1.0 - phi / phi_cp)) if phi < phi_cp else 0.0
             if va > 0.0:  # compaction of loose grains under the load
-                m = phi * (layer + h)
+                m = phi * (col + h)
                 h -= va
-                phi = m / (layer + h)
-            vr = dv - va
+                phi = m / (col + h)
             cells[j, i, C_H] = h
             cells[j, i, C_PHI] = phi
+            vr = dv - va
             if vr > 0.0:  # the rest heaps up on the rim
-                if _ridge(cells, dirty, count, blocks, rim, j, i, phi * vr, step, gr.ridge, crit, layer, sweep, slot):
-                    h -= vr
+                if _ridge(cells, dirty, count, blocks, rim, j, i, phi * vr, step, gr.ridge, crit, sweep, slot):
+                    _take(cells, j, i, vr, layer, phi0)
                 else:
                     cells[j, i, C_PEND] -= vr
-        cells[j, i, C_H] = h
-        cells[j, i, C_PHI] = phi
-        cells[j, i, C_READ] = h + cells[j, i, C_PEND]
+        else:
+            cells[j, i, C_H] = h
+            cells[j, i, C_PHI] = phi
         _raise_block(blocks, cells, j, i)
-        cells[j, i, C_SWEPT] = 0.0
     # 3. the cells the bodies left: the footprint stays open, and may avalanche
     for k in range(count[0]):
         c = held[0, k]
@@ -644,7 +662,6 @@ def ground_step(gr, el, st, delta, v_eps, dt):
         i = c - j * nx
         if cells[j, i, C_STAMP] != step:
             cells[j, i, C_PEND] = 0.0
-            cells[j, i, C_READ] = cells[j, i, C_H]
             _raise_block(blocks, cells, j, i)
             _mark(dirty, count, cells, nx, j, i, sweep, slot)
     for k in range(ntouch):
@@ -652,7 +669,8 @@ def ground_step(gr, el, st, delta, v_eps, dt):
     count[0] = ntouch
     # 4. one relaxation sweep, and the blocks' highest surfaces for the culling
     if count[1 + slot] > 0:
-        relax_sweep(base, cells, dirty, count, clock, blocks, step, cell, tan_lp, tan_cp, phi_lp, inv_range, layer)
+        relax_sweep(base, cells, dirty, count, clock, blocks, step, cell, tan_lp, tan_cp, phi_lp, inv_range, layer,
+                    phi0)
     _blocks(blocks, cells, step)
 
 
@@ -669,6 +687,7 @@ def make_ground_state(gt: GroundTables, n_elements: int, n_groups: int) -> dict:
     ny, nx = (int(v) for v in gt.shape)
     cells = np.zeros((ny, nx, N_FIELDS))
     cells[:, :, C_PHI] = gt.pack[3]
+    cells[:, :, C_COL] = gt.pack[7]
     return dict(g_cells=cells, g_height=cells[:, :, C_H], g_phi=cells[:, :, C_PHI], g_elem=np.zeros((n_elements, 6)),
                 g_group=np.full((n_groups, 3), -1.0),
                 g_held=np.zeros((2, max(1, n_elements)), dtype=np.int64),
@@ -684,9 +703,13 @@ def _block_arrays(nby: int, nbx: int) -> GroundBlocks:
 
 
 def ground_volumes(gt: GroundTables, st) -> tuple[float, float]:
-    """(solid volume of the grid's layers, bulk volume above the undisturbed surface), m^3: the first is conserved by
-    every update of the ground memory (grains are moved, never made or lost), the second changes only with the
-    packing (compaction and dilation); what the conservation tests check."""
+    """(the grains' solid volume in the grid's columns down to the layer's depth, the bulk volume above the
+    undisturbed surface), m^3. Grains a deep hole's column took in from below the layer (at the prepared packing)
+    are counted as they were there, so the first is conserved by every update of the ground memory (grains are
+    moved, never made or lost); the second changes only with the packing (compaction and dilation). What the
+    conservation tests check."""
     a = gt.frame[2] ** 2
-    layer = gt.pack[7]
-    return float(np.sum(st.g_phi * (layer + st.g_height)) * a), float(np.sum(st.g_height) * a)
+    layer, phi0 = gt.pack[7], gt.pack[3]
+    c = st.g_cells
+    solid = np.sum(c[:, :, C_PHI] * (c[:, :, C_COL] + c[:, :, C_H]) - phi0 * (c[:, :, C_COL] - layer))
+    return float(solid * a), float(np.sum(c[:, :, C_H]) * a)

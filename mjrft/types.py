@@ -233,9 +233,9 @@ class TerrainState(NamedTuple):
     (12 nb + 6), ``imp_rows`` (nb) (all empty with ``implicit=False``).
 
     The ground memory (:mod:`mjrft.ground`; every array empty when it is off): ``g_cells`` (ny, nx, 8) one record per
-    cell (:data:`mjrft.ground.C_READ` ...: the surface the elements read, the volume fraction, the grains' surface,
-    the volume displaced during a body's contact, the swept and the submerged volume, the last update a body was in
-    it, the last relaxation sweep that listed it), with the views ``g_height`` (ny, nx: the grains' surface above
+    cell (:data:`mjrft.ground.C_PHI` ...: its column's volume fraction, the grains' surface, the volume displaced
+    during a body's contact, the swept and the submerged volume, the last update a body was in it, the last
+    relaxation sweep that listed it, its column's depth), with the views ``g_height`` (ny, nx: the grains' surface above
     the undisturbed one, m) and ``g_phi`` (ny, nx: their volume fraction); per element ``g_elem`` (n, 6) what it read
     from the ground at the last update (or when its cull group came within reach): the surface (m), its gradient
     along x and y, the point (x, y) it was read at, and the packing as the law reads it (the change of the
@@ -290,10 +290,10 @@ class TerrainState(NamedTuple):
     g_rim: np.ndarray
     g_rows: np.ndarray
 
-    def forget(self, phi0: float = 0.0) -> None:
+    def forget(self, ground: GroundTables | None = None) -> None:
         """Zero the memory and the last step's outputs (a reset): what :meth:`mjrft.GranularTerrain.reset` does. A
-        ground memory returns to the undisturbed surface with every cell at the volume fraction ``phi0`` (its
-        prepared state, :attr:`GroundTables.pack` [3])."""
+        ground memory (its tables ``ground``) returns to the undisturbed surface, every cell at the prepared volume
+        fraction with its column the layer's depth."""
         self.u[:] = 0.0
         self.force[:] = 0.0
         self.depth[:] = 0.0
@@ -303,7 +303,8 @@ class TerrainState(NamedTuple):
         self.inert_max[:] = 0.0
         if self.g_cells.size:
             self.g_cells[:] = 0.0
-            self.g_cells[:, :, 1] = phi0
+            self.g_cells[:, :, 0] = ground.pack[3]  # mjrft.ground.C_PHI, C_COL
+            self.g_cells[:, :, 7] = ground.pack[7]
             self.g_elem[:] = 0.0
             self.g_group[:] = -1.0
             self.g_count[:] = 0

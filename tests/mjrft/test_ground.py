@@ -11,6 +11,7 @@ import mujoco
 import numpy as np
 import pytest
 
+import mjrft
 from mjrft import GranularTerrain
 from mjrft.ground import C_H, C_PHI, GroundOptions, ground_volumes, packing_of
 
@@ -117,7 +118,9 @@ def test_footprint_ridge_and_conservation_of_the_grains():
     assert ring.max() > 0.001
     solid1, _ = ground_volumes(gt, st)
     assert abs(solid1 - solid0) <= 1e-12 * solid0
-    lost = st._replace(g_height=np.minimum(st.g_height, 0.0))
+    cells = st.g_cells.copy()
+    cells[:, :, C_H] = np.minimum(cells[:, :, C_H], 0.0)
+    lost = st._replace(g_cells=cells)
     assert abs(ground_volumes(gt, lost)[0] - solid0) > 1e-3 * solid0
 
 
@@ -267,3 +270,84 @@ def test_envs_pass_the_keyword_through():
     assert np.all(env.terrain.terrain_state.g_height == 0.0)
     env.close()
     assert not HexapodSand().terrain.ground_memory
+
+
+# ------------------------------------------------------------------------------------------------
+# the extremes (benchmarks/ground_extremes.py runs them for minutes and writes its report)
+# ------------------------------------------------------------------------------------------------
+def _standing_creep(memory: bool, loosen: bool = False) -> float:
+    """How far (m) the hexapod, standing at its initial pose on poppy_cp, sinks between 1 s and 3 s; with the memory
+    the grains' volume is asserted conserved. ``loosen``: its bed set to the loose state at 1 s (the control)."""
+    model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod"))
+    data = mujoco.MjData(model)
+    t = GranularTerrain(model, ground_memory=memory)
+    t.bind(data)
+    solid0 = ground_volumes(t.terrain_model.ground, t.terrain_state)[0] if memory else 0.0
+    data.ctrl[:] = 0.0
+    t.step(data, 1000)
+    z1 = data.qpos[2]
+    if loosen:
+        t.terrain_state.g_cells[:, :, C_PHI] = 0.58
+        t.terrain_state.g_group[:] = -1.0  # every element reads the ground afresh
+        solid0 = ground_volumes(t.terrain_model.ground, t.terrain_state)[0]
+    t.step(data, 2000)
+    if memory:
+        assert abs(ground_volumes(t.terrain_model.ground, t.terrain_state)[0] - solid0) <= 1e-12 * solid0
+    return z1 - data.qpos[2]
+
+
+def test_a_standing_robot_does_not_creep_on_the_memory():
+    """Standing for 2 s after settling, the hexapod sinks at most 0.5 mm more with the memory than without (its feet
+    at yield creep and dilate the grains they move through: 0.2 mm; benchmarks/ground_extremes.py shows it stop),
+    and the grains' volume stays (asserted inside). Control: the same robot whose bed is loosened under it sinks
+    further (more than 1 mm: the check sees a weaker ground)."""
+    off, on = _standing_creep(False), _standing_creep(True)
+    assert on - off < 5e-4
+    assert _standing_creep(True, loosen=True) - off > 1e-3
+
+
+def _packing_and_conservation(t, solid0) -> bool:
+    gt, st = t.terrain_model.ground, t.terrain_state
+    ok_phi = st.g_phi.min() >= gt.pack[0] - 1e-12 and st.g_phi.max() <= gt.pack[1] + 1e-12
+    return bool(ok_phi and abs(ground_volumes(gt, st)[0] - solid0) <= 1e-12 * solid0
+                and np.all(np.isfinite(st.g_cells)) and np.abs(st.g_height).max() < 0.03)
+
+
+def test_12hz_strides_keep_the_ground_bounded_and_conserved():
+    """The DynaRoACH-sized hexapod turning its tripods at 12 Hz on 3 mm glass for 0.5 s: forces finite, every cell's
+    packing between the two states, the surface within 3 cm, the grains' volume conserved. Control: the same check
+    rejects the map with one cell's packing pushed past the closely packed state."""
+    from mjrft.models.hexapod import TRIPOD_A, hexapod_xml
+
+    model = mujoco.MjModel.from_xml_string(hexapod_xml(variant="small", medium="glass3_cp", law="rft",
+                                                       resolution=0.005))
+    data = mujoco.MjData(model)
+    t = GranularTerrain(model, ground_memory=True)
+    t.bind(data)
+    solid0 = ground_volumes(t.terrain_model.ground, t.terrain_state)[0]
+    legs_a = {f"leg_{k}" for k in TRIPOD_A}
+    off = np.array([0.0 if model.body(int(model.jnt_bodyid[model.actuator_trnid[i, 0]])).name in legs_a else math.pi
+                    for i in range(model.nu)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for _ in range(500):
+            data.ctrl[:] = 2 * math.pi * 12.0 * data.time + off
+            t.step(data, 1)
+    assert np.all(np.isfinite(t.force)) and np.any(t.terrain_state.g_height != 0.0)
+    assert _packing_and_conservation(t, solid0)
+    t.terrain_state.g_cells[5, 5, C_PHI] = 0.64
+    assert not _packing_and_conservation(t, solid0)
+
+
+def test_deep_trench_relaxes_and_conserves():
+    """A plate pushed 6 cm deep (twice the packing's layer), dragged 5 cm and lifted, then left at rest: the grains'
+    volume is conserved, the packing stays between the states and every slope is at the angle of repose or below
+    (the control of that check: test_slopes_relax_to_the_angle_of_repose's vertical pit)."""
+    m, d, t = rig(period=4e-3)
+    solid0 = ground_volumes(t.terrain_model.ground, t.terrain_state)[0]
+    move(m, d, t, [0.0, 0.0, 0.05, 0.05], [0.03, -0.055, -0.055, 0.03], speed=0.05)
+    for _ in range(150):
+        move(m, d, t, [0.05, 0.05], [0.06, 0.06], speed=0.05, step=2e-4)
+    assert t.ground_height(0.025, 0.0) < -1e-3
+    assert _packing_and_conservation(t, solid0)
+    assert slopes(t) <= math.tan(math.radians(47.0)) * (1 + 1e-3) + 2e-4
