@@ -32,6 +32,7 @@ import numpy as np  # noqa: E402
 
 import gymnasium  # noqa: E402
 import mjrft  # noqa: E402
+import mjrft.ground  # noqa: E402
 from mjrft.tools import rigs  # noqa: E402
 from mjrft.tools.gaits import make_gait  # noqa: E402
 
@@ -446,7 +447,46 @@ def tradeoff(out: Path = IMG / "speed_accuracy.png") -> Path:
     return out
 
 
-FIGURES = {"hero": hero, "element_model": element_model, "laws": laws, "media": media, "rest": rest, "tradeoff": tradeoff}
+def ground(out: Path = IMG / "ground_memory.png") -> Path:
+    """The ground memory after the hexapod's tripod walk: the grains' surface (footprints, ridges) and packing."""
+    seconds = 3.0
+    env = _walk(seconds, ground_memory=True)
+    u = env.unwrapped
+    t = u.terrain
+    gt, st = t.terrain_model.ground, t.terrain_state
+    h, phi = st.g_height, st.g_phi
+    changed = (np.abs(h) > 1e-6) | (np.abs(phi - gt.pack[3]) > 1e-6)
+    rows, cols = np.nonzero(changed.any(axis=1))[0], np.nonzero(changed.any(axis=0))[0]
+    j0, j1, i0, i1 = rows[0] - 3, rows[-1] + 4, cols[0] - 3, cols[-1] + 4
+    c = gt.frame[2]
+    ext = [gt.frame[0] + i0 * c, gt.frame[0] + i1 * c, gt.frame[1] + j0 * c, gt.frame[1] + j1 * c]
+    fig, axes = plt.subplots(2, 1, figsize=(8.0, 5.4), constrained_layout=True)
+    hv = h[j0:j1, i0:i1] * 1e3
+    lim = float(np.abs(hv).max())
+    im = axes[0].imshow(hv, origin="lower", extent=ext, cmap="BrBG", vmin=-lim, vmax=lim)
+    fig.colorbar(im, ax=axes[0], label="surface (mm)")
+    axes[0].set_title(f"grains' surface after {seconds:g} s of the 2 Hz tripod: footprints and ridges")
+    im = axes[1].imshow(phi[j0:j1, i0:i1], origin="lower", extent=ext, cmap="copper", vmin=gt.pack[2], vmax=gt.pack[1])
+    fig.colorbar(im, ax=axes[1], label="volume fraction")
+    axes[1].set_title("packing: sheared grains at the critical state (0.60) in the closely packed bed (0.62)")
+    torso = u.data.xpos[u.model.body("torso").id]
+    for ax in axes:
+        ax.plot([torso[0]], [torso[1]], "k+", ms=10)
+        ax.set_xlabel("x (m)")
+        ax.set_ylabel("y (m)")
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
+    solid, bulk = mjrft.ground.ground_volumes(gt, st)
+    _record("ground", [f"hexapod, poppy_cp, tripod:f=2, {seconds:g} s with ground_memory=True ({gt.frame[2] * 1e3:g} mm "
+                       f"cells): torso x {torso[0]:.3f} m; surface {h.min() * 1e3:.2f} to {h.max() * 1e3:.2f} mm; "
+                       f"packing {phi.min():.4f} to {phi.max():.4f}; {int(changed.sum())} cells changed; bulk volume "
+                       f"above the undisturbed surface {bulk * 1e6:.3f} cm^3"])
+    env.close()
+    return out
+
+
+FIGURES = {"hero": hero, "element_model": element_model, "laws": laws, "media": media, "rest": rest, "tradeoff": tradeoff,
+           "ground": ground}
 
 
 def main(argv=None) -> int:

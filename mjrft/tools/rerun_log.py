@@ -34,6 +34,13 @@ Every logged frame is stamped on the ``sim_time`` timeline (simulation time, a d
 ``plots/lift``             per leg/foot body: vertical granular force (N, +z up) — one series per body
 ``plots/thrust``           per leg/foot body: forward granular force (N, world +x)
 ``plots/sinkage``          per leg/foot body: deepest element below the surface (m)
+``world/ground_memory``    with a ground memory (``ground_memory=True``): the grains' surface over the part
+                           of the grid that changed since the reset (its box and 2 cells around), a mesh
+                           through the cell centres, coloured by packing (loosely packed dark brown ->
+                           closely packed light sand; ``GROUND_COLORS``): footprints, ridges and the
+                           sheared grains, every frame
+``plots/ground``           with a ground memory: the lowest and highest surface (m, above the undisturbed
+                           one) and the loosest volume fraction of the grid
 =========================  ==============================================================================
 
 Choices: the forces at a frame are those the terrain applied over the last physics step (computed
@@ -67,6 +74,8 @@ LOG_EVERY = 5  # env steps between logged frames: the default of mjrft demo, rol
 #: colour map anchors (viridis-like) for stress, from 0 to stress_max
 _CMAP = np.array([[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]], dtype=np.float64)
 _SAND_RGBA = (219, 189, 133, 110)
+#: the ground memory's colours (RGB) of loosely and of closely packed grains
+GROUND_COLORS = ((120, 84, 45), (235, 210, 160))
 
 
 #: the port a spawned viewer listens on (rerun's default)
@@ -295,6 +304,9 @@ class RerunLogger:
         if len(self.plot_bodies):
             for what in ("lift", "thrust", "sinkage"):
                 rec.log(f"plots/{what}", rr.SeriesLines(names=self._plot_names), static=True)
+        if self.terrain is not None and getattr(self.terrain, "ground_memory", False):
+            rec.log("plots/ground", rr.SeriesLines(names=["lowest surface (m)", "highest surface (m)",
+                                                          "loosest volume fraction"]), static=True)
 
     # ------------------------------------------------------------------ per frame
     def log(self, source) -> None:
@@ -335,12 +347,43 @@ class RerunLogger:
                                                     colors=[(200, 30, 30)],
                                                     labels=[_name(self.model, mujoco.mjtObj.mjOBJ_BODY, int(b), "body")
                                                             for b in bodies]))
+            if t.ground_memory:
+                self._log_ground(t)
             if len(self.plot_bodies):
                 w = t.wrench[self.plot_bodies]
                 rec.log("plots/lift", rr.Scalars(w[:, 2]))
                 rec.log("plots/thrust", rr.Scalars(w[:, 0]))
                 rec.log("plots/sinkage", rr.Scalars(t.sinkage()[self.plot_bodies]))
         self.frames += 1
+
+    def _log_ground(self, t) -> None:
+        """The ground memory's surface over the part of the grid that changed (module docstring)."""
+        rr, rec = self._rr, self.rec
+        gt, st = t.terrain_model.ground, t.terrain_state
+        h, phi = st.g_height, st.g_phi
+        changed = (np.abs(h) > 1e-6) | (np.abs(phi - gt.pack[3]) > 1e-6)
+        rec.log("plots/ground", rr.Scalars([float(h.min()), float(h.max()), float(phi.min())]))
+        rows, cols = np.nonzero(changed.any(axis=1))[0], np.nonzero(changed.any(axis=0))[0]
+        if not len(rows):
+            rec.log("world/ground_memory", rr.Clear(recursive=False))
+            return
+        ny, nx = h.shape
+        j0, j1 = max(0, rows[0] - 2), min(ny, rows[-1] + 3)
+        i0, i1 = max(0, cols[0] - 2), min(nx, cols[-1] + 3)
+        x0, y0, c = gt.frame[0], gt.frame[1], gt.frame[2]
+        xs = x0 + (np.arange(i0, i1) + 0.5) * c
+        ys = y0 + (np.arange(j0, j1) + 0.5) * c
+        gx, gy = np.meshgrid(xs, ys)
+        z = gt.base[j0:j1, i0:i1] + h[j0:j1, i0:i1]
+        verts = np.stack([gx.ravel(), gy.ravel(), z.ravel()], axis=1)
+        m, n = j1 - j0, i1 - i0
+        k = (np.arange(m - 1)[:, None] * n + np.arange(n - 1)[None, :]).ravel()
+        tris = np.concatenate([np.stack([k, k + 1, k + n + 1], 1), np.stack([k, k + n + 1, k + n], 1)])
+        s = np.clip((phi[j0:j1, i0:i1].ravel() - gt.pack[0]) * gt.pack[4], 0.0, 1.0) if gt.pack[4] > 0 else \
+            np.ones(verts.shape[0])
+        lo, hi = np.array(GROUND_COLORS[0], float), np.array(GROUND_COLORS[1], float)
+        colors = (lo + s[:, None] * (hi - lo)).astype(np.uint8)
+        rec.log("world/ground_memory", rr.Mesh3D(vertex_positions=verts, triangle_indices=tris, vertex_colors=colors))
 
     # ------------------------------------------------------------------ lifetime
     def flush(self) -> None:

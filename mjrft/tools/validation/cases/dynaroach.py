@@ -258,11 +258,13 @@ def _tripod_walk(data, terrain, ctrl, n, nw, legs, tri_a, freq, out):
     out["stride"] = out["speed"] / freq
 
 
-def robot_run(freq: float, inertial: bool, seconds: float, warm: float, resolution: float = 0.005) -> dict:
+def robot_run(freq: float, inertial: bool, seconds: float, warm: float, resolution: float = 0.005,
+              ground_memory=False, observe=None) -> dict:
     """The small hexapod's tripod at ``freq`` Hz for ``seconds`` (the first ``warm`` s not averaged); returns
     speed (m/s), stride (m), deepest leg element (m), fastest downward buried leg element (m/s), peak tripod
     A lift (N), mean torso height (m), duty factor (fraction of the time tripod A carries more than 2 % of
-    the weight)."""
+    the weight). ``ground_memory``: the terrain's (:mod:`mjrft.ground`); ``observe(terrain, data)``: called after
+    every averaged step."""
     from mjrft.models.hexapod import LEG_NAMES, TRIPOD_A, hexapod_xml
 
     xml = hexapod_xml(variant="small", medium=MEDIUM, law="rft", resolution=resolution)
@@ -272,7 +274,7 @@ def robot_run(freq: float, inertial: bool, seconds: float, warm: float, resoluti
     n = int(round(seconds / model.opt.timestep))
     nw = int(round(warm / model.opt.timestep))
     out = {"depth": 0.0, "vpen": 0.0, "lift": 0.0, "height": 0.0}
-    terrain = GranularTerrain(model, inertial=inertial)
+    terrain = GranularTerrain(model, inertial=inertial, ground_memory=ground_memory)
     legs = np.isin(terrain.elem_body, [model.body(f"leg_{k}").id for k in LEG_NAMES])
     tri_a = np.isin(terrain.elem_body, [model.body(f"leg_{k}").id for k in TRIPOD_A])
     heights = []
@@ -281,6 +283,8 @@ def robot_run(freq: float, inertial: bool, seconds: float, warm: float, resoluti
     for fa in _tripod_walk(data, terrain, lambda t: 2 * math.pi * freq * t + off, n, nw, legs, tri_a, freq, out):
         stance += fa > 0.02 * mg
         heights.append(data.qpos[2])
+        if observe is not None:
+            observe(terrain, data)
     out["height"] = float(np.mean(heights))
     out["duty"] = stance / max(1, n - nw)
     return out
@@ -422,10 +426,12 @@ def robot(quick: bool) -> CaseResult:
 # DynaRoACH's own leg kinematics (mjrft.models.dynaroach): swing and lift hinges on one crank
 # ------------------------------------------------------------------------------------------------
 def legs_run(freq: float, inertial: bool, seconds: float, warm: float, resolution: float = 0.005,
-             torso_granular: bool = True, inertial_drag: float | None = None, **gait) -> dict:
+             torso_granular: bool = True, inertial_drag: float | None = None, ground_memory=False, observe=None,
+             **gait) -> dict:
     """:func:`mjrft.models.dynaroach.dynaroach_xml` on the case's medium at ``freq`` Hz, driven by
     :func:`~mjrft.models.dynaroach.dynaroach_ctrl` (``gait``: its ``swing``, ``lift``, ``lift_phase``); the first
-    ``warm`` s not averaged; ``inertial_drag``: the regime's coefficient C (None: mjrft's). ``torso_granular=False``
+    ``warm`` s not averaged; ``inertial_drag``: the regime's coefficient C (None: mjrft's); ``ground_memory``: the
+    terrain's (:mod:`mjrft.ground`); ``observe(terrain, data)``: called after every averaged step. ``torso_granular=False``
     leaves the torso out of the granular bodies (the legs alone carry the robot: a measurement of what the belly
     does, not a setup of the paper). Returns speed (m/s), stride (m), deepest leg element (m), fastest downward
     buried leg element (m/s), mean CoM height and
@@ -441,7 +447,7 @@ def legs_run(freq: float, inertial: bool, seconds: float, warm: float, resolutio
                                                          granular_bodies=bodies))
     data = mujoco.MjData(model)
     off = tripod_phase(model)
-    terrain = GranularTerrain(model, inertial=inertial, inertial_drag=inertial_drag)
+    terrain = GranularTerrain(model, inertial=inertial, inertial_drag=inertial_drag, ground_memory=ground_memory)
     legs = np.isin(terrain.elem_body, [model.body(f"leg_{k}").id for k in LEG_NAMES])
     tri_a = np.isin(terrain.elem_body, [model.body(f"leg_{k}").id for k in TRIPOD_A])
     lf = terrain.elem_body == model.body("leg_lf").id
@@ -458,6 +464,8 @@ def legs_run(freq: float, inertial: bool, seconds: float, warm: float, resolutio
                            freq, out):
         stance += fa > 0.02 * mg
         heights.append(data.qpos[2])
+        if observe is not None:
+            observe(terrain, data)
         belly.append(float(terrain.force[torso, 2].sum()) / mg)
         fz_legs += float(terrain.force[legs, 2].sum())
         for k, el in leg_of.items():

@@ -53,23 +53,27 @@ PLACEMENTS = (-0.01, 0.0, 0.01)  # CoM ahead of the sole's centre (m), one trial
 WIDTHS = (0.152, 0.178, 0.203, 0.229, 0.254, 0.304)
 
 
-def _env(foot_width: float, cutout: bool, yield_displacement: float | None = None, sand: bool = True):
+def _env(foot_width: float, cutout: bool, yield_displacement: float | None = None, sand: bool = True,
+         ground_memory=False, medium=None):
     from mjrft.coupler import GranularTerrain
     from mjrft.envs.humanoid import HumanoidSand
 
-    env = HumanoidSand(sand=sand, terminate_when_unhealthy=False, foot_width=foot_width, foot_cutout=cutout)
+    env = HumanoidSand(sand=sand, terminate_when_unhealthy=False, foot_width=foot_width, foot_cutout=cutout,
+                       **({"ground_memory": ground_memory} if ground_memory else {}),
+                       **({"medium": medium} if medium is not None else {}))
     if yield_displacement is not None:
         env.terrain = GranularTerrain(env.model, yield_displacement=yield_displacement)
     return env
 
 
 def run_trial(spec: str, foot_width: float, cutout: bool, t_end: float, yield_displacement: float | None = None,
-              sand: bool = True):
+              sand: bool = True, ground_memory=False, medium=None):
     """Run the gait ``spec`` until ``t_end`` or a fall: (times, pelvis tilt, stance sinkage m, fall time or nan,
-    fall direction: the pelvis z axis's (x, y) at the fall). ``sand=False``: a rigid floor (the controls)."""
+    fall direction: the pelvis z axis's (x, y) at the fall). ``sand=False``: a rigid floor (the controls);
+    ``ground_memory``: the terrain's (:mod:`mjrft.ground`); ``medium``: instead of the env's."""
     from ...gaits import make_gait
 
-    env = _env(foot_width, cutout, yield_displacement, sand)
+    env = _env(foot_width, cutout, yield_displacement, sand, ground_memory, medium)
     obs, _ = env.reset(seed=0)
     gait = make_gait(spec, env)
     ts, tilt, sink = [], [], []
@@ -94,12 +98,12 @@ def run_trial(spec: str, foot_width: float, cutout: bool, t_end: float, yield_di
 # ------------------------------------------------------------------------------------------------
 # one-foot stance
 # ------------------------------------------------------------------------------------------------
-def _stance_counts(widths, placements, delta=None, sand: bool = True):
+def _stance_counts(widths, placements, delta=None, sand: bool = True, ground_memory=False):
     rows = {}
     for w, cut in [(w, False) for w in widths] + [(0.304, True)]:
         falls = []
         for cx in placements:
-            falls.append(run_trial(f"stance:com_x={cx},lift=0.1", w, cut, HOLD_END, delta, sand)[3])
+            falls.append(run_trial(f"stance:com_x={cx},lift=0.1", w, cut, HOLD_END, delta, sand, ground_memory)[3])
         rows[(w, cut)] = falls
     return rows
 

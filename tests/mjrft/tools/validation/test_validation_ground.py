@@ -1,0 +1,78 @@
+"""Validation cases dynaroach_memory and thesis_hubo_stance_memory (the ground memory): each case's outcome test, its
+known disagreements and its controls, the same runs without the memory (:class:`helpers.CaseTests`)."""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+from mjrft.tools.validation.cases import ground, thesis_hubo
+
+from helpers import CaseTests
+
+case_tests = CaseTests()
+outcome, disagreement, control = case_tests.outcome, case_tests.disagreement, case_tests.control
+
+DYNAROACH_CAUSE = ("the legs' touchdowns land on disturbed ground at every frequency (hind legs in the fore legs' "
+                   "tracks, DynaRoACH's own legs in their own), and disturbed ground only slows the robot: its "
+                   "running needs inertial lift, which the regime gives the protraction as drag")
+HUBO_CAUSE = ("the memory does not change which trials stand: a compacted or sheared bed scales the strength under "
+              "every foot alike, so the cut-out board stands like the full one (thesis_hubo_stance's cause)")
+
+
+@outcome("dynaroach_memory")
+def dynaroach_memory_outcomes(r):
+    by = r.by_name
+    # DynaRoACH's own legs (stride near 2r) meet the ground they disturbed on most touchdowns at the top frequency
+    assert by["own legs: legs land on previously disturbed ground at high frequency"].passed
+    assert "touchdowns on previously disturbed ground" in r.cause and len(r.panels) == 3
+
+
+@disagreement("dynaroach_memory", reason=DYNAROACH_CAUSE)
+def dynaroach_memory_running(r):
+    assert not [c for c in r.checks if not c.passed]
+
+
+@control("dynaroach_memory", "the memory-off runs fail the checks the memory passes")
+def dynaroach_without_memory():
+    freqs = [3.0, 6.0, 8.0, 12.0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        on, off = ground.sweep(freqs, True, True), ground.sweep(freqs, True, False)
+    passed_on = {c.name for robot in ground.ROBOTS for c in ground.robot_checks(robot, freqs, on[robot], True)
+                 if c.passed}
+    passed_off = {c.name for robot in ground.ROBOTS for c in ground.robot_checks(robot, freqs, off[robot], True)
+                  if c.passed}
+    assert "own legs: legs land on previously disturbed ground at high frequency" in passed_on - passed_off
+    # the one check no memory-off run fails is dynaroach_robot's own 12 Hz speed (its controls are that case's)
+    assert passed_on & passed_off <= {"one-hinge: speed at 12 Hz (experiment)"}
+
+
+@outcome("thesis_hubo_stance_memory")
+def hubo_memory_outcomes(r):
+    by = r.by_name
+    assert by["natural foot (15.2 cm): falls in every trial"].passed
+    assert by["30.4 cm board: stands in every trial"].passed
+    assert "nothing to compact" in r.cause
+
+
+@disagreement("thesis_hubo_stance_memory", reason=HUBO_CAUSE)
+def hubo_memory_cutout(r):
+    assert not r.failed_outcomes
+
+
+@control("thesis_hubo_stance_memory", "the stance checks reject a robot that never stands and one that always does")
+def hubo_memory_checks_reject_wrong_readings():
+    nan = math.nan
+    fell = {(0.152, False): [(3.7, 0.09)], (0.304, False): [(4.0, 0.07)], (0.304, True): [(4.2, 0.1)]}
+    rigid = {(0.152, False): [(nan, 0.0)], (0.304, False): [(nan, 0.0)], (0.304, True): [(nan, 0.0)]}
+    for rows in (fell, rigid):  # neither passes the published pattern: natural falls, board stands, cut-out falls
+        checks = {c.name: c.passed for c in ground.stance_checks(rows, 1)}
+        assert not (checks["natural foot (15.2 cm): falls in every trial"] and checks["30.4 cm board: stands in every "
+                                                                                    "trial"])
+    paper = {(0.152, False): [(3.7, 0.09)], (0.304, False): [(nan, 0.03)], (0.304, True): [(4.2, 0.1)]}
+    assert all(c.passed for c in ground.stance_checks(paper, 1))
+    assert thesis_hubo.HOLD_END == 10.0
+
+
+test_case, test_known_disagreement, test_control = case_tests.runners()
