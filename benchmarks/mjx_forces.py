@@ -26,7 +26,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 
-from mjrft import kernel as K
+from mjrft import forces as KF
 from mjrft import surface as KS
 from mjrft.laws.dispatch import element_stress
 from mjrft.laws.registry import LAWS, parameter_vector
@@ -122,7 +122,7 @@ def numba_pass(e, tables, blend) -> np.ndarray:
     out = np.zeros((e["depth"].size, 7))
     for i in range(e["depth"].size):
         regs, wts = KS.region_weights(e["px"][i], e["py"][i], tables.bounds, tables.map, tables.map_frame, blend)
-        out[i] = K._blended_force(regs, wts, tables.law, tables.params, tables.rho, GRAVITY, e["area"][i],
+        out[i] = KF.blended_force(regs, wts, tables.law, tables.params, tables.rho, GRAVITY, e["area"][i],
                                   e["depth"][i], *e["n"][i], *e["m"][i], e["ml"][i], e["mob"][i], *e["vel"][i],
                                   e["speed"][i], DELTA, V_EPS)
     return out

@@ -80,7 +80,8 @@ import numpy as np
 from gymnasium import spaces, utils
 from gymnasium.envs.mujoco import MujocoEnv
 
-from mjrft.coupler import GranularTerrain, mujoco_reset_error, mujoco_resets
+from mjrft.coupler import GranularTerrain
+from mjrft.divergence import mujoco_reset_error, mujoco_resets
 from mjrft.errors import NonFiniteError, check_positive
 from mjrft.stepping import actuator_power
 from mjrft.models import model_path

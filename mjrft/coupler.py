@@ -40,7 +40,8 @@ from . import kernel
 from ._jit_cache import load_cached_callees_first
 from .build import (build_model, check_model, make_state, remove_floor_contacts, water_depth, with_regions,
                     with_surface)
-from .errors import NonFiniteError, SandContactWarning, check_finite, check_positive, unknown
+from .divergence import mujoco_reset_error, nonfinite_error, reset_count, whole_steps
+from .errors import SandContactWarning, check_finite, check_positive, unknown
 from .ground import C_H, C_PHI, sample_many
 from .implicit_step import IMPLICIT_FUNCTIONS
 from .laws.solidify import STICK_SPEED
@@ -59,58 +60,7 @@ STABILITY_CHECK_SPAN = 0.05  # ... or this much simulated time (s), whichever co
 _STEP_FUNCTIONS = mujoco_step_functions()  # None -> the plain Python stepping loop is used
 _IMPLICIT_FUNCTIONS = mujoco_functions(*IMPLICIT_FUNCTIONS)  # None -> implicit=True is refused
 _NO_IMPLICIT = np.zeros(4, dtype=np.int64)
-_RESET_WARNINGS = (mujoco.mjtWarning.mjWARN_BADQPOS, mujoco.mjtWarning.mjWARN_BADQVEL, mujoco.mjtWarning.mjWARN_BADQACC)
-_RESET_INDEX = tuple(int(w) for w in _RESET_WARNINGS)
 _RK4 = int(mujoco.mjtIntegrator.mjINT_RK4)
-
-
-def mujoco_resets(data: mujoco.MjData) -> int:
-    """How many times MuJoCo found a bad (non-finite or huge) position, velocity or acceleration in
-    ``data`` and reset it (its warning counters; ``mj_resetData`` clears them)."""
-    return _reset_count(data.warning.number)
-
-
-def _reset_count(numbers: np.ndarray) -> int:
-    """:func:`mujoco_resets` from ``data.warning.number`` (a view of the counters that stays valid while
-    ``data`` lives: the terrain keeps it for the data it is bound to, ~0.5 us a read)."""
-    a, b, c = _RESET_INDEX
-    return int(numbers[a]) + int(numbers[b]) + int(numbers[c])
-
-
-def mujoco_reset_error(model: mujoco.MjModel, data: mujoco.MjData, since: str) -> NonFiniteError:
-    """The :class:`NonFiniteError` for a simulation that MuJoCo reset after it diverged, naming the body."""
-    for w in _RESET_WARNINGS:
-        if data.warning[w].number:
-            info = int(data.warning[w].lastinfo)
-            if w == mujoco.mjtWarning.mjWARN_BADQPOS:
-                joint = int(np.searchsorted(model.jnt_qposadr, info, side="right")) - 1
-                body = int(model.jnt_bodyid[max(joint, 0)]) if model.njnt else 0
-                what = f"position (qpos[{info}])"
-            else:
-                body = int(model.dof_bodyid[info]) if 0 <= info < model.nv else 0
-                what = ("velocity" if w == mujoco.mjtWarning.mjWARN_BADQVEL else "acceleration") + f" (dof {info})"
-            name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
-            break
-    return NonFiniteError(f"the simulation diverged: MuJoCo found a non-finite or huge {what} on body '{name}' "
-                          f"{since} and reset the state (its time is now {data.time:.6g} s); the diverged state is "
-                          "lost. Reduce the timestep, or check the model and the forces applied to it")
-
-
-def whole_steps(nstep) -> int:
-    """``nstep`` as a count of physics steps (an integer >= 0, or a float equal to one); anything else raises a
-    ``ValueError`` naming it (``step(data, 1.5)`` would otherwise run one step)."""
-    if isinstance(nstep, (bool, np.bool_)) or not isinstance(nstep, (int, float, np.integer, np.floating)):
-        raise ValueError(f"nstep must be a whole number of steps >= 0, got {nstep!r}")
-    if not float(nstep).is_integer() or nstep < 0:
-        raise ValueError(f"nstep must be a whole number of steps >= 0, got {nstep!r}")
-    return int(nstep)
-
-
-def nonfinite_error(model: mujoco.MjModel, status: int, body: int, time: float) -> NonFiniteError:
-    """The :class:`NonFiniteError` for a kernel ``status`` (``kernel.BAD_FORCE`` or ``kernel.BAD_STATE``) on ``body``."""
-    name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, body) or f"#{body}"
-    what = "granular force" if status == kernel.BAD_FORCE else "state (position or velocity)"
-    return NonFiniteError(f"non-finite {what} on body '{name}' at t = {time:.6g} s; nothing was written to mjData")
 
 
 class GranularTerrain:
@@ -508,7 +458,7 @@ class GranularTerrain:
             raise ValueError("data does not belong to this terrain's model")
         self._data = data
         self._warning_numbers = data.warning.number  # a view: MuJoCo's counters as they change
-        self._resets_seen = _reset_count(self._warning_numbers)
+        self._resets_seen = reset_count(self._warning_numbers)
         self._views = MjViews(data.geom_xpos, data.geom_xmat, data.xpos, data.xmat, data.xipos, data.cvel,
                               data.subtree_com)
         self._step_views = StepViews(data.xfrc_applied, data.qacc_smooth, data.actuator_force,
@@ -669,7 +619,7 @@ class GranularTerrain:
         terrain last saw it, and forget the memory if its time went back (a reset)."""
         if data is not self._data:
             self._bind(data)
-        if _reset_count(self._warning_numbers) != self._resets_seen:
+        if reset_count(self._warning_numbers) != self._resets_seen:
             self._check_mujoco_reset(data, f"after t = {self._last_time:.6g} s")
         t = data.time
         self._t_begin = t
@@ -690,9 +640,9 @@ class GranularTerrain:
     def _check_mujoco_reset(self, data, since: str) -> None:
         """Raise :class:`NonFiniteError` when MuJoCo's reset-after-divergence counters grew since last seen;
         note them either way (they fall to 0 on ``mj_resetData``). Callers call it only when
-        ``_reset_count(self._warning_numbers) != self._resets_seen``, so the message ``since`` is formatted
+        ``reset_count(self._warning_numbers) != self._resets_seen``, so the message ``since`` is formatted
         only then."""
-        n = _reset_count(self._warning_numbers)
+        n = reset_count(self._warning_numbers)
         grew = n > self._resets_seen
         self._resets_seen = n
         if grew:
@@ -705,7 +655,7 @@ class GranularTerrain:
         then every ``STABILITY_CHECK_EVERY`` steps or ``STABILITY_CHECK_SPAN`` of simulated time, whichever comes
         first (every step at a timestep of 50 ms or more)."""
         self._last_time = data.time
-        if _reset_count(self._warning_numbers) != self._resets_seen:
+        if reset_count(self._warning_numbers) != self._resets_seen:
             self._check_mujoco_reset(data, f"between t = {self._t_begin:.6g} s and the end of {nstep} step(s)")
         if status != kernel.OK:
             self.terrain_state.wrench[:] = 0.0

@@ -17,6 +17,7 @@ import math
 from numba import njit
 
 from .implicit_step import HOLD_FRACTION
+from .forces import blended_force, element_force, isfinite3, linear_stiffness, stiffness_of
 from .laws.common import memory_motion, relax_memory
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
@@ -24,20 +25,13 @@ from .laws.registry import LAW_IDS
 from .ground import ground_sample, ground_step, ground_top
 from .laws.rft import rft_stress_batch, rft_stress_batch_packed, trails
 from .laws.solidify import solid_memory
-from .laws.wet import water_stress
-from .params import P_INERTIA, P_WATER_DEPTH, P_WATER_SKIN
+from .params import P_INERTIA, P_WATER_DEPTH
 from .surface import heaviest_region, map_cell, region_weights, strip_of, surface_height
 
 OK = 0
 BAD_FORCE = 1
 BAD_STATE = 2
-LAW_WATER = LAW_IDS["water"]  # a region of open water: no sand law below it
 LAW_RFT = LAW_IDS["rft"]  # Li RFT: the law whose elements are gathered for one vectorised call
-
-
-@njit(cache=True, error_model="numpy")
-def _isfinite3(x, y, z):
-    return math.isfinite(x) and math.isfinite(y) and math.isfinite(z)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -118,23 +112,6 @@ def _rest_memory(u, i, vx, vy, vz, speed, relax, dt_d, inv_d, delta, tau, v_eps,
 
 
 @njit(cache=True, error_model="numpy", inline="always")
-def _linear_stiffness(fx, fy, fz, ml, delta, v_eps):
-    """Linearised stiffness of an element force ``|F| / max(|m|, delta)`` (the damping
-    ``|F| / max(|v|, v_eps)`` in the viscous mode), see docs/numerics.md, "Stability limit"."""
-    return _stiffness_of(math.sqrt(fx * fx + fy * fy + fz * fz), ml, delta, v_eps)
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _stiffness_of(f_mag, ml, delta, v_eps):
-    """:func:`_linear_stiffness` from the force's size ``f_mag``."""
-    if delta > 0.0:
-        return f_mag / max(ml, delta)
-    if v_eps > 0.0:
-        return f_mag / max(ml, v_eps)
-    return 0.0
-
-
-@njit(cache=True, error_model="numpy", inline="always")
 def _add_moments(arr, b, rx, ry, rz, kk, at=0):
     """Add the moments of a spring or damper ``kk`` at ``r`` from body ``b``'s CoM to ``arr[b, at:at + 10]``
     (10 sums)."""
@@ -208,75 +185,6 @@ def _add_to_body(wrench, stiff, b, fx, fy, fz, rx, ry, rz, kk):
     wrench[b, 5] += rx * fy - ry * fx
     if kk > 0.0:
         _add_moments(stiff, b, rx, ry, rz, kk)
-
-
-@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
-def _element_force(law, p, rho_w, gravity, k, depth, nx, ny, nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta,
-                   v_eps):
-    """Force (N) of one region on one element of area ``k`` (area x the region's weight); see terrain_kernel.
-
-    Returns (fx, fy, fz, stiffness (damping in the viscous mode) of the sand part, water damping,
-    inertial damping (mjrft.laws.inertial), finite).
-    """
-    fx, fy, fz, kk, cw, ci = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    if ml > 0.0 and law != LAW_WATER:  # the sand, through the rest regularisation
-        iml = 1.0 / ml
-        sx, sy, sz = element_stress(law, depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, p)
-        fx, fy, fz = sx * k, sy * k, sz * k
-        if not _isfinite3(fx, fy, fz):
-            return fx, fy, fz, kk, cw, ci, False
-        kk = _linear_stiffness(fx, fy, fz, ml, delta, v_eps)
-        fx *= mob
-        fy *= mob
-        fz *= mob
-    if p[P_INERTIA] > 0.0 and law != LAW_WATER:  # the inertial regime (on the real velocity, no memory)
-        gx, gy, gz, ci = inertial_force(p, depth, nx, ny, nz, vx, vy, vz, k)
-        if not _isfinite3(gx, gy, gz):
-            return gx, gy, gz, kk, cw, ci, False
-        fx += gx
-        fy += gy
-        fz += gz
-    hw = p[P_WATER_DEPTH]
-    if hw > 0.0 and speed > 0.0 and depth > -hw and depth < p[P_WATER_SKIN]:  # the water layer's drag
-        iv = 1.0 / speed
-        sx, sy, sz = water_stress(depth, nx, ny, nz, vx * iv, vy * iv, vz * iv, speed, p)
-        gx, gy, gz = sx * k, sy * k, sz * k
-        if not _isfinite3(gx, gy, gz):
-            return gx, gy, gz, kk, cw, ci, False
-        cw = 2.0 * math.sqrt(gx * gx + gy * gy + gz * gz) * iv  # d|F|/d|v| of a v^2 drag
-        fx += gx
-        fy += gy
-        fz += gz
-    if rho_w > 0.0:  # hydrostatic pressure below the water surface (sand surface + hw)
-        pres = rho_w * gravity * (depth + hw)
-        if pres > 0.0:
-            kp = -pres * k
-            fx += kp * nx
-            fy += kp * ny
-            fz += kp * nz
-    return fx, fy, fz, kk, cw, ci, True
-
-
-@njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
-def _blended_force(regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth, nx, ny, nz, mx, my, mz, ml, mob,
-                   vx, vy, vz, speed, delta, v_eps):
-    """:func:`_element_force` summed over the regions ``regs`` with weights ``wts`` (same returns)."""
-    fx, fy, fz, kk, cw, ci, ok = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, True
-    for q in range(4):
-        w = wts[q]
-        if w > 0.0:
-            reg = regs[q]
-            gx, gy, gz, kq, cq, iq, okq = _element_force(reg_law[reg], reg_params[reg], reg_rho[reg], gravity, area * w,
-                                                     depth, nx, ny, nz, mx, my, mz, ml, mob, vx, vy, vz, speed,
-                                                     delta, v_eps)
-            fx += gx
-            fy += gy
-            fz += gz
-            kk += kq
-            cw += cq
-            ci += iq
-            ok = ok and okq
-    return fx, fy, fz, kk, cw, ci, ok
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -377,7 +285,7 @@ def _dry_pass(nbat, nlist, b, nreg, breg, e_lnrm, e_area, rot, com, spin, lin, d
     for q in range(nbat, nlist):
         i = scr_i[0, q]
         nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
-        if not _isfinite3(vx, vy, vz):
+        if not isfinite3(vx, vy, vz):
             return BAD_STATE, nbat
         scr_f[10, q] = math.sqrt(vx * vx + vy * vy + vz * vz)
     if delta > 0.0 and (solid <= 0.0 or implicit):  # the factors that _rest_memory and _memory_time read
@@ -679,7 +587,7 @@ def _kernel(tables, mjd, gravity, dt, st, gr_on):
                 rows = _packed_rows(st.g_rows, reg_params, g_dp, g_el[i, 5], reg if single else -1)
                 pe = rows[reg] if single else p
             nx, ny, nz, vx, vy, vz = _normal_velocity(i, e_lnrm, out_pos, out_vel, out_nrm, rot, com, spin, lin)
-            if not _isfinite3(vx, vy, vz):
+            if not isfinite3(vx, vy, vz):
                 return BAD_STATE, b
             if nreg > 1:  # (with one region it stays 0)
                 out_region[i] = reg
@@ -714,9 +622,9 @@ def _kernel(tables, mjd, gravity, dt, st, gr_on):
                     sx, sy, sz = element_stress(law, depth, nx, ny, nz, mx * iml, my * iml, mz * iml, speed, pe)
                     k = e_area[i]
                     fx, fy, fz = sx * k, sy * k, sz * k
-                    if not _isfinite3(fx, fy, fz):
+                    if not isfinite3(fx, fy, fz):
                         return BAD_FORCE, b
-                    kk = _linear_stiffness(fx, fy, fz, ml, delta, v_eps)
+                    kk = linear_stiffness(fx, fy, fz, ml, delta, v_eps)
                     damp[b] += kk * tau if delta > 0.0 else kk
                     if implicit:
                         _add_implicit(imp, b, px - bx, py - by, pz - bz,
@@ -727,7 +635,7 @@ def _kernel(tables, mjd, gravity, dt, st, gr_on):
                     fz *= mob
                 if inertia and p[P_INERTIA] > 0.0:
                     gx, gy, gz, ci = inertial_force(pe, depth, nx, ny, nz, vx, vy, vz, e_area[i])
-                    if not _isfinite3(gx, gy, gz):
+                    if not isfinite3(gx, gy, gz):
                         return BAD_FORCE, b
                     fx += gx
                     fy += gy
@@ -737,13 +645,13 @@ def _kernel(tables, mjd, gravity, dt, st, gr_on):
                         _add_moments(inert, b, px - bx, py - by, pz - bz, ci)
             else:  # water, buoyancy or several regions
                 if single:
-                    fx, fy, fz, kk, cw, ci, ok = _element_force(law, pe, reg_rho[reg], gravity, e_area[i], depth, nx, ny,
+                    fx, fy, fz, kk, cw, ci, ok = element_force(law, pe, reg_rho[reg], gravity, e_area[i], depth, nx, ny,
                                                             nz, mx, my, mz, ml, mob, vx, vy, vz, speed, delta, v_eps)
                 else:
-                    fx, fy, fz, kk, cw, ci, ok = _blended_force(regs, wts, reg_law, rows, reg_rho, gravity,
+                    fx, fy, fz, kk, cw, ci, ok = blended_force(regs, wts, reg_law, rows, reg_rho, gravity,
                                                             e_area[i], depth, nx, ny, nz, mx, my, mz, ml, mob, vx,
                                                             vy, vz, speed, delta, v_eps)
-                if not (ok and _isfinite3(fx, fy, fz)):
+                if not (ok and isfinite3(fx, fy, fz)):
                     return BAD_FORCE, b
                 if implicit:
                     _add_implicit(imp, b, px - bx, py - by, pz - bz,
@@ -843,11 +751,11 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             i = scr_i[0, j]
             k = e_area[i]
             fx, fy, fz = scr_f[9, j] * k, scr_f[10, j] * k, scr_f[11, j] * k
-            if not _isfinite3(fx, fy, fz):
+            if not isfinite3(fx, fy, fz):
                 return BAD_FORCE, b
             f_mag = math.sqrt(fx * fx + fy * fy + fz * fz)
             ml = scr_f[8, j]
-            kk = _stiffness_of(f_mag, ml, delta, v_eps)
+            kk = stiffness_of(f_mag, ml, delta, v_eps)
             mob = scr_f[7, j]
             fx *= mob
             fy *= mob
@@ -861,7 +769,7 @@ def _scatter_batch(nbat, scr_f, scr_i, e_area, out_pos, out_force, xipos, delta,
             if pin.shape[0] > 0:
                 gx, gy, gz, ci = inertial_force(pin, scr_f[6, j], out_nrm[i, 0], out_nrm[i, 1], out_nrm[i, 2],
                                                 out_vel[i, 0], out_vel[i, 1], out_vel[i, 2], k)
-                if not _isfinite3(gx, gy, gz):
+                if not isfinite3(gx, gy, gz):
                     return BAD_FORCE, b
                 fx += gx
                 fy += gy

@@ -5,11 +5,11 @@ or float64:
 
 * :func:`inertial_force`: the dry inertial regime and its damper (:func:`mjrft.laws.inertial.inertial_force`);
 * :func:`buoyancy`: the hydrostatic pressure below the water surface;
-* :func:`element_force`: one region's force on each element (:func:`mjrft.kernel._element_force`): its sand law
+* :func:`element_force`: one region's force on each element (:func:`mjrft.forces.element_force`): its sand law
   through the rest regularisation (the stress at the unit motion ``m / |m|`` times area and mobilisation), the
   inertial regime on the real velocity, the water layer's drag (:func:`mjrft.mjx.laws.water`) and buoyancy;
 * :func:`blended_force`: :func:`element_force` summed over each element's regions with their weights
-  (:func:`mjrft.kernel._blended_force`);
+  (:func:`mjrft.forces.blended_force`);
 * :func:`region_force`: the general pass of one world's elements from their positions: the regions and weights
   at each (x, y) (:func:`mjrft.mjx.surface.region_weights`), their blended force and the region each reports.
 
@@ -108,7 +108,7 @@ def buoyancy(rho_w, gravity, hw, depth, n, area):
 def stiffness_of(f_mag, ml, delta, v_eps):
     """The linearised stiffness of an element force of size ``f_mag``: ``|F| / max(|m|, delta)``; in the viscous
     mode (``delta = 0``) the damping ``|F| / max(|v|, v_eps)``, 0 with ``v_eps = 0`` too
-    (:func:`mjrft.kernel._stiffness_of`)."""
+    (:func:`mjrft.forces.stiffness_of`)."""
     viscous = jnp.where(v_eps > 0.0, f_mag / jnp.maximum(ml, v_eps), 0.0)
     return jnp.where(delta > 0.0, f_mag / jnp.maximum(ml, delta), viscous)
 
@@ -134,7 +134,7 @@ def _sand_stress(laws, law, depth, n, mhat, p, speed):
 
 
 def element_force(features: Features, law, p, rho_w, gravity, area, depth, n, m, ml, mob, vel, speed, delta, v_eps):
-    """One region's force on each element (:func:`mjrft.kernel._element_force`; module docstring for the returns).
+    """One region's force on each element (:func:`mjrft.forces.element_force`; module docstring for the returns).
 
     ``law`` the region's law id and ``p`` its parameter row (one for all elements, or one per element: (k,),
     (k, P_SIZE)), ``rho_w`` its buoyancy density (kg/m^3, 0: none), ``gravity`` (m/s^2), ``area`` (k,) the
@@ -179,7 +179,7 @@ def blended_force(features: Features, regs, wts, reg_law, reg_params, reg_rho, g
                   vel, speed, delta, v_eps):
     """:func:`element_force` summed over each element's regions ``regs`` (k, S) with weights ``wts`` (k, S)
     (:func:`mjrft.mjx.surface.region_weights`; a slot of weight 0 adds nothing), the region tables ``reg_law``
-    (R,), ``reg_params`` (R, P_SIZE), ``reg_rho`` (R,) (:func:`mjrft.kernel._blended_force`; same returns).
+    (R,), ``reg_params`` (R, P_SIZE), ``reg_rho`` (R,) (:func:`mjrft.forces.blended_force`; same returns).
 
     The S slots are evaluated as one batch of S k elements (each law traced once, whatever S) and summed slot by
     slot in the kernel's order."""

@@ -37,10 +37,11 @@ def test_the_model_record_is_frozen_and_built_without_touching_the_mujoco_model(
     assert isinstance(tm, TerrainModel) and np.array_equal(m.geom_contype, contype)
     with pytest.raises(dataclasses.FrozenInstanceError):
         tm.stress_scale = 2.0
-    el, sf, rg, cs = tm.tables
+    el, sf, rg, cs, gr = tm.tables
     assert tm.tables is tm.tables  # one kernel view per model: callers tell models apart by identity
     assert el.lpos.shape == (tm.n_elements, 3) and el.group_start[-1] == tm.n_elements
     assert rg.params.shape[0] == 1 and sf.top == sf.height == 0.0 and not cs.implicit
+    assert not gr.on and build_model(hexapod_model(), ground_memory=True).ground.on  # off unless asked
     st = make_state(tm, m)
     assert isinstance(st, TerrainState) and st.u.shape == (tm.n_elements, 3) and st.imp.shape == (0, 10)
 

@@ -23,6 +23,7 @@ pytest.importorskip("mujoco.mjx", reason="mjrft.mjx needs mujoco-mjx (mjrft[mjx]
 import jax.numpy as jnp  # noqa: E402
 import mujoco  # noqa: E402
 
+from mjrft import forces as KF  # noqa: E402
 from mjrft import kernel as K  # noqa: E402
 from mjrft import surface as KS  # noqa: E402
 from mjrft.laws.dispatch import element_stress  # noqa: E402
@@ -334,7 +335,7 @@ def numba_general(e, tables, blend, delta, v_eps):
     out = np.zeros((K_ELEMENTS, 8))
     for i in range(K_ELEMENTS):
         regs, wts = KS.region_weights(e["px"][i], e["py"][i], tables.bounds, tables.map, tables.map_frame, blend)
-        fx, fy, fz, kk, cw, ci, ok = K._blended_force(regs, wts, tables.law, tables.params, tables.rho, GRAVITY,
+        fx, fy, fz, kk, cw, ci, ok = KF.blended_force(regs, wts, tables.law, tables.params, tables.rho, GRAVITY,
                                                       e["area"][i], e["depth"][i], *e["n"][i], *e["m"][i], e["ml"][i],
                                                       e["mob"][i], *e["vel"][i], e["speed"][i], delta, v_eps)
         out[i] = fx, fy, fz, kk, cw, ci, ok, KS.heaviest_region(regs, wts)
@@ -421,7 +422,7 @@ def test_one_region_scene_equals_numba_element_force(elements, general_fn, x64, 
     for name, tables in scenes.items():
         e = general_states(elements, tables, 0.0)
         lid, p, rho = int(tables.law[0]), tables.params[0], float(tables.rho[0])
-        ref = np.array([K._element_force(lid, p, rho, GRAVITY, e["area"][i], e["depth"][i], *e["n"][i], *e["m"][i],
+        ref = np.array([KF.element_force(lid, p, rho, GRAVITY, e["area"][i], e["depth"][i], *e["n"][i], *e["m"][i],
                                          e["ml"][i], e["mob"][i], *e["vel"][i], e["speed"][i], DELTA, V_EPS)
                         for i in range(K_ELEMENTS)])
         ref = np.concatenate([ref, np.zeros((K_ELEMENTS, 1))], axis=1)
