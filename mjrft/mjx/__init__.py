@@ -6,6 +6,7 @@
 
 :mod:`mjrft.mjx.terrain` (:class:`Sand`, :class:`SandState`), :mod:`mjrft.mjx.laws` (the JAX force laws) and
 :mod:`mjrft.mjx.compare` (checking a JAX terrain against the CPU path on recorded states) and
+:mod:`mjrft.mjx.guards` (the stability, chatter and range checks every step runs, :func:`~mjrft.mjx.guards.flags`) and
 :mod:`mjrft.mjx.integrator` (:func:`step`: MJX's step as MuJoCo's C library integrates clamped servos, the rigid
 twin of ``Sand.step``).
 Needs the optional extra ``mjrft[mjx]`` (JAX and ``mujoco-mjx``); the rest of mjrft does not import it.
@@ -19,9 +20,9 @@ except ImportError as exc:  # say which extra brings it
     raise ImportError(f"mjrft.mjx needs JAX and MJX: pip install 'mjrft[mjx]' (Python >= 3.11; docs/gpu.md); "
                       f"{exc}") from exc
 
-from . import compare  # noqa: E402
+from . import compare, guards  # noqa: E402
 from .integrator import integrate, step  # noqa: E402
 from .laws import LAWS, UNSUPPORTED  # noqa: E402
 from .terrain import Sand, SandState, resting_load  # noqa: E402
 
-__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "compare", "integrate", "resting_load", "step"]
+__all__ = ["LAWS", "UNSUPPORTED", "Sand", "SandState", "compare", "guards", "integrate", "resting_load", "step"]

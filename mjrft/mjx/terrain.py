@@ -44,6 +44,17 @@ with the ones above the surface masked. ``cull=K`` instead gathers at most ``K``
 per world (``jnp.nonzero(..., size=K)``) and evaluates only those: it pays where the law's arithmetic
 dominates and most elements are out of the sand (``benchmarks/bench_mjx.py --cull`` measures it); a world
 with more than ``K`` buried elements is flagged as bad (``state.bad_body = -2``) instead of losing force.
+
+Guards (:mod:`mjrft.mjx.guards`; ``guards=False`` leaves them out): every step also checks each world's explicit
+stability limits (the grains' springs and their depth stiffness, from per-body stiffness moments that the element
+pass sums and the bodies' mobility), period-2 chatter of each body's force, and the law's calibrated depth and
+speed ranges, and keeps per world what fired, on how many steps, where and when (the ``guard_*`` fields of
+:class:`SandState`). :meth:`Sand.flags` gives the per-world flags inside ``jit``; :meth:`Sand.check` warns on the
+host (:class:`~mjrft.TerrainStabilityWarning`, :class:`~mjrft.ValidityRangeWarning`) and raises
+:class:`~mjrft.NonFiniteError`; :meth:`Sand.auto_step` sub-steps each world below its limits
+(:class:`mjrft.envs.GranularWrapper`'s rule). :meth:`Sand.step` refuses an MJX model that still has the floor's
+contacts (put on the device before the terrain was built), and computes the acceleration sensors also when the
+model has no constraint rows (MJX's own ``forward`` skips them then).
 """
 
 from __future__ import annotations
@@ -66,6 +77,8 @@ from ..implicit_step import HOLD_FRACTION
 from ..laws.registry import parameter_vector
 from ..media import get_medium
 from ..types import TerrainModel
+from . import guards as _guards
+from .guards import Guards, k6, mobilities, monomials
 from .integrator import integrate
 from .laws import law_function
 
@@ -82,7 +95,18 @@ class SandState(NamedTuple):
     (nbody,): the granular wrench applied by the last step (the implicit one with ``implicit``) and each body's
     deepest element (m, >= 0);
     ``bad_body``: -1 while every state and force was finite, else the first body with a non-finite one
-    (-2: more than ``cull`` buried elements); ``bad_time``: the simulation time when it happened."""
+    (-2: more than ``cull`` buried elements); ``bad_time``: the simulation time when it happened.
+
+    The guards (:mod:`mjrft.mjx.guards`; :meth:`Sand.init` fills them, :meth:`Sand.reset` clears them; None in a
+    state built without them): ``rates`` (nb, HELD_STEPS): the springs' rate ``lambda_max(W6 K6)`` (1/s^2) of each
+    body with elements (``Sand.imp_rows``) over the last steps, newest first; ``chatter`` (nb, 8): each such body's
+    last applied force, its last change, the current run of reversals and the largest relative change in it;
+    ``stable_dt`` (2,): the last
+    step's smallest stable timestep of the springs and of the depth stiffness (s, inf with nothing buried);
+    ``substeps``: the sub-steps of the last :meth:`Sand.auto_step` (1 otherwise); and per guard of
+    :data:`mjrft.mjx.guards.GUARDS` (springs, depth_stiffness, chatter, depth_range, speed_range):
+    ``guard_count`` (5,) the steps on which it fired, ``guard_body`` (5,) the first body (-1: never),
+    ``guard_time`` (5,) the time then, ``guard_value`` (5, 2) its worst step (:data:`~mjrft.mjx.guards.VALUE_COLUMNS`)."""
 
     u: jax.Array
     params: jax.Array
@@ -91,6 +115,32 @@ class SandState(NamedTuple):
     sinkage: jax.Array
     bad_body: jax.Array
     bad_time: jax.Array
+    rates: jax.Array | None = None
+    chatter: jax.Array | None = None
+    stable_dt: jax.Array | None = None
+    substeps: jax.Array | None = None
+    guard_count: jax.Array | None = None
+    guard_body: jax.Array | None = None
+    guard_time: jax.Array | None = None
+    guard_value: jax.Array | None = None
+
+
+class _Pass(NamedTuple):
+    """One element pass (:meth:`Sand._evaluate`): the wrench (nbody, 6), the new memory (n, 3), the sinkage
+    (nbody,), the bodies with a non-finite result (nbody, bool), more than ``cull`` buried (bool), the moments
+    (nbody, 10) of the implicit step's ``T k`` (None without it), and for the guards (None without them) the moments
+    (nb, 10) of the springs' and of the depth stiffness's ``k`` of the bodies with elements and the buried
+    extremes (:func:`mjrft.mjx.guards.buried_extremes`)."""
+
+    w: jax.Array
+    u: jax.Array
+    sink: jax.Array
+    body_bad: jax.Array
+    over: jax.Array
+    moments: jax.Array | None
+    stiff: jax.Array | None
+    dstiff: jax.Array | None
+    extremes: tuple | None
 
 
 def _unsupported(tm: TerrainModel) -> list[str]:
@@ -114,8 +164,9 @@ def _unsupported(tm: TerrainModel) -> list[str]:
 
 class Sand:
     """The granular terrain of ``model`` for MJX; arguments as :class:`mjrft.GranularTerrain` (see there), plus
-    ``cull`` (None, or the most buried elements per world evaluated each step; module docstring). With
-    ``implicit=True`` (or :meth:`from_terrain` of such a terrain) :meth:`step` is the implicit granular step.
+    ``cull`` (None, or the most buried elements per world evaluated each step; module docstring) and ``guards``
+    (False: no stability, chatter or range checks, :mod:`mjrft.mjx.guards`). With ``implicit=True`` (or
+    :meth:`from_terrain` of such a terrain) :meth:`step` is the implicit granular step.
 
     Build it BEFORE ``mjx.put_model(model)``: like the CPU terrain it removes the floor's contacts from the
     loaded ``model`` when ``floor`` is given (:meth:`put_model` does both in order).
@@ -124,36 +175,38 @@ class Sand:
     >>> mx, step = sand.put_model(), jax.jit(sand.step)     # step(mx, d, state) -> (d, state)
     """
 
-    def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, cull: int | None = None, **kwargs):
+    def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, cull: int | None = None, guards: bool = True,
+                 **kwargs):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         tm = build_model(model, medium, law, stacklevel=3, **kwargs)
-        self._init_from(model, tm, cull)
+        self._init_from(model, tm, cull, guards)
         self.floor_contacts = remove_floor_contacts(model, tm)  # last: an error above leaves the model as it was
 
     @classmethod
-    def from_model(cls, model: mujoco.MjModel, terrain_model: TerrainModel, cull: int | None = None) -> "Sand":
+    def from_model(cls, model: mujoco.MjModel, terrain_model: TerrainModel, cull: int | None = None,
+                   guards: bool = True) -> "Sand":
         """The JAX terrain of the records ``terrain_model`` (:func:`mjrft.build.build_model`, or a CPU terrain's
         :attr:`~mjrft.GranularTerrain.terrain_model`) on ``model``: the floor that became the surface loses its
         contacts in ``model`` as in the constructor."""
         if not isinstance(terrain_model, TerrainModel):
             raise TypeError(f"terrain_model must be a mjrft.TerrainModel, got {type(terrain_model).__name__}")
         self = cls.__new__(cls)
-        self._init_from(model, terrain_model, cull)
+        self._init_from(model, terrain_model, cull, guards)
         self.floor_contacts = remove_floor_contacts(model, terrain_model)
         return self
 
     @classmethod
-    def from_terrain(cls, terrain: GranularTerrain, cull: int | None = None) -> "Sand":
+    def from_terrain(cls, terrain: GranularTerrain, cull: int | None = None, guards: bool = True) -> "Sand":
         """The JAX twin of an existing CPU terrain (same elements, medium, law, memory settings, stress scale)."""
         if not isinstance(terrain, GranularTerrain):
             raise TypeError(f"terrain must be a mjrft.GranularTerrain, got {type(terrain).__name__}")
         self = cls.__new__(cls)
-        self._init_from(terrain.model, terrain.terrain_model, cull)
+        self._init_from(terrain.model, terrain.terrain_model, cull, guards)
         self.floor_contacts = terrain.floor_contacts
         return self
 
-    def _init_from(self, model: mujoco.MjModel, tm: TerrainModel, cull) -> None:
+    def _init_from(self, model: mujoco.MjModel, tm: TerrainModel, cull, guards: bool = True) -> None:
         missing = _unsupported(tm)
         if missing:
             raise NotImplementedError(f"mjrft.mjx does not model {', '.join(missing)}; supported: one region with "
@@ -203,6 +256,14 @@ class Sand:
         place = np.zeros((self.nbody, rows.size))
         place[rows, np.arange(rows.size)] = 1.0
         self.imp_place = place  # (nbody, nb): the bodies' rows back into (nbody, ...) as a product (no scatter)
+        if not isinstance(guards, bool):
+            raise TypeError(f"guards must be True or False, got {guards!r}")
+        self.guards = Guards(rows, self.nbody, self.delta, self.tau, self.implicit, self.law,
+                             bool(cs.inertial)) if guards else None
+        # the guards' moments: per-element weights on constant tables of the lever arms (body frame)
+        self.moment_table = _guards.moment_table(model, self.elem_body, self.lpos, rows) if guards else None
+        self.warned: set = set()  # the (guard, body) pairs check() warned about
+        self._static_limit = None
 
     # ------------------------------------------------------------------ state
     def init(self, params=None, surface=None) -> SandState:
@@ -211,16 +272,29 @@ class Sand:
         ``surface`` (m)."""
         p = self.params if params is None else params
         z = self.surface if surface is None else surface
+        extra = {} if self.guards is None else self.guards.init_fields()
         return SandState(u=jnp.zeros((self.n_elements, 3)), params=jnp.asarray(p), surface=jnp.asarray(z),
                          wrench=jnp.zeros((self.nbody, 6)), sinkage=jnp.zeros(self.nbody),
-                         bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.array(0.0))
+                         bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.array(0.0), **extra)
 
     @staticmethod
     def reset(state: SandState) -> SandState:
-        """``state`` with its memory forgotten and its bad-state record cleared (the medium kept)."""
-        return state._replace(u=jnp.zeros_like(state.u), wrench=jnp.zeros_like(state.wrench),
-                              sinkage=jnp.zeros_like(state.sinkage), bad_body=jnp.full_like(state.bad_body, -1),
-                              bad_time=jnp.zeros_like(state.bad_time))
+        """``state`` with its memory forgotten and its bad-state and guards' records cleared (the medium kept)."""
+        state = state._replace(u=jnp.zeros_like(state.u), wrench=jnp.zeros_like(state.wrench),
+                               sinkage=jnp.zeros_like(state.sinkage), bad_body=jnp.full_like(state.bad_body, -1),
+                               bad_time=jnp.zeros_like(state.bad_time))
+        if state.guard_count is None:
+            return state
+        limits = (jnp.arange(state.guard_value.shape[-2]) == _guards.SPRINGS) | (
+            jnp.arange(state.guard_value.shape[-2]) == _guards.DEPTH_STIFFNESS)
+        value = jnp.where(limits[:, None], jnp.array([jnp.inf, 1.0], state.guard_value.dtype), 0.0)
+        return state._replace(rates=jnp.zeros_like(state.rates), chatter=jnp.zeros_like(state.chatter),
+                              stable_dt=jnp.full_like(state.stable_dt, jnp.inf), substeps=jnp.ones_like(state.substeps),
+                              guard_count=jnp.zeros_like(state.guard_count),
+                              guard_body=jnp.full_like(state.guard_body, -1),
+                              guard_time=jnp.zeros_like(state.guard_time),
+                              guard_value=jnp.broadcast_to(value, state.guard_value.shape).astype(
+                                  state.guard_value.dtype))
 
     def params_of(self, medium, stress_scale: float = 1.0) -> np.ndarray:
         """The parameter vector of another ``medium`` (name or :class:`~mjrft.Medium`) with ``stress_scale``, for
@@ -258,8 +332,9 @@ class Sand:
         return jnp.zeros_like(u), vel, speed, mob
 
     def _forces(self, depth, nrm, vel, u, area, params, dt, implicit=False):
-        """Element forces (k, 3) and new memory (k, 3) of elements at ``depth`` (> 0: buried); with ``implicit``
-        also each element's ``T k`` (k,) for the implicit step (:meth:`_spring_tk`), else None."""
+        """Element forces (k, 3), new memory (k, 3) and each element's ``|m|`` (k,; its regularised motion, the
+        speed in the viscous mode) of elements at ``depth`` (> 0: buried); with ``implicit`` also each element's
+        ``T k`` (k,) for the implicit step (:meth:`_spring_tk`), else None."""
         buried = (depth > 0.0) & (area > 0.0)
         u, m, ml, mob = self._memory(u, vel, buried, dt)
         moving = buried & (ml > 0.0)
@@ -269,7 +344,7 @@ class Sand:
         tk = None
         if implicit:  # the springs' stiffness comes from the force at full mobilisation
             tk = self._spring_tk(jnp.where(moving[:, None], stress * area[:, None], 0.0), ml, vel, dt, u)
-        return f, u, tk
+        return f, u, jnp.where(moving, ml, 0.0), tk
 
     def _spring_tk(self, f_yield, ml, vel, dt, u):
         """Each element's ``T k`` for the implicit step (mjrft.kernel's ``_add_implicit``; docs/numerics.md,
@@ -301,15 +376,18 @@ class Sand:
         kinematics, and the state advanced by ``dt``. A non-finite element state or force gives a zero wrench
         and the unchanged memory, with the body recorded in ``bad_body``. This is the explicit wrench (the
         CPU terrain's :meth:`~mjrft.GranularTerrain.compute`) also for an implicit terrain: the implicit step
-        needs the model's dynamics, which :meth:`step` runs."""
-        w, u, sink, body_bad, over, _ = self._evaluate(d, state, dt, implicit=False)
-        return self._finish(d, state, w, u, sink, body_bad, over)
+        needs the model's dynamics, which :meth:`step` runs. The guards that need no dynamics (chatter, the
+        ranges) are advanced; the stability limits need the model's mass matrix, which :meth:`step` has."""
+        ev = self._evaluate(d, state, dt, implicit=False)
+        w, state = self._finish(d, state, ev.w, ev.u, ev.sink, ev.body_bad, ev.over)
+        return w, self._guard(d, state, ev, dt)
 
-    def _evaluate(self, d, state: SandState, dt, implicit: bool):
-        """The element pass: (wrench (nbody, 6), new memory (n, 3), sinkage (nbody,), non-finite bodies (nbody,
-        bool), more than ``cull`` buried (bool), the per-body moments (nbody, 10) of the elements' ``T k`` that hold
-        (``sum Tk``, ``sum Tk r``, ``sum Tk r r^T`` as ``xx xy xz yy yz zz``, r from the body's CoM) with
-        ``implicit``, else None)."""
+    def _evaluate(self, d, state: SandState, dt, implicit: bool) -> _Pass:
+        """The element pass (:class:`_Pass`): the wrench, the new memory, the sinkage, the non-finite bodies, the
+        overflow of ``cull``; with ``implicit`` the per-body moments (nbody, 10) of the elements' ``T k`` that hold
+        (``sum Tk``, ``sum Tk r``, ``sum Tk r r^T`` as ``xx xy xz yy yz zz``, r from the body's CoM); with the
+        guards the moments of the springs' ``k`` and of the depth stiffness ``|F| / depth`` of the bodies with
+        elements, and the deepest and fastest buried elements."""
         pos, nrm, vel = self.element_kinematics(d)
         dtype = pos.dtype
         dt = jnp.asarray(dt, dtype)
@@ -318,17 +396,18 @@ class Sand:
         params = state.params.astype(dtype)
         depth = state.surface.astype(dtype) - pos[:, 2]
         if self.cull is None:
-            f, u, tk = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit)
+            f, u, ml, tk = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit)
             over = jnp.array(False)
         else:
             idx = jnp.nonzero(depth > 0.0, size=self.cull, fill_value=self.n_elements)[0]
             over = jnp.sum(depth > 0.0) > self.cull
             take = jnp.minimum(idx, self.n_elements - 1)
             valid = idx < self.n_elements
-            fk, uk, tkk = self._forces(jnp.where(valid, depth[take], 0.0), nrm[take], vel[take], state.u[take],
-                                       jnp.where(valid, area[take], 0.0), params, dt, implicit)
+            fk, uk, mlk, tkk = self._forces(jnp.where(valid, depth[take], 0.0), nrm[take], vel[take], state.u[take],
+                                            jnp.where(valid, area[take], 0.0), params, dt, implicit)
             f = jnp.zeros_like(pos).at[idx].set(fk, mode="drop")
             u = jnp.zeros_like(state.u).at[idx].set(uk, mode="drop")
+            ml = jnp.zeros_like(depth).at[idx].set(mlk, mode="drop")
             tk = jnp.zeros_like(depth).at[idx].set(tkk, mode="drop") if implicit else None
         r = pos - d.xipos[self.elem_body]
         per_elem = jnp.concatenate([f, jnp.cross(r, f)], axis=-1)  # (n, 6)
@@ -337,13 +416,31 @@ class Sand:
                      & jnp.all(jnp.isfinite(f), axis=-1))
         body_bad = jnp.matmul(onehot, elem_bad.astype(w.dtype), precision=HIGHEST) > 0.0
         sink = jnp.max(jnp.where(onehot > 0.0, jnp.maximum(depth, 0.0)[None, :], 0.0), axis=1)
-        moments = None
-        if implicit:
-            rx, ry, rz = r[:, 0], r[:, 1], r[:, 2]
-            per = tk[:, None] * jnp.stack([jnp.ones_like(rx), rx, ry, rz, rx * rx, rx * ry, rx * rz, ry * ry,
-                                           ry * rz, rz * rz], axis=-1)
-            moments = jnp.matmul(onehot, per, precision=HIGHEST)
-        return w, u, sink, body_bad, over, moments
+        moments = jnp.matmul(onehot, tk[:, None] * monomials(r), precision=HIGHEST) if implicit else None
+        stiff = dstiff = extremes = None
+        if self.guards is not None:
+            buried = (depth > 0.0) & (area > 0.0)
+            local = _guards.body_moments(_guards.element_weights(f, ml, depth, buried), self.moment_table)
+            stiff, dstiff = _guards.rotate_moments(local, d.xmat[self.imp_rows][None])  # (nb, 10) each, world frame
+            extremes = _guards.buried_extremes(sink, jnp.where(buried, jnp.sum(vel * vel, axis=-1), 0.0),
+                                               self.moment_table, self.imp_rows)
+        return _Pass(w, u, sink, body_bad, over, moments, stiff, dstiff, extremes)
+
+    def _guard(self, d, state: SandState, ev: _Pass, dt, w6=None) -> SandState:
+        """``state`` with the guards advanced by the step whose element pass is ``ev`` (the applied wrench in
+        ``state.wrench``), with the stability limits when the bodies' mobilities ``w6`` (nb, 6, 6) are given."""
+        if self.guards is None:
+            return state
+        lam = lam_d = None
+        if w6 is not None:
+            lam, lam_d = self.guards.limits(w6, ev.stiff, ev.dstiff)
+        return self.guards.update(state, d.time, dt, state.wrench, ev.extremes, lam, lam_d)
+
+    def mobility(self, m, d) -> tuple[jax.Array, jax.Array]:
+        """The stacked CoM jacobians ``J`` (6 nb, nv) of the bodies with elements (:meth:`com_jacobians`) and
+        ``M^-1 J^T`` (nv, 6 nb) from MJX's mass-matrix factor of ``d`` (after ``fwd_position``)."""
+        jac = self.com_jacobians(d)
+        return jac, jax.vmap(lambda col: solve_m(m, d, col), in_axes=1, out_axes=1)(jac.T)
 
     @staticmethod
     def _finish(d, state: SandState, w, u, sink, body_bad, over) -> tuple[jax.Array, SandState]:
@@ -369,7 +466,13 @@ class Sand:
         With ``implicit`` (a terrain built with ``implicit=True``; JAX implementation only) the applied wrench is
         the linearly implicit one of :meth:`implicit_wrench` (the CPU terrain's implicit step), computed after
         ``fwd_actuation`` and ``fwd_acceleration`` have given the smooth acceleration without the grains;
-        ``state.wrench`` holds it, the memory is that of the explicit evaluation."""
+        ``state.wrench`` holds it, the memory is that of the explicit evaluation.
+
+        The guards advance with the step (with MJX's JAX implementation all of them; with another the chatter and
+        range guards). The acceleration sensors are computed also when the model has no constraint rows. A model
+        ``m`` that still has the contacts of the floor that became the sand surface (put on the device before this
+        terrain was built) is refused with a ValueError when the step is traced."""
+        self._check_device_model(m)
         if self.implicit and m.impl != mjx.Impl.JAX:
             raise NotImplementedError("the implicit granular step runs with MJX's JAX implementation only "
                                       "(it needs MJX's mass-matrix factor); build the terrain with "
@@ -385,7 +488,11 @@ class Sand:
         d = mjx.fwd_velocity(m, d)
         d = mjx.sensor_vel(m, d)
         if not self.implicit:
-            w, state = self.wrench(d, state, dt)
+            ev = self._evaluate(d, state, dt, implicit=False)
+            w, state = self._finish(d, state, ev.w, ev.u, ev.sink, ev.body_bad, ev.over)
+            if self.guards is not None:
+                jac, minv_jt = self.mobility(m, d)
+                state = self._guard(d, state, ev, dt, mobilities(jac, minv_jt, self.imp_rows.size))
             d = d.replace(xfrc_applied=xfrc + w)
             d = mjx.fwd_actuation(m, d)
             d = mjx.fwd_acceleration(m, d)
@@ -393,11 +500,74 @@ class Sand:
             d, state = self._implicit_stage(m, d, state, dt)
         if d._impl.efc_J.size == 0:
             d = d.replace(qacc=d.qacc_smooth)
+            d = _acceleration_sensors(m, d)  # MJX's forward skips them without constraint rows
         else:
             d = mjx.solve(m, d)
             d = mjx.sensor_acc(m, d)
         d = integrate(m, d)
         return d.replace(xfrc_applied=xfrc), state
+
+    def _check_device_model(self, m) -> None:
+        """Refuse an MJX model whose floor geom (the one that became the sand surface) still collides: it was put on
+        the device before this terrain removed the floor's contacts from the loaded model."""
+        floor = self.terrain_model.settings.floor
+        if floor is None or self.floor_contacts is None or self.floor_contacts == (0, 0):
+            return
+        ct, ca = getattr(m, "geom_contype", None), getattr(m, "geom_conaffinity", None)
+        if not isinstance(ct, np.ndarray) or not isinstance(ca, np.ndarray) or floor >= ct.shape[0]:
+            return  # not known on the host: nothing to check at trace time
+        if ct[floor] != 0 or ca[floor] != 0:
+            name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, floor) or f"#{floor}"
+            raise ValueError(
+                f"the MJX model still has the contacts of the floor geom '{name}' (contype {int(ct[floor])}, "
+                f"conaffinity {int(ca[floor])}), which is the sand surface: it was put on the device (mjx.put_model) "
+                "before mjrft.mjx.Sand was built, so the robot would stand on the rigid floor with no granular load; "
+                "build the Sand first and then put the model on the device (mx = sand.put_model())")
+
+    def auto_step(self, m, d, state: SandState, max_substeps: int = _guards.MAX_SUBSTEPS):
+        """One step of ``m``'s timestep ``h`` split into ``k`` equal sub-steps (:meth:`step` each) chosen per world from
+        its last step's stable timesteps (``state.stable_dt``) and :meth:`static_limit`, by
+        :class:`mjrft.envs.GranularWrapper`'s rule (:func:`mjrft.mjx.guards.substeps_for`: half the explicit limit,
+        or with the implicit step one radian of the stiffest spring and half the depth stiffness's limit), ``1 <=
+        k <= max_substeps``; ``state.substeps`` holds ``k``. A ``jax.lax.while_loop``: under ``vmap`` a batch runs
+        as many sub-steps as its world that needs most, the others masked. Needs the guards and MJX's JAX
+        implementation."""
+        if self.guards is None:
+            raise ValueError("auto_step needs the guards' stable timesteps: build the Sand with guards=True")
+        if m.impl != mjx.Impl.JAX:
+            raise NotImplementedError("auto_step needs MJX's JAX implementation (the stability limits use its "
+                                      "mass-matrix factor)")
+        if isinstance(max_substeps, bool) or not isinstance(max_substeps, (int, np.integer)) or max_substeps < 1:
+            raise ValueError(f"max_substeps must be an integer >= 1, got {max_substeps!r}")
+        h = m.opt.timestep
+        k = _guards.substeps_for(state.stable_dt, self.static_limit(), h, self.implicit, self.tau, int(max_substeps))
+        sub = m.replace(opt=m.opt.replace(timestep=h / k.astype(jnp.asarray(h).dtype)))
+
+        def body(carry):
+            i, d, s = carry
+            d, s = self.step(sub, d, s)
+            return i + 1, d, s
+
+        _, d, state = jax.lax.while_loop(lambda c: c[0] < k, body, (jnp.int32(0), d, state))
+        return d, state._replace(substeps=k)
+
+    def static_limit(self) -> float:
+        """The springs' stable timestep (s) when any one body with elements carries the model's whole weight at
+        yield in the model's ``qpos0`` (:func:`mjrft.mjx.guards.static_timestep_limit`; GranularWrapper's static
+        limit), computed once."""
+        if self._static_limit is None:
+            self._static_limit = _guards.static_timestep_limit(self.model, self.imp_rows, self.delta, self.tau,
+                                                               self.v_eps)
+        return self._static_limit
+
+    def flags(self, state: SandState) -> dict:
+        """Per-world flags of ``state`` (one world or a batch), inside ``jit``: ``nonfinite`` and one per guard
+        (``springs``, ``depth_stiffness``, ``chatter``, ``depth_range``, ``speed_range``), each a bool array of the
+        batch's shape, True when it fired since the last reset (:func:`mjrft.mjx.guards.flags`; docs/gpu.md,
+        "Guards")."""
+        if state.guard_count is None:
+            raise ValueError("this state has no guards' record: it was made by a Sand built with guards=False")
+        return _guards.flags(state)
 
     def _implicit_stage(self, m, d, state: SandState, dt):
         """The actuation and smooth-acceleration stages of :meth:`step` with the implicit wrench: ``d`` after
@@ -405,16 +575,18 @@ class Sand:
         applied wrench, and the new state. The granular part of the smooth force is added as ``J^T F'`` and
         ``M^-1 J^T F'`` (what ``fwd_acceleration`` would add for it through ``xfrc_applied``, without a second
         pass over every body)."""
-        w, u, sink, body_bad, over, moments = self._evaluate(d, state, dt, implicit=True)
+        ev = self._evaluate(d, state, dt, implicit=True)
         d = mjx.fwd_actuation(m, d)
         d = mjx.fwd_acceleration(m, d)  # qacc_smooth: every force but the grains' (and the constraints')
-        f_new, jac, minv_jt = self.implicit_wrench(m, d, w, moments, dt)
-        place = jnp.asarray(self.imp_place, w.dtype)
+        f_new, jac, minv_jt = self.implicit_wrench(m, d, ev.w, ev.moments, dt)
+        place = jnp.asarray(self.imp_place, ev.w.dtype)
         rows_bad = ~jnp.all(jnp.isfinite(f_new), axis=-1)  # (nb,)
-        imp_bad = jnp.matmul(place, rows_bad.astype(w.dtype), precision=HIGHEST) > 0.0
-        body_bad = jnp.where(jnp.any(body_bad), body_bad, imp_bad)  # the explicit failure first, as on the CPU
+        imp_bad = jnp.matmul(place, rows_bad.astype(ev.w.dtype), precision=HIGHEST) > 0.0
+        body_bad = jnp.where(jnp.any(ev.body_bad), ev.body_bad, imp_bad)  # the explicit failure first, as on the CPU
         w = jnp.matmul(place, jnp.where(rows_bad[:, None], 0.0, f_new), precision=HIGHEST)
-        w, state = self._finish(d, state, w, u, sink, body_bad, over)
+        w, state = self._finish(d, state, w, ev.u, ev.sink, body_bad, ev.over)
+        if self.guards is not None:
+            state = self._guard(d, state, ev, dt, mobilities(jac, minv_jt, self.imp_rows.size))
         f_flat = w[self.imp_rows].reshape(-1)  # zero where the world went bad
         return d.replace(xfrc_applied=d.xfrc_applied + w,
                          qfrc_smooth=d.qfrc_smooth + jnp.matmul(f_flat, jac, precision=HIGHEST),
@@ -450,8 +622,7 @@ class Sand:
         mom = moments[rows]
         g = k6(mom)  # (nb, 6, 6)
         springs = jnp.repeat(mom[:, 0] > 0.0, 6).astype(dtype)  # (6 nb,)
-        jac = self.com_jacobians(d)
-        minv_jt = jax.vmap(lambda col: solve_m(m, d, col), in_axes=1, out_axes=1)(jac.T)  # (nv, 6 nb)
+        jac, minv_jt = self.mobility(m, d)  # (6 nb, nv), (nv, 6 nb)
         mob = jnp.matmul(jac, minv_jt, precision=HIGHEST) * springs[None, :]  # W, only the bodies with springs
         dv = dt * jnp.matmul(jac, d.qacc_smooth, precision=HIGHEST).reshape(nb, 6)
         rhs = w[rows] - jnp.einsum("bij,bj->bi", g, dv, precision=HIGHEST)
@@ -465,8 +636,14 @@ class Sand:
         return mjx.put_model(self.model, **kwargs)
 
     def check(self, state: SandState) -> None:
-        """Raise :class:`~mjrft.NonFiniteError` naming the body and time when ``state`` (one world or a batch)
-        recorded a non-finite state or force, or more buried elements than ``cull``."""
+        """On the host, for ``state`` (one world or a batch): warn (once per guard and body) for what the guards
+        recorded, naming the first world with it, the body, the time, the steps and the worst value
+        (:class:`~mjrft.TerrainStabilityWarning` for the stability limits and chatter,
+        :class:`~mjrft.ValidityRangeWarning` for the depth and speed ranges), then raise
+        :class:`~mjrft.NonFiniteError` naming the world, body and time when a world recorded a non-finite state or
+        force, or more buried elements than ``cull``."""
+        if self.guards is not None and state.guard_count is not None:
+            _guards.check_guards(self.model, self.guards, state, self.terrain_model.stress_scale, self.warned)
         bad = np.atleast_1d(np.asarray(state.bad_body))
         times = np.atleast_1d(np.asarray(state.bad_time))
         hit = np.flatnonzero(bad != -1)
@@ -482,26 +659,18 @@ class Sand:
                              "no granular wrench was applied from then on")
 
 
-def k6(moments: jax.Array) -> jax.Array:
-    """The 6x6 (..., 6, 6) of springs acting in every direction with the moments (..., 10) ``sum k``,
-    ``sum k r``, ``sum k r r^T`` (``xx xy xz yy yz zz``) about a body's CoM: rows and columns 0-2 translation,
-    3-5 rotation (mjrft.stability's ``add_k6``)::
-
-        K6 = [[ s0 I,    -[S1]x           ],
-              [ [S1]x,   tr(S2) I - S2    ]]
-    """
-    s0 = moments[..., 0]
-    x, y, z = moments[..., 1], moments[..., 2], moments[..., 3]
-    xx, xy, xz, yy, yz, zz = (moments[..., i] for i in range(4, 10))
-    o = jnp.zeros_like(s0)
-    tr = xx + yy + zz
-    rows = [[s0, o, o, o, z, -y],
-            [o, s0, o, -z, o, x],
-            [o, o, s0, y, -x, o],
-            [o, -z, y, tr - xx, -xy, -xz],
-            [z, o, -x, -xy, tr - yy, -yz],
-            [-y, x, o, -xz, -yz, tr - zz]]
-    return jnp.stack([jnp.stack(r, axis=-1) for r in rows], axis=-2)
+def _acceleration_sensors(m, d):
+    """``mjx.sensor_acc`` of ``d`` (its ``qacc`` set) for a model without constraint rows: the accelerometers,
+    force, torque and frame-acceleration sensors from ``mjx.rne_postconstraint``; touch and contact sensors,
+    which read contacts, stay 0 (there are none) and are left out (MJX cannot gather an empty contact set)."""
+    stage = np.asarray(m.sensor_needstage)
+    acc = stage == mujoco.mjtStage.mjSTAGE_ACC
+    contact = acc & np.isin(np.asarray(m.sensor_type), [mujoco.mjtSensor.mjSENS_TOUCH, mujoco.mjtSensor.mjSENS_CONTACT])
+    if not (acc & ~contact).any():
+        return d
+    if contact.any():
+        m = m.replace(sensor_needstage=np.where(contact, mujoco.mjtStage.mjSTAGE_POS, stage))
+    return mjx.sensor_acc(m, d)
 
 
 def resting_load(sand: Sand, state: SandState) -> float:
