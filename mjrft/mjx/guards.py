@@ -65,6 +65,8 @@ VALUE_COLUMNS = {"springs": ("stable timestep (s)", "timestep (s)"),
                  "speed_range": ("fastest buried element (m/s)", "time (s)")}
 #: squarings of W6 K6 for its largest eigenvalue (module docstring: low by at most 1 / (e 2^SQUARINGS))
 SQUARINGS = 8
+#: entries of the normalised power below this are set to zero (their products stay normal numbers in float32)
+FLUSH = 1e-18
 #: the automatic sub-step's fraction of the stable timestep and, with the implicit step, the largest angle of
 #: the stiffest spring per sub-step: the values of :class:`mjrft.envs.GranularWrapper`'s rule (its SAFETY and
 #: SPRING_STEP; ``tests/mjrft/mjx/test_mjx_guards.py`` keeps them equal)
@@ -220,6 +222,9 @@ def largest_rate(w6: jax.Array, k6m: jax.Array) -> jax.Array:
         q = _mm(q, q)
         t = jnp.trace(q, axis1=-2, axis2=-1)
         q = q / jnp.where(t > 0.0, t, 1.0)[..., None, None]
+        # entries below FLUSH of a matrix of trace 1 go to zero: they weigh nothing in the estimate, and the powers of
+        # the small eigenvalues would otherwise pass through subnormal numbers, which CPUs compute far slower
+        q = jnp.where(jnp.abs(q) < FLUSH, 0.0, q)
     lam = jnp.sum(p * jnp.swapaxes(q, -1, -2), axis=(-2, -1))  # tr(P Q)
     return jnp.where(live, jnp.maximum(lam, 0.0), 0.0)
 
