@@ -670,7 +670,8 @@ def _main_mjx(args, overrides: dict) -> int:
     print(f"{args.policy} on the MJX env {res['env']} ({res['device']}), {res['episodes']} episode(s), seed "
           f"{args.seed}, deterministic")
     print(f"  speed {res['speed']:.3f} +- {res['speed_std']:.3f} m/s   CoT {res['cost_of_transport']:.2f}   "
-          f"fell {res['fell']:.0%}   diverged {res['diverged']}")
+          f"fell {res['fell']:.0%}   diverged {res['diverged']}   sand unstable {res['unstable']}, "
+          f"out of its law's range {res['out_of_range']} (episodes)")
     if args.json:
         Path(args.json).write_text(json.dumps(res, indent=2) + "\n")
         print(f"wrote {args.json}")

@@ -9,7 +9,9 @@ on MJX) with ``brax.training.agents.ppo.train`` and Brax's own training wrappers
 * ``policy.npz`` (the observation normaliser and the policy and value networks' weights, plain arrays,
   loaded with ``allow_pickle=False``) and ``policy.json`` (the networks' layout, the recipe, the env's
   keyword arguments, the training summary): no pickled code, so a shared run folder is safe to load;
-* ``progress.csv``: steps, wall time, mean episode return, speed and length of each evaluation;
+* ``progress.csv``: steps, wall time, mean episode return, speed and length of each evaluation, and the mean
+  number of steps per evaluation episode after the sand's guards found a stability limit exceeded
+  (``unstable_steps``) or the law's range left (``out_of_range_steps``; NaN for an env without these metrics);
 * ``checkpoints/<steps>/``: the policy of each evaluation (``policy.npz`` and ``policy.json``, steps in 11
   digits), each a run folder that ``mjrft eval --policy`` runs, so that any point of the learning curve can be
   evaluated on the CPU env.
@@ -359,19 +361,26 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
     progress_path = out / PROGRESS_FILE
     with (progress_path.open("w", newline="") if writer_process else contextlib.nullcontext(_NoFile())) as fh:
         writer = csv.writer(fh)
-        writer.writerow(["steps", "wall_s", "episode_return", "speed", "episode_length"])
+        writer.writerow(["steps", "wall_s", "episode_return", "speed", "episode_length", "unstable_steps",
+                         "out_of_range_steps"])
         fh.flush()
 
         def progress(step, metrics):
             ret = float(metrics.get("eval/episode_reward", math.nan))
             length = float(metrics.get("eval/avg_episode_length", math.nan))
             speed = float(metrics.get("eval/episode_x_velocity", math.nan)) / max(length, 1.0)
-            row = [int(step), round(time.perf_counter() - t0, 3), ret, speed, length]
+            # the sand's guards: the mean number of steps per evaluation episode after a stability limit was
+            # exceeded (or chatter began) / the law's range was left (the env's metrics "unstable", "out_of_range")
+            unstable, out_of_range = (float(metrics.get(f"eval/episode_{k}", math.nan))
+                                      for k in ("unstable", "out_of_range"))
+            row = [int(step), round(time.perf_counter() - t0, 3), ret, speed, length, unstable, out_of_range]
             rows.append(row)
             writer.writerow(row)
             fh.flush()
+            guards = "" if not unstable > 0 else (f"  UNSTABLE: the sand's stability guards fired, {unstable:.0f} "
+                                                  "steps per evaluation episode (mjrft.mjx.guards)")
             report(f"  {int(step):>10d} steps  {row[1]:8.1f} s  return {ret:9.3f}  speed {speed:.3f} m/s  "
-                   f"length {length:.0f}")
+                   f"length {length:.0f}{guards}")
 
         def meta(steps: int, complete: bool) -> dict:
             return {"env": cfg["env"], "env_config": cfg["env_config"], "env_id": getattr(env, "gym_id", None),
@@ -421,7 +430,9 @@ def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, s
     """The policy on its MJX env (:func:`mjx_env_of`), ``episodes`` worlds in one batch, each for ``seconds`` or
     until it ends (a fall or a divergence): the metrics of ``mjrft eval`` on the CPU env, computed the same way per
     episode (speed = torso x displacement / time, CoT = actuator energy / (m g max(|dx|, 1e-3 t)), fell = ended
-    without diverging) and averaged over the episodes that did not diverge."""
+    without diverging) and averaged over the episodes that did not diverge; ``unstable`` and ``out_of_range`` count
+    the episodes in which the sand's guards fired (the env's metrics of the same names), whose warnings are
+    issued on the host."""
     import jax
     import jax.numpy as jnp
 
@@ -447,10 +458,14 @@ def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, s
 
         init = (state, jnp.array(True), jnp.zeros(()), jnp.zeros(()), jnp.array(False))
         (state, alive, energy, n, diverged), _ = jax.lax.scan(body, init, None, length=steps)
-        return state.data.qpos[0] - x0, energy, n, alive, diverged
+        return (state.data.qpos[0] - x0, energy, n, alive, diverged, state.metrics.get("unstable", jnp.zeros(())),
+                state.metrics.get("out_of_range", jnp.zeros(()))), state
 
     keys = jax.random.split(jax.random.PRNGKey(seed), episodes)
-    dx, energy, n, alive, diverged = map(np.asarray, jax.jit(jax.vmap(run))(keys))
+    numbers, last = jax.jit(jax.vmap(run))(keys)
+    dx, energy, n, alive, diverged, unstable, out_of_range = map(np.asarray, numbers)
+    if hasattr(env, "warn"):
+        env.warn(last)  # what the sand's guards recorded, on the host (TerrainStabilityWarning, ValidityRangeWarning)
     t = n * env.dt
     ok = ~diverged
     speed = np.where(t > 0, dx / np.maximum(t, 1e-12), 0.0)
@@ -459,7 +474,8 @@ def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, s
     std = (lambda v: float(v[ok].std())) if ok.any() else (lambda v: math.nan)
     return {"episodes": int(episodes), "diverged": int(diverged.sum()), "speed": mean(speed), "speed_std": std(speed),
             "cost_of_transport": mean(cot), "cost_of_transport_std": std(cot),
-            "fell": mean((~alive).astype(float)), "seconds": mean(t), "backend": "mjx", "env": env.name,
+            "fell": mean((~alive).astype(float)), "seconds": mean(t), "unstable": int((unstable > 0.5).sum()),
+            "out_of_range": int((out_of_range > 0.5).sum()), "backend": "mjx", "env": env.name,
             "device": str(jax.devices()[0])}
 
 
@@ -606,6 +622,7 @@ def main(args) -> int:
     if args.eval_episodes > 0:
         res = evaluate_mjx(load_policy(args.out), episodes=args.eval_episodes)
         print(f"MJX evaluation ({res['episodes']} episodes of 10 s): speed {res['speed']:.3f} m/s, "
-              f"CoT {res['cost_of_transport']:.2f}, fell {res['fell']:.0%}, diverged {res['diverged']}")
+              f"CoT {res['cost_of_transport']:.2f}, fell {res['fell']:.0%}, diverged {res['diverged']}, sand unstable "
+              f"in {res['unstable']}, out of its law's range in {res['out_of_range']} episodes")
     print(f"evaluate on the CPU env: mjrft eval --policy {args.out} --episodes 10")
     return 0

@@ -35,8 +35,10 @@ key                            meaning (the gymnasium env's keyword argument)
 Differences from the gymnasium env, each by design: the sand bed's rigid bottom (30 cm below the surface, below
 every healthy torso) has no contacts (a contact pair costs MJX's collision and constraint solver on every step of
 every world); a non-finite action, state or granular force does not raise (nothing can inside ``jit``) but ends
-the episode with reward 0 and ``metrics["diverged"] = 1``; ``terrain_randomization``'s roughness and strips are
-options of the gymnasium env only.
+the episode with reward 0 and ``metrics["diverged"] = 1``, and what the sand's guards find (a stability limit
+exceeded, chatter, the law's depth or speed range left) is ``metrics["unstable"]`` and ``metrics["out_of_range"]``
+(1 from the step it happened to the episode's end) with the warnings on the host from :meth:`LocomotionEnv.warn`;
+``terrain_randomization``'s roughness and strips are options of the gymnasium env only.
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ from mujoco import mjx
 from mjrft.models.scene import TIMESTEP
 from mjrft.mjx import Sand
 from mjrft.mjx import step as rigid_step
+from mjrft.mjx.guards import guard_metrics
 from mjrft.tools.presets import FRAME_SKIP
 
 from ..base import GranularMujocoEnv
@@ -64,8 +67,10 @@ from .env import MjxEnv, State
 
 #: the gymnasium env's keyword arguments that the configuration's top level carries under the same name
 TOP_KEYS = ("healthy_z_range", "max_tilt", "terminate_when_unhealthy", "reset_noise_scale")
-#: every step's ``state.metrics``: the task's metrics and whether the world diverged (1.0) in the step
-STEP_METRICS = METRICS + ("diverged",)
+#: every step's ``state.metrics``: the task's metrics, whether the world diverged (1.0) in the step, and whether the
+#: sand's guards found a stability limit exceeded (or chatter) or the law's range left since the episode began
+#: (:func:`mjrft.mjx.guards.guard_metrics`; 0 on rigid ground)
+STEP_METRICS = METRICS + ("diverged", "unstable", "out_of_range")
 
 
 def own_arguments(cls) -> dict:
@@ -328,8 +333,17 @@ class LocomotionEnv(MjxEnv):
         metrics = task.metrics(jnp, x_velocity=x_velocity, power=power, rewards=rewards)
         metrics = {**state.metrics, **{k: jnp.where(diverged, 0.0, v) for k, v in metrics.items()},
                    "diverged": diverged.astype(reward.dtype)}
+        if sand is not None:
+            metrics.update(guard_metrics(sand, reward.dtype))
         return state.replace(data=d, obs=obs, reward=reward, done=done.astype(reward.dtype), metrics=metrics,
                              info=info)
+
+    def warn(self, state: State) -> None:
+        """On the host, for ``state`` (one world or a batch): warn for what the sand's guards recorded since each
+        world's episode began (:meth:`mjrft.mjx.Sand.warn`: the world, body, time, steps and worst value, once per
+        guard and body); nothing on rigid ground."""
+        if self.sand is not None:
+            self.sand.warn(state.info["sand"], stacklevel=4)
 
     # ------------------------------------------------------------------ the gymnasium twin
     def gym_env(self, state: State | None = None):

@@ -27,7 +27,9 @@ the properties ``mj_model`` and ``mjx_model``, the device model kept in ``_mjx_m
   vector, the surface, each body's granular wrench and sinkage, the sticky bad-state record),
   ``info["sand_medium"]`` (an index into :attr:`SandEnv.media`) and ``info["sand_stress_scale"]``;
   ``metrics["sand/diverged"]`` is 1 when the terrain met a non-finite state or force, which also ends the
-  episode (``done``);
+  episode (``done``); ``metrics["sand/unstable"]`` and ``metrics["sand/out_of_range"]`` are 1 from the step the
+  terrain's guards found a stability limit exceeded or chatter, or the law's depth or speed range left, to the
+  episode's end (:func:`mjrft.mjx.guards.guard_metrics`; the warnings on the host: :meth:`SandEnv.warn`);
 * episodes: each ``reset`` draws the medium uniformly from ``media`` and ``stress_scale`` uniformly from its
   range, from the reset's key (Playground's ``randomization_fn`` changes the ``mjx.Model``, which the sand state
   is not part of). An episode that starts without ``reset`` (Brax's and Playground's auto-reset return a
@@ -65,12 +67,15 @@ from mujoco import mjx
 
 from ..errors import check_positive
 from ..media import get_medium
+from .guards import guard_metrics
 from .terrain import Sand, SandState
 
 #: the keys :class:`SandEnv` adds to ``state.info`` (``"sand_rng"``: the key of the next episode's draw;
 #: ``"sand_time"``: ``data.time`` at the end of the last step)
 INFO_KEYS = ("sand", "sand_medium", "sand_stress_scale", "sand_rng", "sand_time")
 DIVERGED = "sand/diverged"  # the metric
+#: the guards' metrics (:func:`mjrft.mjx.guards.guard_metrics`), 1 from the step a guard fired to the episode's end
+GUARD_METRICS = {"unstable": "sand/unstable", "out_of_range": "sand/out_of_range"}
 _SALT = 0x5A4D  # folded into the reset key for the terrain's draw (the environment's own draws are unchanged)
 
 
@@ -197,7 +202,7 @@ class SandEnv:
         data, sand = self._unpack(state.data, "reset")
         info = dict(state.info)
         info.update(sand=sand, sand_medium=medium, sand_stress_scale=scale, sand_rng=nxt, sand_time=data.time)
-        metrics = {**state.metrics, DIVERGED: jnp.zeros(())}
+        metrics = {**state.metrics, DIVERGED: jnp.zeros(()), **{v: jnp.zeros(()) for v in GUARD_METRICS.values()}}
         return state.replace(data=data, info=info, metrics=metrics)
 
     def step(self, state, action: jax.Array):
@@ -223,7 +228,8 @@ class SandEnv:
         bad = sand.bad_body != -1
         info = dict(out.info)
         info.update(sand=sand, sand_time=data.time)
-        metrics = {**out.metrics, DIVERGED: bad.astype(jnp.float32)}
+        metrics = {**out.metrics, DIVERGED: bad.astype(jnp.float32),
+                   **{GUARD_METRICS[k]: v for k, v in guard_metrics(sand).items()}}
         done = jnp.maximum(out.done, bad.astype(out.done.dtype))
         return out.replace(data=data, done=done, info=info, metrics=metrics)
 
@@ -242,6 +248,11 @@ class SandEnv:
     def sinkage(self, state, bodies) -> jax.Array:
         """Deepest element of each of ``bodies`` (names or ids) below the surface after the last physics step (m)."""
         return state.info["sand"].sinkage[..., self._body_ids(bodies)]
+
+    def warn(self, state) -> None:
+        """On the host, for ``state`` (one world or a batch): warn for what the terrain's guards recorded since each
+        world's episode began (:meth:`mjrft.mjx.Sand.warn`)."""
+        self.sand.warn(state.info["sand"], stacklevel=4)
 
     def force(self, state, bodies) -> jax.Array:
         """Granular force on each of ``bodies`` applied by the last physics step (N, world frame; (..., k, 3))."""

@@ -49,6 +49,17 @@ with the ones above the surface masked. ``cull=K`` instead gathers at most ``K``
 per world (``jnp.nonzero(..., size=K)``) and evaluates only those: it pays where the law's arithmetic
 dominates and most elements are out of the sand (``benchmarks/bench_mjx.py --cull`` measures it); a world
 with more than ``K`` buried elements is flagged as bad (``state.bad_body = -2``) instead of losing force.
+
+Guards (:mod:`mjrft.mjx.guards`; ``guards=False`` leaves them out): every step also checks each world's explicit
+stability limits (the grains' springs and their depth stiffness, from per-body stiffness moments that the element
+pass sums and the bodies' mobility), period-2 chatter of each body's force, and the law's calibrated depth and
+speed ranges, and keeps per world what fired, on how many steps, where and when (the ``guard_*`` fields of
+:class:`SandState`). :meth:`Sand.flags` gives the per-world flags inside ``jit``; :meth:`Sand.check` warns on the
+host (:class:`~mjrft.TerrainStabilityWarning`, :class:`~mjrft.ValidityRangeWarning`) and raises
+:class:`~mjrft.NonFiniteError`; :meth:`Sand.auto_step` sub-steps each world below its limits
+(:class:`mjrft.envs.GranularWrapper`'s rule). :meth:`Sand.step` refuses an MJX model that still has the floor's
+contacts (put on the device before the terrain was built), and computes the acceleration sensors also when the
+model has no constraint rows (MJX's own ``forward`` skips them then).
 """
 
 from __future__ import annotations
@@ -61,6 +72,7 @@ import jax.numpy as jnp
 import mujoco
 import numpy as np
 from mujoco import mjx
+from mujoco.mjx._src import support
 from mujoco.mjx._src.smooth import solve_m
 
 from ..build import build_model, remove_floor_contacts, water_depth
@@ -72,6 +84,8 @@ from ..laws.registry import parameter_vector
 from ..media import get_medium
 from ..types import TerrainModel
 from .forces import Features, region_force
+from . import guards as _guards
+from .guards import Guards, k6, mobilities, monomials
 from .integrator import integrate
 from .laws import law_function
 from .memory import rest_memory
@@ -94,7 +108,19 @@ class SandState(NamedTuple):
     (nbody,): the granular wrench applied by the last step (the implicit one with ``implicit``) and each body's
     deepest element (m, >= 0);
     ``bad_body``: -1 while every state and force was finite, else the first body with a non-finite one
-    (-2: more than ``cull`` buried elements); ``bad_time``: the simulation time when it happened."""
+    (-2: more than ``cull`` buried elements); ``bad_time``: the simulation time when it happened.
+
+    The guards (:mod:`mjrft.mjx.guards`; :meth:`Sand.init` fills them, :meth:`Sand.reset` clears them; None in a
+    state built without them): ``rates`` (nb, HELD_STEPS): the springs' rate ``lambda_max(W6 K6)`` (1/s^2) of each
+    body with elements (``Sand.imp_rows``) over the last steps, newest first; ``chatter`` (nb, 8): each such body's
+    last applied force, its last change, the current run of reversals and the largest relative change in it;
+    ``stable_dt`` (2,): the last
+    step's smallest stable timestep of the springs and of the depth stiffness (s, inf with nothing buried);
+    ``substeps``: the sub-steps of the last :meth:`Sand.auto_step` (1 otherwise); and per guard of
+    :data:`mjrft.mjx.guards.GUARDS` (springs, depth_stiffness, chatter, depth_range, speed_range):
+    ``guard_count`` (5,) the steps on which it fired, ``guard_body`` (5,) the first body (-1: never),
+    ``guard_time`` (5,) the time then, ``guard_value`` (5, 2) its worst step
+    (:data:`~mjrft.mjx.guards.VALUE_COLUMNS`)."""
 
     u: jax.Array
     params: jax.Array
@@ -104,12 +130,39 @@ class SandState(NamedTuple):
     sinkage: jax.Array
     bad_body: jax.Array
     bad_time: jax.Array
+    rates: jax.Array | None = None
+    chatter: jax.Array | None = None
+    stable_dt: jax.Array | None = None
+    substeps: jax.Array | None = None
+    guard_count: jax.Array | None = None
+    guard_body: jax.Array | None = None
+    guard_time: jax.Array | None = None
+    guard_value: jax.Array | None = None
+
+
+class _Pass(NamedTuple):
+    """One element pass (:meth:`Sand._evaluate`): the wrench (nbody, 6), the new memory (n, 3), the sinkage
+    (nbody,), the bodies with a non-finite result (nbody, bool), more than ``cull`` buried (bool), the moments
+    (nbody, 10) of the implicit step's ``T k`` (None without it), and for the guards (None without them) the moments
+    (nb, 10) of the springs' and of the depth stiffness's ``k`` of the bodies with elements and the buried
+    extremes (:func:`mjrft.mjx.guards.buried_extremes`)."""
+
+    w: jax.Array
+    u: jax.Array
+    sink: jax.Array
+    body_bad: jax.Array
+    over: jax.Array
+    moments: jax.Array | None
+    stiff: jax.Array | None
+    dstiff: jax.Array | None
+    extremes: tuple | None
 
 
 class Sand:
     """The granular terrain of ``model`` for MJX; arguments as :class:`mjrft.GranularTerrain` (see there), plus
-    ``cull`` (None, or the most buried elements per world evaluated each step; module docstring). With
-    ``implicit=True`` (or :meth:`from_terrain` of such a terrain) :meth:`step` is the implicit granular step.
+    ``cull`` (None, or the most buried elements per world evaluated each step; module docstring) and ``guards``
+    (False: no stability, chatter or range checks, :mod:`mjrft.mjx.guards`). With ``implicit=True`` (or
+    :meth:`from_terrain` of such a terrain) :meth:`step` is the implicit granular step.
 
     Build it BEFORE ``mjx.put_model(model)``: like the CPU terrain it removes the floor's contacts from the
     loaded ``model`` when ``floor`` is given (:meth:`put_model` does both in order).
@@ -118,36 +171,38 @@ class Sand:
     >>> mx, step = sand.put_model(), jax.jit(sand.step)     # step(mx, d, state) -> (d, state)
     """
 
-    def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, cull: int | None = None, **kwargs):
+    def __init__(self, model: mujoco.MjModel, medium=None, law=None, *, cull: int | None = None, guards: bool = True,
+                 **kwargs):
         if not isinstance(model, mujoco.MjModel):
             raise TypeError(f"model must be a mujoco.MjModel, got {type(model).__name__}")
         tm = build_model(model, medium, law, stacklevel=3, **kwargs)
-        self._init_from(model, tm, cull)
+        self._init_from(model, tm, cull, guards)
         self.floor_contacts = remove_floor_contacts(model, tm)  # last: an error above leaves the model as it was
 
     @classmethod
-    def from_model(cls, model: mujoco.MjModel, terrain_model: TerrainModel, cull: int | None = None) -> "Sand":
+    def from_model(cls, model: mujoco.MjModel, terrain_model: TerrainModel, cull: int | None = None,
+                   guards: bool = True) -> "Sand":
         """The JAX terrain of the records ``terrain_model`` (:func:`mjrft.build.build_model`, or a CPU terrain's
         :attr:`~mjrft.GranularTerrain.terrain_model`) on ``model``: the floor that became the surface loses its
         contacts in ``model`` as in the constructor."""
         if not isinstance(terrain_model, TerrainModel):
             raise TypeError(f"terrain_model must be a mjrft.TerrainModel, got {type(terrain_model).__name__}")
         self = cls.__new__(cls)
-        self._init_from(model, terrain_model, cull)
+        self._init_from(model, terrain_model, cull, guards)
         self.floor_contacts = remove_floor_contacts(model, terrain_model)
         return self
 
     @classmethod
-    def from_terrain(cls, terrain: GranularTerrain, cull: int | None = None) -> "Sand":
+    def from_terrain(cls, terrain: GranularTerrain, cull: int | None = None, guards: bool = True) -> "Sand":
         """The JAX twin of an existing CPU terrain (same elements, medium, law, memory settings, stress scale)."""
         if not isinstance(terrain, GranularTerrain):
             raise TypeError(f"terrain must be a mjrft.GranularTerrain, got {type(terrain).__name__}")
         self = cls.__new__(cls)
-        self._init_from(terrain.model, terrain.terrain_model, cull)
+        self._init_from(terrain.model, terrain.terrain_model, cull, guards)
         self.floor_contacts = terrain.floor_contacts
         return self
 
-    def _init_from(self, model: mujoco.MjModel, tm: TerrainModel, cull) -> None:
+    def _init_from(self, model: mujoco.MjModel, tm: TerrainModel, cull, guards: bool = True) -> None:
         if tm.ground.on:
             raise NotImplementedError("mjrft.mjx does not model the ground memory (ground_memory=True, mjrft.ground); "
                                       "step a terrain with one on the CPU path (mjrft.GranularTerrain)")
@@ -216,6 +271,14 @@ class Sand:
         place = np.zeros((self.nbody, rows.size))
         place[rows, np.arange(rows.size)] = 1.0
         self.imp_place = place  # (nbody, nb): the bodies' rows back into (nbody, ...) as a product (no scatter)
+        if not isinstance(guards, bool):
+            raise TypeError(f"guards must be True or False, got {guards!r}")
+        self.guards = Guards(rows, self.nbody, self.delta, self.tau, self.implicit, self.law,
+                             bool(cs.inertial)) if guards else None
+        # the guards' moments: per-element weights on constant tables of the lever arms (body frame)
+        self.moment_table = _guards.moment_table(model, self.elem_body, self.lpos, rows) if guards else None
+        self.warned: set = set()  # the (guard, body) pairs check() warned about
+        self._static_limit = None
 
     # ------------------------------------------------------------------ state
     def init(self, params=None, surface=None, bounds=None) -> SandState:
@@ -235,16 +298,30 @@ class Sand:
         if jnp.shape(b) != self.bounds.shape:
             raise ValueError(f"bounds must hold the terrain's {self.bounds.size} strips' x_min, got shape "
                              f"{jnp.shape(b)}")
+        extra = {} if self.guards is None else self.guards.init_fields()
         return SandState(u=jnp.zeros((self.n_elements, 3)), params=jnp.asarray(p), surface=jnp.asarray(z),
                          bounds=jnp.asarray(b), wrench=jnp.zeros((self.nbody, 6)), sinkage=jnp.zeros(self.nbody),
-                         bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.zeros((), jnp.asarray(0.0).dtype))
+                         bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.zeros((), jnp.asarray(0.0).dtype),
+                         **extra)
 
     @staticmethod
     def reset(state: SandState) -> SandState:
-        """``state`` with its memory forgotten and its bad-state record cleared (the medium kept)."""
-        return state._replace(u=jnp.zeros_like(state.u), wrench=jnp.zeros_like(state.wrench),
-                              sinkage=jnp.zeros_like(state.sinkage), bad_body=jnp.full_like(state.bad_body, -1),
-                              bad_time=jnp.zeros_like(state.bad_time))
+        """``state`` with its memory forgotten and its bad-state and guards' records cleared (the medium kept)."""
+        state = state._replace(u=jnp.zeros_like(state.u), wrench=jnp.zeros_like(state.wrench),
+                               sinkage=jnp.zeros_like(state.sinkage), bad_body=jnp.full_like(state.bad_body, -1),
+                               bad_time=jnp.zeros_like(state.bad_time))
+        if state.guard_count is None:
+            return state
+        limits = (jnp.arange(state.guard_value.shape[-2]) == _guards.SPRINGS) | (
+            jnp.arange(state.guard_value.shape[-2]) == _guards.DEPTH_STIFFNESS)
+        value = jnp.where(limits[:, None], jnp.array([jnp.inf, 1.0], state.guard_value.dtype), 0.0)
+        return state._replace(rates=jnp.zeros_like(state.rates), chatter=jnp.zeros_like(state.chatter),
+                              stable_dt=jnp.full_like(state.stable_dt, jnp.inf), substeps=jnp.ones_like(state.substeps),
+                              guard_count=jnp.zeros_like(state.guard_count),
+                              guard_body=jnp.full_like(state.guard_body, -1),
+                              guard_time=jnp.zeros_like(state.guard_time),
+                              guard_value=jnp.broadcast_to(value, state.guard_value.shape).astype(
+                                  state.guard_value.dtype))
 
     def params_of(self, medium, stress_scale: float = 1.0) -> np.ndarray:
         """The parameter vector of another ``medium`` (name or :class:`~mjrft.Medium`) with ``stress_scale``, for
@@ -282,7 +359,8 @@ class Sand:
         return jnp.zeros_like(u), vel, speed, mob
 
     def _forces(self, depth, nrm, vel, u, area, params, dt, implicit=False, px=None, py=None, bounds=None):
-        """Element forces (k, 3) and new memory (k, 3) of elements at ``depth`` (> 0: buried); with ``implicit``
+        """Element forces (k, 3), new memory (k, 3) and each element's ``|m|`` (k,; its regularised motion, the
+        speed in the viscous mode; 0 where it does not move) of elements at ``depth`` (> 0: buried); with ``implicit``
         also each element's ``T k`` (k,) for the implicit step (:meth:`_spring_tk`), else None; and the inertial
         regime's damping (k,) for the implicit step and whether each element's parts were finite (k,) in the
         general pass (:meth:`_general_forces`, which takes the elements' ``px``, ``py`` and the strips' ``bounds``),
@@ -298,7 +376,7 @@ class Sand:
         tk = None
         if implicit:  # the springs' stiffness comes from the force at full mobilisation
             tk = self._spring_tk(jnp.where(moving[:, None], stress * area[:, None], 0.0), ml, vel, dt, u)
-        return f, u, tk, None, None
+        return f, u, jnp.where(moving, ml, 0.0), tk, None, None
 
     def _general_forces(self, depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds):
         """:meth:`_forces` by the kernel's general pass: the rest memory (:func:`mjrft.mjx.memory.rest_memory`, the
@@ -318,7 +396,8 @@ class Sand:
         within = (area > 0.0) & (depth > -self.reach) if self.reach > 0.0 else buried
         f = jnp.where(within[:, None], f, 0.0)
         tk = self._holding_tk(kk, ml, speed, dt, u) if implicit else None
-        return f, u, tk, (ci if self.features.inertia else None), ok | ~within
+        moving = buried & (ml > 0.0)
+        return f, u, jnp.where(moving, ml, 0.0), tk, (ci if self.features.inertia else None), ok | ~within
 
     def _spring_tk(self, f_yield, ml, vel, dt, u):
         """Each element's ``T k`` for the implicit step (mjrft.kernel's ``_add_implicit``; docs/numerics.md,
@@ -355,15 +434,18 @@ class Sand:
         kinematics, and the state advanced by ``dt``. A non-finite element state or force gives a zero wrench
         and the unchanged memory, with the body recorded in ``bad_body``. This is the explicit wrench (the
         CPU terrain's :meth:`~mjrft.GranularTerrain.compute`) also for an implicit terrain: the implicit step
-        needs the model's dynamics, which :meth:`step` runs."""
-        w, u, sink, body_bad, over, _ = self._evaluate(d, state, dt, implicit=False)
-        return self._finish(d, state, w, u, sink, body_bad, over)
+        needs the model's dynamics, which :meth:`step` runs. The guards that need no dynamics (chatter, the
+        ranges) are advanced; the stability limits need the model's mass matrix, which :meth:`step` has."""
+        ev = self._evaluate(d, state, dt, implicit=False)
+        w, state = self._finish(d, state, ev.w, ev.u, ev.sink, ev.body_bad, ev.over)
+        return w, self._guard(d, state, ev, dt)
 
-    def _evaluate(self, d, state: SandState, dt, implicit: bool):
-        """The element pass: (wrench (nbody, 6), new memory (n, 3), sinkage (nbody,), non-finite bodies (nbody,
-        bool), more than ``cull`` buried (bool), the per-body moments (nbody, 10) of the elements' ``T k`` that hold
-        (``sum Tk``, ``sum Tk r``, ``sum Tk r r^T`` as ``xx xy xz yy yz zz``, r from the body's CoM) with
-        ``implicit``, else None)."""
+    def _evaluate(self, d, state: SandState, dt, implicit: bool) -> _Pass:
+        """The element pass (:class:`_Pass`): the wrench, the new memory, the sinkage, the non-finite bodies, the
+        overflow of ``cull``; with ``implicit`` the per-body moments (nbody, 10) of the elements' ``T k`` that hold
+        (``sum Tk``, ``sum Tk r``, ``sum Tk r r^T`` as ``xx xy xz yy yz zz``, r from the body's CoM); with the
+        guards the moments of the springs' ``k`` and of the depth stiffness ``|F| / depth`` of the bodies with
+        elements, and the deepest and fastest buried elements."""
         pos, nrm, vel = self.element_kinematics(d)
         dtype = pos.dtype
         dt = jnp.asarray(dt, dtype)
@@ -377,19 +459,20 @@ class Sand:
         bounds = state.bounds.astype(dtype)
         within = depth > -self.reach if self.reach > 0.0 else depth > 0.0  # of the grains or the water above them
         if self.cull is None:
-            f, u, tk, ci, ok = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit, pos[:, 0],
-                                            pos[:, 1], bounds)
+            f, u, ml, tk, ci, ok = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit, pos[:, 0],
+                                                pos[:, 1], bounds)
             over = jnp.array(False)
         else:
             idx = jnp.nonzero(within, size=self.cull, fill_value=self.n_elements)[0]
             over = jnp.sum(within) > self.cull
             take = jnp.minimum(idx, self.n_elements - 1)
             valid = idx < self.n_elements
-            fk, uk, tkk, cik, okk = self._forces(jnp.where(valid, depth[take], -self.reach - 1.0), nrm[take],
-                                                 vel[take], state.u[take], jnp.where(valid, area[take], 0.0), params,
-                                                 dt, implicit, pos[take, 0], pos[take, 1], bounds)
+            fk, uk, mlk, tkk, cik, okk = self._forces(jnp.where(valid, depth[take], -self.reach - 1.0), nrm[take],
+                                                      vel[take], state.u[take], jnp.where(valid, area[take], 0.0),
+                                                      params, dt, implicit, pos[take, 0], pos[take, 1], bounds)
             f = jnp.zeros_like(pos).at[idx].set(fk, mode="drop")
             u = jnp.zeros_like(state.u).at[idx].set(uk, mode="drop")
+            ml = jnp.zeros_like(depth).at[idx].set(mlk, mode="drop")
             tk = jnp.zeros_like(depth).at[idx].set(tkk, mode="drop") if implicit else None
             ci = None if cik is None else jnp.zeros_like(depth).at[idx].set(cik, mode="drop")
             ok = None if okk is None else jnp.ones(depth.shape, bool).at[idx].set(okk, mode="drop")
@@ -404,12 +487,40 @@ class Sand:
         sink = jnp.max(jnp.where(onehot > 0.0, jnp.maximum(depth, 0.0)[None, :], 0.0), axis=1)
         moments = None
         if implicit:  # with the inertial regime its dampers join the springs in G (mjrft.implicit_step)
-            rx, ry, rz = r[:, 0], r[:, 1], r[:, 2]
             g = tk if ci is None else tk + ci
-            per = g[:, None] * jnp.stack([jnp.ones_like(rx), rx, ry, rz, rx * rx, rx * ry, rx * rz, ry * ry,
-                                          ry * rz, rz * rz], axis=-1)
-            moments = jnp.matmul(onehot, per, precision=HIGHEST)
-        return w, u, sink, body_bad, over, moments
+            moments = jnp.matmul(onehot, g[:, None] * monomials(r), precision=HIGHEST)
+        stiff = dstiff = extremes = None
+        if self.guards is not None:
+            buried = (depth > 0.0) & (area > 0.0)
+            local = _guards.body_moments(_guards.element_weights(f, ml, depth, buried), self.moment_table)
+            stiff, dstiff = _guards.rotate_moments(local, d.xmat[self.imp_rows][None])  # (nb, 10) each, world frame
+            extremes = _guards.buried_extremes(sink, jnp.where(buried, jnp.sum(vel * vel, axis=-1), 0.0),
+                                               self.moment_table, self.imp_rows)
+        return _Pass(w, u, sink, body_bad, over, moments, stiff, dstiff, extremes)
+
+    def _guard(self, d, state: SandState, ev: _Pass, dt, w6=None) -> SandState:
+        """``state`` with the guards advanced by the step whose element pass is ``ev`` (the applied wrench in
+        ``state.wrench``), with the stability limits when the bodies' mobilities ``w6`` (nb, 6, 6) are given."""
+        if self.guards is None:
+            return state
+        lam = lam_d = None
+        if w6 is not None:
+            lam, lam_d = self.guards.limits(w6, ev.stiff, ev.dstiff)
+        return self.guards.update(state, d.time, dt, state.wrench, ev.extremes, lam, lam_d)
+
+    def mobility(self, m, d) -> tuple[jax.Array, jax.Array]:
+        """The stacked CoM jacobians ``J`` (6 nb, nv) of the bodies with elements (:meth:`com_jacobians`) and
+        ``M^-1 J^T`` (nv, 6 nb) from MJX's mass-matrix factor of ``d`` (after ``fwd_position``): ``M^-1`` from the
+        factor (``nv`` back-substitutions), then one product. (Back-substituting the ``6 nb`` columns of ``J^T``
+        instead costs up to a hundred times more on a CPU: LAPACK's batched solves of many narrow right-hand
+        sides.)"""
+        jac = self.com_jacobians(d)
+        eye = jnp.eye(m.nv, dtype=jac.dtype)
+        if support.is_sparse(m):
+            minv = jax.vmap(lambda col: solve_m(m, d, col), in_axes=1, out_axes=1)(eye)
+        else:
+            minv = jax.scipy.linalg.cho_solve((d._impl.qLD, False), eye)
+        return jac, jnp.matmul(minv, jac.T, precision=HIGHEST)
 
     @staticmethod
     def _finish(d, state: SandState, w, u, sink, body_bad, over) -> tuple[jax.Array, SandState]:
@@ -435,7 +546,13 @@ class Sand:
         With ``implicit`` (a terrain built with ``implicit=True``; JAX implementation only) the applied wrench is
         the linearly implicit one of :meth:`implicit_wrench` (the CPU terrain's implicit step), computed after
         ``fwd_actuation`` and ``fwd_acceleration`` have given the smooth acceleration without the grains;
-        ``state.wrench`` holds it, the memory is that of the explicit evaluation."""
+        ``state.wrench`` holds it, the memory is that of the explicit evaluation.
+
+        The guards advance with the step (with MJX's JAX implementation all of them; with another the chatter and
+        range guards). The acceleration sensors are computed also when the model has no constraint rows. A model
+        ``m`` that still has the contacts of the floor that became the sand surface (put on the device before this
+        terrain was built) is refused with a ValueError when the step is traced."""
+        self._check_device_model(m)
         if self.implicit and m.impl != mjx.Impl.JAX:
             raise NotImplementedError("the implicit granular step runs with MJX's JAX implementation only "
                                       "(it needs MJX's mass-matrix factor); build the terrain with "
@@ -451,7 +568,11 @@ class Sand:
         d = mjx.fwd_velocity(m, d)
         d = mjx.sensor_vel(m, d)
         if not self.implicit:
-            w, state = self.wrench(d, state, dt)
+            ev = self._evaluate(d, state, dt, implicit=False)
+            w, state = self._finish(d, state, ev.w, ev.u, ev.sink, ev.body_bad, ev.over)
+            if self.guards is not None:
+                jac, minv_jt = self.mobility(m, d)
+                state = self._guard(d, state, ev, dt, mobilities(jac, minv_jt, self.imp_rows.size))
             d = d.replace(xfrc_applied=xfrc + w)
             d = mjx.fwd_actuation(m, d)
             d = mjx.fwd_acceleration(m, d)
@@ -459,11 +580,74 @@ class Sand:
             d, state = self._implicit_stage(m, d, state, dt)
         if d._impl.efc_J.size == 0:
             d = d.replace(qacc=d.qacc_smooth)
+            d = _acceleration_sensors(m, d)  # MJX's forward skips them without constraint rows
         else:
             d = mjx.solve(m, d)
             d = mjx.sensor_acc(m, d)
         d = integrate(m, d)
         return d.replace(xfrc_applied=xfrc), state
+
+    def _check_device_model(self, m) -> None:
+        """Refuse an MJX model whose floor geom (the one that became the sand surface) still collides: it was put on
+        the device before this terrain removed the floor's contacts from the loaded model."""
+        floor = self.terrain_model.settings.floor
+        if floor is None or self.floor_contacts is None or self.floor_contacts == (0, 0):
+            return
+        ct, ca = getattr(m, "geom_contype", None), getattr(m, "geom_conaffinity", None)
+        if not isinstance(ct, np.ndarray) or not isinstance(ca, np.ndarray) or floor >= ct.shape[0]:
+            return  # not known on the host: nothing to check at trace time
+        if ct[floor] != 0 or ca[floor] != 0:
+            name = mujoco.mj_id2name(self.model, mujoco.mjtObj.mjOBJ_GEOM, floor) or f"#{floor}"
+            raise ValueError(
+                f"the MJX model still has the contacts of the floor geom '{name}' (contype {int(ct[floor])}, "
+                f"conaffinity {int(ca[floor])}), which is the sand surface: it was put on the device (mjx.put_model) "
+                "before mjrft.mjx.Sand was built, so the robot would stand on the rigid floor with no granular load; "
+                "build the Sand first and then put the model on the device (mx = sand.put_model())")
+
+    def auto_step(self, m, d, state: SandState, max_substeps: int = _guards.MAX_SUBSTEPS):
+        """One step of ``m``'s timestep ``h`` split into ``k`` equal sub-steps (:meth:`step` each) chosen per world from
+        its last step's stable timesteps (``state.stable_dt``) and :meth:`static_limit`, by
+        :class:`mjrft.envs.GranularWrapper`'s rule (:func:`mjrft.mjx.guards.substeps_for`: half the explicit limit,
+        or with the implicit step one radian of the stiffest spring and half the depth stiffness's limit), ``1 <=
+        k <= max_substeps``; ``state.substeps`` holds ``k``. A ``jax.lax.while_loop``: under ``vmap`` a batch runs
+        as many sub-steps as its world that needs most, the others masked. Needs the guards and MJX's JAX
+        implementation."""
+        if self.guards is None:
+            raise ValueError("auto_step needs the guards' stable timesteps: build the Sand with guards=True")
+        if m.impl != mjx.Impl.JAX:
+            raise NotImplementedError("auto_step needs MJX's JAX implementation (the stability limits use its "
+                                      "mass-matrix factor)")
+        if isinstance(max_substeps, bool) or not isinstance(max_substeps, (int, np.integer)) or max_substeps < 1:
+            raise ValueError(f"max_substeps must be an integer >= 1, got {max_substeps!r}")
+        h = m.opt.timestep
+        k = _guards.substeps_for(state.stable_dt, self.static_limit(), h, self.implicit, self.tau, int(max_substeps))
+        sub = m.replace(opt=m.opt.replace(timestep=h / k.astype(jnp.asarray(h).dtype)))
+
+        def body(carry):
+            i, d, s = carry
+            d, s = self.step(sub, d, s)
+            return i + 1, d, s
+
+        _, d, state = jax.lax.while_loop(lambda c: c[0] < k, body, (jnp.int32(0), d, state))
+        return d, state._replace(substeps=k)
+
+    def static_limit(self) -> float:
+        """The springs' stable timestep (s) when any one body with elements carries the model's whole weight at
+        yield in the model's ``qpos0`` (:func:`mjrft.mjx.guards.static_timestep_limit`; GranularWrapper's static
+        limit), computed once."""
+        if self._static_limit is None:
+            self._static_limit = _guards.static_timestep_limit(self.model, self.imp_rows, self.delta, self.tau,
+                                                               self.v_eps)
+        return self._static_limit
+
+    def flags(self, state: SandState) -> dict:
+        """Per-world flags of ``state`` (one world or a batch), inside ``jit``: ``nonfinite`` and one per guard
+        (``springs``, ``depth_stiffness``, ``chatter``, ``depth_range``, ``speed_range``), each a bool array of the
+        batch's shape, True when it fired since the last reset (:func:`mjrft.mjx.guards.flags`; docs/gpu.md,
+        "Guards")."""
+        if state.guard_count is None:
+            raise ValueError("this state has no guards' record: it was made by a Sand built with guards=False")
+        return _guards.flags(state)
 
     def _implicit_stage(self, m, d, state: SandState, dt):
         """The actuation and smooth-acceleration stages of :meth:`step` with the implicit wrench: ``d`` after
@@ -471,16 +655,18 @@ class Sand:
         applied wrench, and the new state. The granular part of the smooth force is added as ``J^T F'`` and
         ``M^-1 J^T F'`` (what ``fwd_acceleration`` would add for it through ``xfrc_applied``, without a second
         pass over every body)."""
-        w, u, sink, body_bad, over, moments = self._evaluate(d, state, dt, implicit=True)
+        ev = self._evaluate(d, state, dt, implicit=True)
         d = mjx.fwd_actuation(m, d)
         d = mjx.fwd_acceleration(m, d)  # qacc_smooth: every force but the grains' (and the constraints')
-        f_new, jac, minv_jt = self.implicit_wrench(m, d, w, moments, dt)
-        place = jnp.asarray(self.imp_place, w.dtype)
+        f_new, jac, minv_jt = self.implicit_wrench(m, d, ev.w, ev.moments, dt)
+        place = jnp.asarray(self.imp_place, ev.w.dtype)
         rows_bad = ~jnp.all(jnp.isfinite(f_new), axis=-1)  # (nb,)
-        imp_bad = jnp.matmul(place, rows_bad.astype(w.dtype), precision=HIGHEST) > 0.0
-        body_bad = jnp.where(jnp.any(body_bad), body_bad, imp_bad)  # the explicit failure first, as on the CPU
+        imp_bad = jnp.matmul(place, rows_bad.astype(ev.w.dtype), precision=HIGHEST) > 0.0
+        body_bad = jnp.where(jnp.any(ev.body_bad), ev.body_bad, imp_bad)  # the explicit failure first, as on the CPU
         w = jnp.matmul(place, jnp.where(rows_bad[:, None], 0.0, f_new), precision=HIGHEST)
-        w, state = self._finish(d, state, w, u, sink, body_bad, over)
+        w, state = self._finish(d, state, w, ev.u, ev.sink, body_bad, ev.over)
+        if self.guards is not None:
+            state = self._guard(d, state, ev, dt, mobilities(jac, minv_jt, self.imp_rows.size))
         f_flat = w[self.imp_rows].reshape(-1)  # zero where the world went bad
         return d.replace(xfrc_applied=d.xfrc_applied + w,
                          qfrc_smooth=d.qfrc_smooth + jnp.matmul(f_flat, jac, precision=HIGHEST),
@@ -516,8 +702,7 @@ class Sand:
         mom = moments[rows]
         g = k6(mom)  # (nb, 6, 6)
         springs = jnp.repeat(mom[:, 0] > 0.0, 6).astype(dtype)  # (6 nb,)
-        jac = self.com_jacobians(d)
-        minv_jt = jax.vmap(lambda col: solve_m(m, d, col), in_axes=1, out_axes=1)(jac.T)  # (nv, 6 nb)
+        jac, minv_jt = self.mobility(m, d)  # (6 nb, nv), (nv, 6 nb)
         mob = jnp.matmul(jac, minv_jt, precision=HIGHEST) * springs[None, :]  # W, only the bodies with springs
         dv = dt * jnp.matmul(jac, d.qacc_smooth, precision=HIGHEST).reshape(nb, 6)
         rhs = w[rows] - jnp.einsum("bij,bj->bi", g, dv, precision=HIGHEST)
@@ -530,9 +715,21 @@ class Sand:
         (e.g. ``impl="warp"``)."""
         return mjx.put_model(self.model, **kwargs)
 
+    def warn(self, state: SandState, stacklevel: int = 3) -> None:
+        """On the host, for ``state`` (one world or a batch): the warnings of :meth:`check` (once per guard and
+        body), without raising for a non-finite world (an environment ends that episode and reports it)."""
+        if self.guards is not None and state.guard_count is not None:
+            _guards.check_guards(self.model, self.guards, state, self.terrain_model.stress_scale, self.warned,
+                                 stacklevel)
+
     def check(self, state: SandState) -> None:
-        """Raise :class:`~mjrft.NonFiniteError` naming the body and time when ``state`` (one world or a batch)
-        recorded a non-finite state or force, or more buried elements than ``cull``."""
+        """On the host, for ``state`` (one world or a batch): warn (once per guard and body) for what the guards
+        recorded, naming the first world with it, the body, the time, the steps and the worst value
+        (:class:`~mjrft.TerrainStabilityWarning` for the stability limits and chatter,
+        :class:`~mjrft.ValidityRangeWarning` for the depth and speed ranges), then raise
+        :class:`~mjrft.NonFiniteError` naming the world, body and time when a world recorded a non-finite state or
+        force, or more buried elements than ``cull``."""
+        self.warn(state, stacklevel=4)
         bad = np.atleast_1d(np.asarray(state.bad_body))
         times = np.atleast_1d(np.asarray(state.bad_time))
         hit = np.flatnonzero(bad != -1)
@@ -548,26 +745,18 @@ class Sand:
                              "no granular wrench was applied from then on")
 
 
-def k6(moments: jax.Array) -> jax.Array:
-    """The 6x6 (..., 6, 6) of springs acting in every direction with the moments (..., 10) ``sum k``,
-    ``sum k r``, ``sum k r r^T`` (``xx xy xz yy yz zz``) about a body's CoM: rows and columns 0-2 translation,
-    3-5 rotation (mjrft.stability's ``add_k6``)::
-
-        K6 = [[ s0 I,    -[S1]x           ],
-              [ [S1]x,   tr(S2) I - S2    ]]
-    """
-    s0 = moments[..., 0]
-    x, y, z = moments[..., 1], moments[..., 2], moments[..., 3]
-    xx, xy, xz, yy, yz, zz = (moments[..., i] for i in range(4, 10))
-    o = jnp.zeros_like(s0)
-    tr = xx + yy + zz
-    rows = [[s0, o, o, o, z, -y],
-            [o, s0, o, -z, o, x],
-            [o, o, s0, y, -x, o],
-            [o, -z, y, tr - xx, -xy, -xz],
-            [z, o, -x, -xy, tr - yy, -yz],
-            [-y, x, o, -xz, -yz, tr - zz]]
-    return jnp.stack([jnp.stack(r, axis=-1) for r in rows], axis=-2)
+def _acceleration_sensors(m, d):
+    """``mjx.sensor_acc`` of ``d`` (its ``qacc`` set) for a model without constraint rows: the accelerometers,
+    force, torque and frame-acceleration sensors from ``mjx.rne_postconstraint``; touch and contact sensors,
+    which read contacts, stay 0 (there are none) and are left out (MJX cannot gather an empty contact set)."""
+    stage = np.asarray(m.sensor_needstage)
+    acc = stage == mujoco.mjtStage.mjSTAGE_ACC
+    contact = acc & np.isin(np.asarray(m.sensor_type), [mujoco.mjtSensor.mjSENS_TOUCH, mujoco.mjtSensor.mjSENS_CONTACT])
+    if not (acc & ~contact).any():
+        return d
+    if contact.any():
+        m = m.replace(sensor_needstage=np.where(contact, mujoco.mjtStage.mjSTAGE_POS, stage))
+    return mjx.sensor_acc(m, d)
 
 
 def resting_load(sand: Sand, state: SandState) -> float:

@@ -17,6 +17,7 @@ gymnasium = pytest.importorskip("gymnasium")
 
 import jax.numpy as jnp  # noqa: E402
 
+import mjrft  # noqa: E402
 import mjrft.envs  # noqa: E402,F401  (registers the ids)
 import mjrft.mjx.envs as envs  # noqa: E402
 from mjrft.envs.mjx.locomotion import STEP_METRICS  # noqa: E402
@@ -103,6 +104,29 @@ def test_nonfinite_action_ends_the_episode_as_diverged(mjx_env):
     assert np.all(np.isfinite(np.asarray(state.obs)))
     ok = step(reset(jax.random.PRNGKey(0)), jnp.zeros(6))  # control: a finite action does not
     assert float(ok.done) == 0.0 and float(ok.metrics["diverged"]) == 0.0
+
+
+def test_the_sand_guards_reach_the_metrics_and_the_host_warnings(mjx_env):
+    env, reset, step = mjx_env
+    state = reset(jax.random.PRNGKey(0))
+    for _ in range(10):
+        state = step(state, jnp.asarray(TRIPOD))
+    # the env's own 0.5 ms step: nothing fired, nothing to say
+    assert float(state.metrics["unstable"]) == 0.0 and float(state.metrics["out_of_range"]) == 0.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        env.warn(state)
+    # control: the same robot at an 8x coarser physics step exceeds the granular stiffness's limit
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        coarse = envs.load("HexapodSand", config_overrides={"sim_dt": 0.004, "ctrl_dt": 0.02})
+    state = jax.jit(coarse.reset)(jax.random.PRNGKey(0))
+    cstep = jax.jit(coarse.step)
+    for _ in range(30):
+        state = cstep(state, jnp.ones(6))
+    assert float(state.metrics["unstable"]) == 1.0
+    with pytest.warns(mjrft.TerrainStabilityWarning, match="stability limit"):
+        coarse.warn(state)
 
 
 def test_terrain_randomization_draws_per_world_and_repeats_for_a_seed(mjx_env):
