@@ -1,5 +1,5 @@
 """Helpers shared by the test modules (plain functions and constants; the fixtures are in conftest.py): bodies
-pressed into the grains and stepped one at a time, as tests/mjrft/test_extremes.py and tests/mjrft/test_implicit.py
+pressed into the grains and stepped one at a time, as tests/mjrft/test_extremes.py and tests/mjrft/test_implicit_step.py
 use them; the registration of the validation cases' tests (:class:`CaseTests`) and what they read from a case's
 result, as the modules of tests/mjrft/tools/validation/ use them."""
 

@@ -201,54 +201,6 @@ def test_geoms_far_above_are_culled():
     assert np.all(t.force == 0) and np.all(t.wrench == 0)
 
 
-LYING_CAPSULE = """<mujoco><worldbody><body name="foot" pos="0 0 0.04"><freejoint/>
-<geom name="foot" type="capsule" fromto="-0.2 0 0 0.2 0 0" size="0.06"/></body></worldbody></mujoco>"""
-
-
-def test_compact_order_makes_runs_the_leaves_of_a_kd_split():
-    from mjrft.elements import compact_order
-    rng = np.random.default_rng(0)
-    pts = rng.uniform(size=(200, 3)) * [1.0, 0.1, 0.01]
-    order = compact_order(pts, size=32)
-    assert sorted(order) == list(range(200))
-    # the longest side (x) is split first, at 4 runs of 32: the first 128 points are the 128 smallest x
-    np.testing.assert_array_equal(np.sort(order[:128]), np.sort(np.argsort(pts[:, 0])[:128]))
-    runs = [pts[order[a:a + 32]] for a in range(0, 200, 32)]
-    assert max(np.ptp(r[:, 0]) for r in runs) < 0.3  # compact along x; in the given order a run spans all of it
-    assert max(np.ptp(pts[a:a + 32, 0]) for a in range(0, 200, 32)) > 0.8
-
-
-def test_cull_runs_are_compact_so_a_lying_capsule_works_near_its_bottom_only():
-    """A capsule lying 2 cm deep (a Hopper's foot): only the cull groups near its bottom are within reach. The
-    control, the same elements in runs of the discretisation's own order (rings around the axis, each reaching from
-    the bottom to the top), has far more elements within reach."""
-    from mjrft.elements import CULL_GROUP, _cull_groups
-    from mjrft.geometry import discretize_geom, exposed_elements
-    m = mujoco.MjModel.from_xml_string(LYING_CAPSULE)
-    d = mujoco.MjData(m)
-    t = mjrft.GranularTerrain(m, "poppy_cp", "rft", resolution=0.01, floor=None, surface=0.0)
-    mujoco.mj_forward(m, d)
-    t.compute(d, 0.0)
-    active = int(np.repeat(t.terrain_state.group_active, np.diff(t.terrain_model.elements.group_start)).sum())
-    buried = int(np.count_nonzero(t.depth > 0))
-    assert buried > 50 and active < 3 * buried < t.n_elements
-
-    def within_reach(groups):
-        g_geom, _, g_start, g_aabb = _cull_groups(m, groups)
-        n = 0
-        for g, gid in enumerate(g_geom):
-            G = d.geom_xmat[gid]
-            low = d.geom_xpos[gid, 2] + G[6:9] @ g_aabb[g, :3] - np.abs(G[6:9]) @ g_aabb[g, 3:]
-            n += int(g_start[g + 1] - g_start[g]) if low < t.terrain_model.surface.top else 0
-        return n
-
-    gid = int(t.geom_ids[0])
-    plain = exposed_elements(m, [gid], [discretize_geom(m, gid, 0.01)], 0.01)[0]
-    assert len(plain) == t.n_elements and t.n_elements > 10 * CULL_GROUP
-    assert within_reach([(gid, t.elements)]) == active  # the kernel culls what the boxes say
-    assert within_reach([(gid, plain)]) > 1.8 * active
-
-
 def test_reset_on_time_going_backwards():
     m, d = box(z=0.0)
     t = mjrft.GranularTerrain(m, "poppy_cp", "rft", resolution=0.01)
@@ -336,55 +288,6 @@ def test_regions_pick_the_law_by_position():
         mjrft.GranularTerrain(m, regions=[(0.1, "poppy_cp", "rft"), (0.0, "poppy_cp", "rft")])
 
 
-@pytest.mark.filterwarnings("ignore::mjrft.TerrainStabilityWarning")  # the viscous mode at 1 ms on a leg
-@pytest.mark.parametrize("yield_displacement", [None, 0.0])  # the elastic-plastic memory and the viscous mode
-def test_flat_dry_pass_equals_general_loop(yield_displacement):
-    """The kernel's pass 2 written out for dry groups (one dry Li-RFT region) gives what its general
-    pass 2 gives. The general one is reached through a region map (never specialised) of one cell
-    holding the same medium and law: same physics, other code path. Compared on every step of a
-    walking hexapod whose legs enter and leave the sand (cull groups switching on and off included). Both
-    terrains are implicit, so the implicit step's spring moments (summed per body in the batched pass, element by
-    element in the general one) are compared too."""
-    from mjrft.regions import RegionMap
-    from mjrft.models import hexapod_model
-    m = hexapod_model()
-    d = mujoco.MjData(m)
-    fast = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement, implicit=True)
-    general = mjrft.GranularTerrain(m, resolution=0.008, yield_displacement=yield_displacement, implicit=True,
-                                    regions=[mjrft.Region(None, fast.medium, "rft")],
-                                    region_map=RegionMap(np.ones((1, 1), dtype=np.int64), -10.0, -10.0, 20.0))
-    assert general.terrain_model.regions.law.shape[0] == 2 and fast.terrain_model.regions.law.shape[0] == 1
-    assert general.terrain_model.regions.map.size == 1
-    rows = fast.body_ids
-    left = entered = springs = 0
-    for k in range(400):
-        d.ctrl[:] = 2 * np.pi * 2.0 * d.time + np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
-        mujoco.mj_step1(m, d)
-        before = fast.depth > 0
-        fast.compute(d)
-        general.compute(d)
-        left += int(np.count_nonzero(before & ~(fast.depth > 0)))
-        entered += int(np.count_nonzero(~before & (fast.depth > 0)))
-        buried = fast.depth > 0
-        np.testing.assert_array_equal(fast.depth, general.depth)
-        np.testing.assert_array_equal(fast.pos, general.pos)
-        np.testing.assert_array_equal(fast.vel[buried], general.vel[buried])
-        np.testing.assert_array_equal(fast.normal[buried], general.normal[buried])
-        np.testing.assert_allclose(fast.force, general.force, rtol=1e-12, atol=1e-15)
-        np.testing.assert_allclose(fast.terrain_state.u, general.terrain_state.u, rtol=1e-12, atol=1e-18)
-        np.testing.assert_allclose(fast.wrench, general.wrench, rtol=1e-10, atol=1e-12)
-        np.testing.assert_allclose(fast.terrain_state.stiff, general.terrain_state.stiff, rtol=1e-10, atol=1e-12)
-        np.testing.assert_allclose(fast.terrain_state.imp, general.terrain_state.imp, rtol=1e-10, atol=1e-12)
-        springs += int(np.count_nonzero(fast.terrain_state.imp[:, 0] > 0))
-        assert np.all(fast.force[~buried] == 0.0) and np.all(fast.terrain_state.u[~buried] == 0.0)
-        d.xfrc_applied[rows] = fast.wrench[rows]
-        mujoco.mj_step2(m, d)
-        d.xfrc_applied[rows] = 0.0
-    assert entered > 100 and left > 100  # the legs went in and came out many times
-    if yield_displacement is None:  # bodies with elements below yield (the implicit step's springs) on many steps
-        assert springs > 100
-
-
 def test_min_stable_timesteps_equals_both_parts():
     """min_stable_timesteps (one set of jacobians for both parts) returns exactly min_stable_timestep's springs and
     depth limits, on every step of a walking hexapod (finite ones included), and only for the data last stepped."""
@@ -402,88 +305,6 @@ def test_min_stable_timesteps_equals_both_parts():
     assert finite > 30
     with pytest.raises(ValueError, match="needs the MjData this terrain last stepped"):
         t.min_stable_timesteps(mujoco.MjData(m))
-
-
-def test_flat_dry_pass_reports_nonfinite_position():
-    from mjrft.models import hexapod_model
-    m = hexapod_model()
-    d = mujoco.MjData(m)
-    t = mjrft.GranularTerrain(m, resolution=0.01)
-    t.step(d, 50)
-    mujoco.mj_step1(m, d)
-    leg = m.body("leg_rf").id
-    d.xpos[leg, 0] = np.inf  # a leg near the sand (not culled) with a corrupted position
-    with pytest.raises(mjrft.NonFiniteError, match=r"non-finite state .* on body 'leg_rf'"):
-        t.compute(d)
-
-
-def test_group_inside_the_dry_strip_of_a_shoal_costs_and_gives_what_the_dry_scene_does():
-    """Strips of saturated sand and water from x = 0.5 m change nothing for a robot walking in the
-    dry strip before them: the same forces, memory and wrench as the one-region dry scene, on every
-    step (its groups take the dry pass; those near the strip edge, within the blend, the general one)."""
-    from mjrft.models import hexapod_model
-    m = hexapod_model()
-    d = mujoco.MjData(m)
-    dry = mjrft.GranularTerrain(m, resolution=0.008)
-    shoal = mjrft.GranularTerrain(m, resolution=0.008, buoyancy=True, regions=[
-        mjrft.Region(0.5, "sea_sand_saturated", "wet"), mjrft.Region(1.0, "sea_sand_saturated", "wet", 0.02)])
-    assert shoal.terrain_model.surface.top == pytest.approx(0.02)
-    rows = dry.body_ids
-    for k in range(300):
-        d.ctrl[:] = 2 * np.pi * 2.0 * d.time + np.array([0.0, np.pi, 0.0, np.pi, 0.0, np.pi])
-        mujoco.mj_step1(m, d)
-        dry.compute(d)
-        shoal.compute(d)
-        np.testing.assert_array_equal(dry.force, shoal.force)
-        np.testing.assert_array_equal(dry.terrain_state.u, shoal.terrain_state.u)
-        np.testing.assert_array_equal(dry.wrench, shoal.wrench)
-        assert np.all(shoal.region[shoal.depth > 0] == 0)
-        d.xfrc_applied[rows] = dry.wrench[rows]
-        mujoco.mj_step2(m, d)
-        d.xfrc_applied[rows] = 0.0
-    assert 0.0 < d.qpos[0] < 0.4  # it walked, inside the dry strip
-
-
-def test_misspelled_custom_key_warns_naming_the_key_and_the_valid_ones():
-    from mjrft.models import model_path
-
-    xml = open(model_path("hexapod")).read().replace('name="mjrft:medium"', 'name="mjrft:meduim"')
-    m = mujoco.MjModel.from_xml_string(xml)
-    with pytest.warns(UserWarning, match=r"'mjrft:meduim' is not an mjrft setting and is ignored; did you mean "
-                                         r"'mjrft:medium'\? valid keys: mjrft:medium, mjrft:law"):
-        t = mjrft.GranularTerrain(m, resolution=0.02)
-    assert t.medium.name == "poppy_cp"  # the default, as the misspelled key is ignored
-
-
-def test_empty_body_or_geom_selection_is_an_error():
-    from mjrft.models import hexapod_model
-
-    m = hexapod_model()
-    for kw in ({"bodies": []}, {"geoms": ()}):
-        with pytest.raises(ValueError, match=r"=\[\] selects nothing"):
-            mjrft.GranularTerrain(m, **kw)
-
-
-def test_a_resolution_that_would_build_too_many_elements_is_refused_up_front():
-    import time
-
-    from mjrft.geometry import estimate_elements
-    from mjrft.models import hexapod_model
-
-    m = hexapod_model()
-    t0 = time.perf_counter()
-    with pytest.raises(ValueError, match=r"resolution 1e-05 m would cut the \d+ selected geoms into about "
-                                         r"[\d,]+ elements, more than max_elements = 1,000,000 .* coarser resolution"):
-        mjrft.GranularTerrain(m, resolution=1e-5)
-    assert time.perf_counter() - t0 < 5
-    t = mjrft.GranularTerrain(m, resolution=0.01)
-    est = estimate_elements(m, t.geom_ids, 0.01)
-    assert 0.5 * t.n_elements < est < 3 * t.n_elements  # an estimate of the right size (before clipping)
-    with pytest.raises(ValueError, match="max_elements = 10 "):
-        mjrft.GranularTerrain(m, resolution=0.01, max_elements=10)
-    assert mjrft.GranularTerrain(m, resolution=0.01, max_elements=est).n_elements == t.n_elements
-    with pytest.raises(ValueError, match="max_elements must be finite and > 0"):
-        mjrft.GranularTerrain(m, max_elements=0)
 
 
 @pytest.mark.filterwarnings("ignore::mjrft.ValidityRangeWarning")  # the legs hit the sand at 1.2 m/s

@@ -131,7 +131,7 @@ def test_wide_plate_placed_on_the_surface_at_10ms_warns():
     """A 1 kg plate 27 cm wide placed on poppy seeds at 10 ms bounces higher each time (its force grows with its
     depth: omega dt = 1.8 for that spring, docs/numerics.md "Depth stiffness"; its rest springs are beyond their
     limit too), and the terrain warns; at 1 ms it settles quietly. The implicit step, whose springs are stable,
-    warns about the depth stiffness alone (test_implicit.py)."""
+    warns about the depth stiffness alone (test_implicit_step.py)."""
     hx = 10 ** -0.875
     m, d = plate(mass=1.0, hx=hx, dt=1e-2, bottom=0.0, integrator="implicit")
     t = mjrft.GranularTerrain(m, POPPY, "rft", resolution=hx / 2)
@@ -281,27 +281,6 @@ def test_resting_free_body_limit_matches_the_formula():
     omega = math.sqrt(G / t.yield_displacement)
     zeta = t.damping_time * omega / 2
     assert 2 * (math.sqrt(1 + zeta**2) - zeta) / omega == pytest.approx(0.0158, abs=2e-4)
-
-
-def test_compiled_rate_matches_numpy():
-    """stability.largest_rate (compiled: Cholesky + Jacobi, no BLAS) is lambda_max(W6 K6) of explicit springs."""
-    from mjrft import stability
-
-    rng = np.random.default_rng(1)
-    for _ in range(50):
-        nv = int(rng.integers(1, 12))
-        jac = rng.normal(size=(6, nv))
-        a = rng.normal(size=(nv, nv))
-        minv_jac = np.linalg.solve(a @ a.T + 0.1 * np.eye(nv), jac.T).T
-        r, k = rng.normal(size=(20, 3)) * 0.05, rng.uniform(0, 1e4, 20)
-        k6 = np.zeros((6, 6))
-        for ki, ri in zip(k, r):
-            x = np.array([[0, -ri[2], ri[1]], [ri[2], 0, -ri[0]], [-ri[1], ri[0], 0]])
-            k6 += ki * np.block([[np.eye(3), -x], [x, -x @ x]])
-        moments = np.array([k.sum(), *(k[:, None] * r).sum(0),
-                            *[np.sum(k * r[:, i] * r[:, j]) for i, j in ((0, 0), (0, 1), (0, 2), (1, 1), (1, 2), (2, 2))]])
-        expected = np.max(np.linalg.eigvals(jac @ minv_jac.T @ k6).real)
-        assert stability.largest_rate(jac, minv_jac, moments) == pytest.approx(expected, rel=1e-8)
 
 
 @pytest.mark.parametrize("env_id,gait,kwargs,timestep", [
