@@ -27,8 +27,11 @@ key                            meaning (the gymnasium env's keyword argument)
                                default configuration before ``load``)
 ``terrain`` (sand)             ``medium``, ``law``, ``resolution`` (None: the model's own) and ``cull``
                                (:class:`mjrft.mjx.Sand`)
-``randomization`` (sand)       ``media`` (a list; empty: the terrain's own), ``stress_scale`` and
-                               ``surface_height`` (``[low, high]`` or None), drawn per world at reset
+``randomization`` (sand)       the gymnasium env's ``terrain_randomization`` (the fields of
+                               :class:`~mjrft.envs.randomization.TerrainRandomization`, which checks them):
+                               ``media`` (a list; empty: the terrain's own), ``stress_scale``, ``surface_height``,
+                               ``roughness``, ``correlation_length``, ``strips``, ``strip_length``,
+                               ``strip_start``, drawn per world at reset (:meth:`LocomotionEnv.reset`)
 ``impl``                       MJX's implementation (``"jax"``; ``"warp"`` where MuJoCo Warp is installed)
 =============================  ======================================================================================
 
@@ -38,7 +41,9 @@ every world); a non-finite action, state or granular force does not raise (nothi
 the episode with reward 0 and ``metrics["diverged"] = 1``, and what the sand's guards find (a stability limit
 exceeded, chatter, the law's depth or speed range left) is ``metrics["unstable"]`` and ``metrics["out_of_range"]``
 (1 from the step it happened to the episode's end) with the warnings on the host from :meth:`LocomotionEnv.warn`;
-``terrain_randomization``'s roughness and strips are options of the gymnasium env only.
+terrain randomisation draws from JAX's random numbers (the gymnasium env's distributions, not numpy's draws), and
+the media it draws among must share what the MJX terrain's element pass computes (a water layer, the inertial
+regime, a buoyancy density: else ``NotImplementedError``).
 """
 
 from __future__ import annotations
@@ -107,11 +112,19 @@ class LocomotionEnv(MjxEnv):
 
     ``reset(rng)``: the initial pose with uniform noise of ``reset_noise_scale`` on ``qpos`` and ``qvel`` (free
     joints' quaternions normalised), the servo targets of the task's reset, no memory in the sand, and with
-    ``randomization`` this world's medium, stress scale and surface height. ``step(state, action)``: the task's
-    servo targets from the action, ``n_substeps`` physics steps, then observation, reward, termination and
-    metrics from the task. ``state.info`` carries ``sand`` (the :class:`mjrft.mjx.SandState` on sand),
-    ``sinkage`` ((n_feet,) m) and ``granular_force`` ((n_feet, 3) N, world frame) of the task's feet, and with
-    ``randomization`` ``medium`` (an index into :attr:`media`), ``stress_scale`` and ``surface_height`` (m).
+    ``randomization`` this world's terrain drawn from the reset's key as the gymnasium env draws it
+    (:mod:`mjrft.envs.randomization`): the medium, the stress scale, the surface's raise, with ``roughness`` a
+    Gaussian-correlated height field (:func:`rough_field`: mean 0, RMS exactly ``roughness`` over the bed) on the
+    height-field surface the gymnasium env builds, and with ``strips`` the strips' count, lengths and media (the
+    terrain has the most strips a world can draw; those a world leaves unused start at :data:`UNUSED_STRIP_X` and
+    beyond, where no element is). ``step(state, action)``: the task's servo targets from the action,
+    ``n_substeps`` physics steps, then observation, reward, termination and metrics from the task. ``state.info``
+    carries ``sand`` (the :class:`mjrft.mjx.SandState` on sand; its ``surface`` is the drawn field), ``sinkage``
+    ((n_feet,) m) and ``granular_force`` ((n_feet, 3) N, world frame) of the task's feet, and with
+    ``randomization`` ``medium`` (an index into :attr:`media`), ``stress_scale``, ``surface_height`` (m),
+    ``roughness`` (the drawn field's RMS, m; 0 without), and with ``strips`` ``strips`` (the count),
+    ``strip_x_min`` (the most strips' x_min, m; inf where unused) and ``strip_medium`` (indices into
+    :attr:`media`; -1 where unused).
 
     A world whose ``data.time`` is 0 starts an episode: its sand memory is forgotten at the next step (the
     gymnasium env's terrain does the same when time goes back), so the auto-resets of Brax and Playground,
