@@ -16,6 +16,7 @@ Playground's fields (``state.data`` is MJX's data; ``state.pipeline_state`` the 
 from __future__ import annotations
 
 import warnings
+from dataclasses import fields
 
 import jax
 
@@ -23,6 +24,7 @@ from .base import ENV_KWARGS
 from .hexapod import HexapodRigid, HexapodSand
 from .mjx.env import State
 from .mjx.locomotion import TOP_KEYS, Hexapod, own_arguments
+from .randomization import TerrainRandomization
 
 #: keyword arguments of the gymnasium env that have no meaning for an MJX env (rendering, the time limit)
 IGNORED = ("render_mode", "width", "height", "camera_name", "camera_id", "episode_seconds")
@@ -56,14 +58,8 @@ def config_of(sand: bool = True, cull: int | None = None, impl: str | None = Non
             cfg.terrain.cull = cull
             r = cpu.randomizer.options if cpu.randomizer is not None else None
             if r is not None and r.active:
-                cpu_only = [k for k in ("roughness", "strips") if getattr(r, k) not in (0.0, None, (0, 0))]
-                if cpu_only:
-                    raise NotImplementedError(f"terrain_randomization {', '.join(cpu_only)}: the MJX env draws media, "
-                                              "stress_scale and surface_height (a height field and strips are "
-                                              "options of the CPU env)")
-                cfg.randomization.media = tuple(r.media or ())
-                cfg.randomization.stress_scale = None if r.stress_scale is None else tuple(r.stress_scale)
-                cfg.randomization.surface_height = None if r.surface_height is None else tuple(r.surface_height)
+                for f in fields(TerrainRandomization):
+                    cfg.randomization[f.name] = getattr(r, f.name)
         if impl is not None:
             cfg.impl = impl
         return cfg

@@ -50,6 +50,8 @@ before:
 
 Every sand environment takes the option: mjrft's own and the gymnasium robots on sand (the ``*Sand-v5`` ids,
 :class:`~mjrft.envs.wrapper.GranularWrapper`, whose flat floor drawn as the sand moves with ``surface_height``).
+The MJX environments (:mod:`mjrft.envs.mjx`) take the same options as their ``randomization`` configuration and
+draw them per world in JAX.
 Draws come from the environment's ``np_random`` (after the reset noise of the start pose, in the order of
 the table), so ``reset(seed=s)`` reproduces the terrain, and a vector environment's sub-environment ``i``
 (seed ``s + i``) draws what a single environment seeded ``s + i`` draws. ``info["terrain"]`` (at reset and

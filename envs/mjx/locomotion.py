@@ -27,8 +27,11 @@ key                            meaning (the gymnasium env's keyword argument)
                                default configuration before ``load``)
 ``terrain`` (sand)             ``medium``, ``law``, ``resolution`` (None: the model's own) and ``cull``
                                (:class:`mjrft.mjx.Sand`)
-``randomization`` (sand)       ``media`` (a list; empty: the terrain's own), ``stress_scale`` and
-                               ``surface_height`` (``[low, high]`` or None), drawn per world at reset
+``randomization`` (sand)       the gymnasium env's ``terrain_randomization`` (the fields of
+                               :class:`~mjrft.envs.randomization.TerrainRandomization`, which checks them):
+                               ``media`` (a list; empty: the terrain's own), ``stress_scale``, ``surface_height``,
+                               ``roughness``, ``correlation_length``, ``strips``, ``strip_length``,
+                               ``strip_start``, drawn per world at reset (:meth:`LocomotionEnv.reset`)
 ``impl``                       MJX's implementation (``"jax"``; ``"warp"`` where MuJoCo Warp is installed)
 =============================  ======================================================================================
 
@@ -38,12 +41,16 @@ every world); a non-finite action, state or granular force does not raise (nothi
 the episode with reward 0 and ``metrics["diverged"] = 1``, and what the sand's guards find (a stability limit
 exceeded, chatter, the law's depth or speed range left) is ``metrics["unstable"]`` and ``metrics["out_of_range"]``
 (1 from the step it happened to the episode's end) with the warnings on the host from :meth:`LocomotionEnv.warn`;
-``terrain_randomization``'s roughness and strips are options of the gymnasium env only.
+terrain randomisation draws from JAX's random numbers (the gymnasium env's distributions, not numpy's draws), and
+the media it draws among must share what the MJX terrain's element pass computes (a water layer, the inertial
+regime, a buoyancy density: else ``NotImplementedError``).
 """
 
 from __future__ import annotations
 
 import inspect
+import math
+from dataclasses import fields, replace
 
 import jax
 import jax.numpy as jnp
@@ -52,8 +59,12 @@ import numpy as np
 from ml_collections import config_dict
 from mujoco import mjx
 
+from mjrft.laws.registry import STRESS_SLOTS
+from mjrft.media import get_medium
 from mjrft.models.scene import TIMESTEP
 from mjrft.mjx import Sand
+from mjrft.mjx.forces import Features
+from mjrft.regions import Region, build_regions
 from mjrft.mjx import step as rigid_step
 from mjrft.mjx.guards import guard_metrics
 from mjrft.tools.presets import FRAME_SKIP
@@ -62,6 +73,7 @@ from ..base import GranularMujocoEnv
 from ..biped import BipedSand
 from ..hexapod import HexapodSand
 from ..humanoid import HumanoidSand
+from ..randomization import TerrainRandomization
 from ..tasks import METRICS
 from .env import MjxEnv, State
 
@@ -71,6 +83,9 @@ TOP_KEYS = ("healthy_z_range", "max_tilt", "terminate_when_unhealthy", "reset_no
 #: sand's guards found a stability limit exceeded (or chatter) or the law's range left since the episode began
 #: (:func:`mjrft.mjx.guards.guard_metrics`; 0 on rigid ground)
 STEP_METRICS = METRICS + ("diverged", "unstable", "out_of_range")
+#: x_min (m) of the strip boundaries a world does not use (``randomization.strips``: a world with fewer strips than
+#: the most): far beyond any bed, 1 m apart, so that no element is ever in or near them
+UNUSED_STRIP_X = 1.0e6
 
 
 def own_arguments(cls) -> dict:
@@ -97,11 +112,19 @@ class LocomotionEnv(MjxEnv):
 
     ``reset(rng)``: the initial pose with uniform noise of ``reset_noise_scale`` on ``qpos`` and ``qvel`` (free
     joints' quaternions normalised), the servo targets of the task's reset, no memory in the sand, and with
-    ``randomization`` this world's medium, stress scale and surface height. ``step(state, action)``: the task's
-    servo targets from the action, ``n_substeps`` physics steps, then observation, reward, termination and
-    metrics from the task. ``state.info`` carries ``sand`` (the :class:`mjrft.mjx.SandState` on sand),
-    ``sinkage`` ((n_feet,) m) and ``granular_force`` ((n_feet, 3) N, world frame) of the task's feet, and with
-    ``randomization`` ``medium`` (an index into :attr:`media`), ``stress_scale`` and ``surface_height`` (m).
+    ``randomization`` this world's terrain drawn from the reset's key as the gymnasium env draws it
+    (:mod:`mjrft.envs.randomization`): the medium, the stress scale, the surface's raise, with ``roughness`` a
+    Gaussian-correlated height field (:func:`rough_field`: mean 0, RMS exactly ``roughness`` over the bed) on the
+    height-field surface the gymnasium env builds, and with ``strips`` the strips' count, lengths and media (the
+    terrain has the most strips a world can draw; those a world leaves unused start at :data:`UNUSED_STRIP_X` and
+    beyond, where no element is). ``step(state, action)``: the task's servo targets from the action,
+    ``n_substeps`` physics steps, then observation, reward, termination and metrics from the task. ``state.info``
+    carries ``sand`` (the :class:`mjrft.mjx.SandState` on sand; its ``surface`` is the drawn field), ``sinkage``
+    ((n_feet,) m) and ``granular_force`` ((n_feet, 3) N, world frame) of the task's feet, and with
+    ``randomization`` ``medium`` (an index into :attr:`media`), ``stress_scale``, ``surface_height`` (m),
+    ``roughness`` (the drawn field's RMS, m; 0 without), and with ``strips`` ``strips`` (the count),
+    ``strip_x_min`` (the most strips' x_min, m; inf where unused) and ``strip_medium`` (indices into
+    :attr:`media`; -1 where unused).
 
     A world whose ``data.time`` is 0 starts an episode: its sand memory is forgotten at the next step (the
     gymnasium env's terrain does the same when time goes back), so the auto-resets of Brax and Playground,
@@ -151,24 +174,64 @@ class LocomotionEnv(MjxEnv):
         self._media = ()
         if cpu.terrain is not None:
             st = cpu.settings
+            r = cpu.randomizer.options if cpu.randomizer is not None else None
+            r = r if r is not None and r.active else None
+            n_strips = r.strips[1] if r is not None and r.strips is not None else 0
+            law = cpu.terrain.law
+            # with strips the terrain has the most regions a world can draw (the ones a world leaves unused lie at
+            # UNUSED_STRIP_X and beyond, 1 m apart)
+            gap = max(1.0, 2.0 * cpu.terrain.transition)
+            extra = {} if n_strips == 0 else {
+                "regions": [Region(UNUSED_STRIP_X + gap * k, r.media[0], law) for k in range(n_strips)]}
             #: the JAX terrain (:class:`mjrft.mjx.Sand`), built on the model before it goes to the device
             self.sand = Sand(model, st.medium, st.law, resolution=st.resolution,
-                             resolution_scale=st.resolution_scale, cull=cull)
+                             resolution_scale=st.resolution_scale, cull=cull, **extra)
             bottom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "bed_bottom")
             if bottom >= 0:
                 model.geom_contype[bottom] = 0
                 model.geom_conaffinity[bottom] = 0
-            self._surface = float(np.asarray(self.sand.init().surface))
-            r = cpu.randomizer.options if cpu.randomizer is not None else None
-            if r is not None and r.active:
+            self._surface = np.asarray(self.sand.surface_init, dtype=np.float64)
+            if r is not None:
                 self.randomization = r
                 self._media = tuple(r.media or (cpu.terrain.medium.name,))
-                base = np.stack([self.sand.params_of(m) for m in self._media])
-                self._media_params = base
-                self._stress_mask = np.stack([self.sand.params_of(m, 2.0) for m in self._media]) != base
+                self._unused_bounds = UNUSED_STRIP_X + gap * np.arange(n_strips)
+                self._media_params, self._strip_params = self._media_rows(cpu.terrain, law, n_strips > 0)
+                if r.roughness > 0:
+                    self._rough_gain = _rough_gain(self._surface.shape, cpu.randomizer.spacing,
+                                                   r.correlation_length)
         self._mj_model = model
         kw = {} if impl is None else {"impl": impl}
         self._mjx_model = self.sand.put_model(**kw) if self.sand is not None else mjx.put_model(model, **kw)
+
+    def _media_rows(self, terrain, law, strips: bool):
+        """The region rows (unscaled) of each of :attr:`media` as the bed's medium (region 0, its law and water depth
+        kept: the CPU terrain's ``set_medium``) and, with ``strips``, as a strip of ``law`` (``set_regions``); checks
+        that the terrain's element pass (:attr:`mjrft.mjx.Sand.features`, the buoyancy's densities) serves them
+        all."""
+        s = terrain.terrain_model.settings
+        base, strip, rho0, rho1 = [], [], [], []
+        for m in self._media:
+            t = build_regions(replace(s, medium=get_medium(m)))[1]
+            base.append(t.params[0])
+            rho0.append(t.rho[0])
+            if strips:
+                t = build_regions(replace(s, regions=(Region(0.0, m, law),), region_map=None))[1]
+                strip.append(t.params[1])
+                rho1.append(t.rho[1])
+        base = np.array(base)
+        strip = np.array(strip) if strips else np.zeros((0, base.shape[1]))
+        sand = self.sand
+        rows = np.concatenate([base, strip])
+        if sand.general:  # the direct pass (one dry region on a flat surface) reads the law's slots alone
+            laws = np.concatenate([sand.reg_law, np.full(len(rows), sand.reg_law[0])])
+            union = Features.of(laws, np.concatenate([np.atleast_2d(sand.params), rows]),
+                                np.concatenate([sand.reg_rho, rho0, rho1]))
+            if union != sand.features or len(set(rho0)) > 1 or len(set(rho1)) > 1:
+                raise NotImplementedError(
+                    f"randomization.media {list(map(str, self._media))}: the media differ in what the MJX terrain's "
+                    "element pass computes (water layer, inertial regime or buoyancy); draw them in the gymnasium env "
+                    "(terrain_randomization) or randomise among media that share it")
+        return base, strip
 
     @classmethod
     def registry_name(cls, ground: str) -> str:
@@ -201,7 +264,7 @@ class LocomotionEnv(MjxEnv):
             impl="jax")
         if sand:
             cfg.terrain = config_dict.create(medium=None, law=None, resolution=None, cull=None)
-            cfg.randomization = config_dict.create(media=(), stress_scale=None, surface_height=None)
+            cfg.randomization = config_dict.create(**{f.name: f.default for f in fields(TerrainRandomization)})
         return cfg
 
     @classmethod
@@ -224,9 +287,11 @@ class LocomotionEnv(MjxEnv):
         if ground == "sand":
             t = config.terrain
             kwargs.update(medium=t.medium, law=t.law, resolution=t.resolution)
-            r = config.randomization
-            options = {k: v for k, v in (("media", list(r.media)), ("stress_scale", r.stress_scale),
-                                         ("surface_height", r.surface_height)) if v}
+            r = config.randomization.to_dict()
+            drawn = TerrainRandomization(**r)  # checked here, once for both backends
+            plain = TerrainRandomization()
+            options = {k: (list(v) if isinstance(v, tuple) else v) for k, v in r.items()
+                       if getattr(drawn, k) != getattr(plain, k)}
             if options:
                 kwargs["terrain_randomization"] = options
         return kwargs
@@ -277,7 +342,9 @@ class LocomotionEnv(MjxEnv):
 
     def _draw_terrain(self, rng):
         """A world's terrain: the medium drawn uniformly from :attr:`media`, then the stress scale and the surface's
-        raise uniformly from their ranges; returns the sand state and what was drawn."""
+        raise uniformly from their ranges, the rough height field and the strips (their count, lengths and media),
+        as the gymnasium env draws them (:mod:`mjrft.envs.randomization`); returns the sand state and what was
+        drawn."""
         r = self.randomization
         k_med, k_scale, k_surf = jax.random.split(rng, 3)
         idx = jax.random.randint(k_med, (), 0, len(self._media))
@@ -285,12 +352,33 @@ class LocomotionEnv(MjxEnv):
         scale = jnp.ones(())
         if r.stress_scale is not None:
             scale = jax.random.uniform(k_scale, (), minval=r.stress_scale[0], maxval=r.stress_scale[1])
-            params = jnp.where(jnp.asarray(self._stress_mask)[idx], params * scale, params)
         raise_ = jnp.zeros(())
         if r.surface_height is not None:
             raise_ = jax.random.uniform(k_surf, (), minval=r.surface_height[0], maxval=r.surface_height[1])
-        state = self.sand.init(params=params, surface=self._surface + raise_)
-        return state, {"medium": idx, "stress_scale": scale, "surface_height": raise_}
+        surface = self._surface + raise_
+        drawn = {"medium": idx, "stress_scale": scale, "surface_height": raise_, "roughness": jnp.zeros(())}
+        if r.roughness > 0:
+            field = rough_field(jax.random.fold_in(rng, 3), self._rough_gain, self._surface.shape, r.roughness)
+            surface = surface + field
+            drawn["roughness"] = jnp.sqrt(jnp.mean(field * field))
+        bounds = None
+        n_max = len(self._unused_bounds)
+        if n_max:
+            k_n, k_len, k_pick = jax.random.split(jax.random.fold_in(rng, 4), 3)
+            n = jax.random.randint(k_n, (), r.strips[0], r.strips[1] + 1)
+            lengths = jax.random.uniform(k_len, (n_max,), minval=r.strip_length[0], maxval=r.strip_length[1])
+            picks = jax.random.randint(k_pick, (n_max,), 0, len(self._media))
+            used = jnp.arange(n_max) < n
+            bounds = jnp.where(used, r.strip_start + jnp.cumsum(lengths), jnp.asarray(self._unused_bounds))
+            params = jnp.concatenate([params[None], jnp.asarray(self._strip_params)[picks]])
+            drawn.update(strips=n, strip_x_min=jnp.where(used, bounds, jnp.inf),
+                         strip_medium=jnp.where(used, picks, -1))
+        if r.stress_scale is not None:  # every region's granular stresses (the CPU terrain's set_medium)
+            slots = np.zeros(params.shape[-1], dtype=bool)
+            slots[STRESS_SLOTS] = True
+            params = jnp.where(jnp.asarray(slots), params * scale, params)
+        state = self.sand.init(params=params, surface=surface, bounds=bounds)
+        return state, drawn
 
     def step(self, state: State, action: jax.Array) -> State:
         task, mx = self.task, self._mjx_model
@@ -364,6 +452,33 @@ class LocomotionEnv(MjxEnv):
                 u.terrain.reset()
             u.set_servo_targets(np.asarray(d.ctrl, dtype=np.float64))
         return env
+
+
+def _rough_gain(shape, spacing, correlation_length) -> tuple[np.ndarray, tuple[int, int]]:
+    """The Fourier gain of :func:`mjrft.envs.randomization.rough_field` for a field of ``shape`` (nrow, ncol) with
+    ``spacing`` (dy, dx) m, and the padding (samples per side along y and x): a Gaussian filter on a grid padded
+    by two correlation lengths so that opposite borders are uncorrelated."""
+    pad = tuple(int(math.ceil(2.0 * correlation_length / d)) for d in spacing)
+    full = (shape[0] + 2 * pad[0], shape[1] + 2 * pad[1])
+    ky = 2.0 * np.pi * np.fft.fftfreq(full[0], d=spacing[0])
+    kx = 2.0 * np.pi * np.fft.rfftfreq(full[1], d=spacing[1])
+    sd = 0.5 * correlation_length  # kernel exp(-r^2 / 2 s^2) gives the correlation exp(-r^2 / 4 s^2)
+    return np.exp(-0.5 * sd * sd * (ky[:, None] ** 2 + kx[None, :] ** 2)), pad
+
+
+def rough_field(key: jax.Array, gain: tuple[np.ndarray, tuple[int, int]], shape: tuple[int, int],
+                rms: float) -> jax.Array:
+    """:func:`mjrft.envs.randomization.rough_field` in JAX from ``key``: white noise on the padded grid filtered with
+    the Gaussian ``gain`` (:func:`_rough_gain`: the gain and the padding), cropped to ``shape`` (nrow, ncol), shifted
+    to mean 0 and scaled to RMS exactly ``rms``."""
+    g, (py, px) = gain
+    full = (shape[0] + 2 * py, shape[1] + 2 * px)
+    noise = jax.random.normal(key, full)
+    h = jnp.fft.irfft2(jnp.fft.rfft2(noise) * jnp.asarray(g, noise.dtype), s=full)
+    h = h[py:py + shape[0], px:px + shape[1]]
+    h = h - jnp.mean(h)
+    norm = jnp.sqrt(jnp.mean(h * h))
+    return jnp.where(norm > 0, h * (rms / jnp.where(norm > 0, norm, 1.0)), 0.0)
 
 
 class Hexapod(LocomotionEnv):

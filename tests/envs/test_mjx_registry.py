@@ -108,8 +108,8 @@ def test_deprecated_hexapod_env_takes_the_gymnasium_kwargs():
     own = gymnasium.make("mjrft/HexapodSand-v0").unwrapped.terrain.resolution
     assert fast.terrain.law == "rft" and fast.terrain.resolution == pytest.approx(4 * own, rel=1e-12)
     assert config_of(sand=False).sim_dt == 0.001 and "terrain" not in config_of(sand=False)
-    with pytest.raises(NotImplementedError, match="roughness"):
-        config_of(terrain_randomization={"roughness": 0.002})
+    rough = config_of(terrain_randomization={"roughness": 0.002, "strips": [1, 2], "media": ["poppy_lp"]})
+    assert (rough.randomization.roughness, tuple(rough.randomization.strips)) == (0.002, (1, 2))
     with pytest.raises(ValueError, match="unknown terrain_randomization medium .poppy_cpx."):
         config_of(terrain_randomization={"media": ["poppy_cpx"]})
 
