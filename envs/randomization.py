@@ -184,6 +184,20 @@ class TerrainRandomization:
         return value if value.active else None
 
 
+def rough_gain(shape: tuple[int, int], spacing: tuple[float, float],
+               correlation_length: float) -> tuple[np.ndarray, tuple[int, int]]:
+    """The Fourier gain of :func:`rough_field` (on ``rfft2``'s half plane) for a field of ``shape`` (nrow, ncol)
+    with ``spacing`` (dy, dx) m, and the padding (samples per side along y and x): a Gaussian filter on a grid
+    padded by two correlation lengths so that opposite borders are uncorrelated."""
+    pad = (int(math.ceil(2.0 * correlation_length / spacing[0])),
+           int(math.ceil(2.0 * correlation_length / spacing[1])))
+    full = (shape[0] + 2 * pad[0], shape[1] + 2 * pad[1])
+    ky = 2.0 * np.pi * np.fft.fftfreq(full[0], d=spacing[0])
+    kx = 2.0 * np.pi * np.fft.rfftfreq(full[1], d=spacing[1])
+    s = 0.5 * correlation_length  # kernel exp(-r^2 / 2 s^2) gives the correlation exp(-r^2 / 4 s^2)
+    return np.exp(-0.5 * s * s * (ky[:, None] ** 2 + kx[None, :] ** 2)), pad
+
+
 def rough_field(rng: np.random.Generator, shape: tuple[int, int], spacing: tuple[float, float], rms: float,
                 correlation_length: float) -> np.ndarray:
     """A smooth random height field on a grid of ``shape`` (nrow, ncol) with ``spacing`` (dy, dx) in m: white
@@ -192,13 +206,9 @@ def rough_field(rng: np.random.Generator, shape: tuple[int, int], spacing: tuple
     shifted to mean 0 and scaled to RMS exactly ``rms``."""
     if rms == 0.0:
         return np.zeros(shape)
-    pad = [int(math.ceil(2.0 * correlation_length / d)) for d in spacing]
+    gain, pad = rough_gain(shape, spacing, correlation_length)
     full = (shape[0] + 2 * pad[0], shape[1] + 2 * pad[1])
     noise = rng.standard_normal(full)
-    ky = 2.0 * np.pi * np.fft.fftfreq(full[0], d=spacing[0])
-    kx = 2.0 * np.pi * np.fft.rfftfreq(full[1], d=spacing[1])
-    s = 0.5 * correlation_length  # kernel exp(-r^2 / 2 s^2) gives the correlation exp(-r^2 / 4 s^2)
-    gain = np.exp(-0.5 * s * s * (ky[:, None] ** 2 + kx[None, :] ** 2))
     h = np.fft.irfft2(np.fft.rfft2(noise) * gain, s=full)[pad[0]:pad[0] + shape[0], pad[1]:pad[1] + shape[1]]
     h -= h.mean()
     norm = math.sqrt(float(np.mean(h * h)))

@@ -49,7 +49,6 @@ regime, a buoyancy density: else ``NotImplementedError``).
 from __future__ import annotations
 
 import inspect
-import math
 from dataclasses import fields, replace
 
 import jax
@@ -73,7 +72,7 @@ from ..base import GranularMujocoEnv
 from ..biped import BipedSand
 from ..hexapod import HexapodSand
 from ..humanoid import HumanoidSand
-from ..randomization import TerrainRandomization
+from ..randomization import TerrainRandomization, rough_gain
 from ..tasks import METRICS
 from .env import MjxEnv, State
 
@@ -197,7 +196,7 @@ class LocomotionEnv(MjxEnv):
                 self._unused_bounds = UNUSED_STRIP_X + gap * np.arange(n_strips)
                 self._media_params, self._strip_params = self._media_rows(cpu.terrain, law, n_strips > 0)
                 if r.roughness > 0:
-                    self._rough_gain = _rough_gain(self._surface.shape, cpu.randomizer.spacing,
+                    self._rough_gain = rough_gain(self._surface.shape, cpu.randomizer.spacing,
                                                    r.correlation_length)
         self._mj_model = model
         kw = {} if impl is None else {"impl": impl}
@@ -454,23 +453,11 @@ class LocomotionEnv(MjxEnv):
         return env
 
 
-def _rough_gain(shape, spacing, correlation_length) -> tuple[np.ndarray, tuple[int, int]]:
-    """The Fourier gain of :func:`mjrft.envs.randomization.rough_field` for a field of ``shape`` (nrow, ncol) with
-    ``spacing`` (dy, dx) m, and the padding (samples per side along y and x): a Gaussian filter on a grid padded
-    by two correlation lengths so that opposite borders are uncorrelated."""
-    pad = tuple(int(math.ceil(2.0 * correlation_length / d)) for d in spacing)
-    full = (shape[0] + 2 * pad[0], shape[1] + 2 * pad[1])
-    ky = 2.0 * np.pi * np.fft.fftfreq(full[0], d=spacing[0])
-    kx = 2.0 * np.pi * np.fft.rfftfreq(full[1], d=spacing[1])
-    sd = 0.5 * correlation_length  # kernel exp(-r^2 / 2 s^2) gives the correlation exp(-r^2 / 4 s^2)
-    return np.exp(-0.5 * sd * sd * (ky[:, None] ** 2 + kx[None, :] ** 2)), pad
-
-
 def rough_field(key: jax.Array, gain: tuple[np.ndarray, tuple[int, int]], shape: tuple[int, int],
                 rms: float) -> jax.Array:
     """:func:`mjrft.envs.randomization.rough_field` in JAX from ``key``: white noise on the padded grid filtered with
-    the Gaussian ``gain`` (:func:`_rough_gain`: the gain and the padding), cropped to ``shape`` (nrow, ncol), shifted
-    to mean 0 and scaled to RMS exactly ``rms``."""
+    the Gaussian ``gain`` (:func:`mjrft.envs.randomization.rough_gain`: the gain and the padding), cropped to
+    ``shape`` (nrow, ncol), shifted to mean 0 and scaled to RMS exactly ``rms``."""
     g, (py, px) = gain
     full = (shape[0] + 2 * py, shape[1] + 2 * px)
     noise = jax.random.normal(key, full)
