@@ -1,5 +1,6 @@
 # Two commands (see README): `make demo` sets up and runs the demo (the hexapod's tripod gait on poppy seeds,
-# logged to mjrft-demo.rrd; open it with `rerun mjrft-demo.rrd`), `make test` sets up and runs the tests.
+# logged to mjrft-demo.rrd; open it with `rerun mjrft-demo.rrd`), `make test` sets up and runs the tests (and lists
+# the 25 slowest).
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
@@ -19,7 +20,7 @@ demo: setup
 	$(VENV)/bin/mjrft demo
 
 test: setup
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q --durations=25
 
 bench: setup
 	$(PY) benchmarks/bench_step.py
