@@ -418,7 +418,9 @@ class LocomotionEnv(MjxEnv):
         done = diverged | task.terminated(jnp, healthy)
         obs = jnp.where(diverged, 0.0, task.observation(jnp, d, ctrl))
         metrics = task.metrics(jnp, x_velocity=x_velocity, power=power, rewards=rewards)
-        metrics = {**state.metrics, **{k: jnp.where(diverged, 0.0, v) for k, v in metrics.items()},
+        # each metric in the reward's dtype, as reset makes them: a weakly typed one (a reward term of Python floats)
+        # would give step's output another type than reset's, and jit would compile step twice
+        metrics = {**state.metrics, **{k: jnp.where(diverged, 0.0, v).astype(reward.dtype) for k, v in metrics.items()},
                    "diverged": diverged.astype(reward.dtype)}
         if sand is not None:
             metrics.update(guard_metrics(sand, reward.dtype))
