@@ -40,6 +40,7 @@ def mjx_env():
 def test_env_matches_the_cpu_env_step_for_step(mjx_env):
     env, reset, step = mjx_env
     state = reset(jax.random.PRNGKey(3))
+    reset_types = _types(state)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         cpu = env.gym_env(state)
@@ -58,6 +59,12 @@ def test_env_matches_the_cpu_env_step_for_step(mjx_env):
     np.testing.assert_allclose(np.asarray(state.info["sinkage"]), info["sinkage"], atol=3e-3)
     assert float(state.metrics["power"]) == pytest.approx(info["power"], rel=0.3)
     cpu.close()
+    # step returns a State of reset's types (weak types included), so jit compiles step once for an episode
+    assert _types(state) == reset_types
+
+
+def _types(state):
+    return jax.tree_util.tree_map(lambda x: (x.shape, x.dtype, x.aval.weak_type), state)
 
 
 def test_env_follows_the_cpu_env_when_the_servos_clamp():
@@ -99,7 +106,8 @@ def test_env_follows_the_cpu_env_when_the_servos_clamp():
 
 def test_nonfinite_action_ends_the_episode_as_diverged(mjx_env):
     env, reset, step = mjx_env
-    state = step(reset(jax.random.PRNGKey(0)), jnp.full(6, jnp.nan))
+    # the same action type as the other tests' (a Python scalar would make it weakly typed: another compile of step)
+    state = step(reset(jax.random.PRNGKey(0)), jnp.full(6, jnp.nan, jnp.float32))
     assert float(state.done) == 1.0 and float(state.metrics["diverged"]) == 1.0 and float(state.reward) == 0.0
     assert np.all(np.isfinite(np.asarray(state.obs)))
     ok = step(reset(jax.random.PRNGKey(0)), jnp.zeros(6))  # control: a finite action does not
@@ -185,7 +193,7 @@ def test_auto_reset_starts_each_episode_on_fresh_sand(mjx_env):
     the world's time nudged off 0 (the rule's trigger) carries the ended episode's divergence on."""
     env, reset, step = mjx_env
     first = reset(jax.random.PRNGKey(5))
-    action = jnp.full(6, 2 / 3)
+    action = jnp.full(6, 2 / 3, jnp.float32)  # strongly typed, as the other tests' actions: no new compile
     s1 = step(first, action)
     s2 = step(s1, action)
     assert float(jnp.max(jnp.abs(s2.info["sand"].u))) > 1e-5  # the episode's memory
@@ -221,6 +229,8 @@ def test_biped_and_humanoid_on_sand_follow_their_gymnasium_envs(name):
         assert jax.tree_util.tree_structure(state) == jax.tree_util.tree_structure(shapes)
         assert all(a.shape == b.shape and a.dtype == b.dtype for a, b in
                    zip(jax.tree_util.tree_leaves(state), jax.tree_util.tree_leaves(shapes)))
+        # every leaf committed to the device, as step's outputs are: jit compiles step once, not again for its own
+        state = jax.device_put(state, jax.devices()[0])
         step = jax.jit(env.step)
         rng = np.random.default_rng(2)
         for _ in range(2):
