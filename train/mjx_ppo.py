@@ -24,6 +24,11 @@ function of one observation; ``mjrft eval --policy runs/hex-mjx`` runs it on the
 (:mod:`mjrft.train.evaluate`) and ``--backend mjx`` on the MJX env (:func:`evaluate_mjx`): the same policy on
 both backends is the cross-check of the two physics paths.
 
+Every environment of the registry has a named recipe (:func:`named_recipes`; docs/gpu.md lists them).
+``mjrft train-mjx --config biped-sand --out runs/biped --seeds 0 1 2`` (:mod:`mjrft.train.train_mjx`, the command
+line) trains one run folder per seed, evaluates each final policy on the MJX env and on the CPU env of the same task
+(the cross-check of the two backends) and writes the mean and spread over the seeds (:mod:`mjrft.train.seeds`).
+
 Recipe keys (:data:`RECIPE_KEYS`): ``env`` (a name of :func:`mjrft.mjx.envs.names`), ``env_config`` (its
 configuration overrides, ``{"dotted.key": value}``, e.g. ``{"reward_config.scales.energy": -0.1}``),
 ``num_timesteps``, ``num_envs``,
@@ -61,8 +66,6 @@ PPO_RESERVED = ("environment", "num_timesteps", "num_envs", "episode_length", "s
                 "save_checkpoint_path", "restore_checkpoint_path", "restore_params", "vision")
 POLICY_FILE, META_FILE, PROGRESS_FILE = "policy.npz", "policy.json", "progress.csv"
 CHECKPOINTS = "checkpoints"  # a run folder's checkpoints/<steps>/: the policy of each evaluation, a run folder itself
-#: a several-seed run (``--seeds``): the summary over the seeds (JSON, text); each seed's evaluation in its folder
-SEEDS_FILE, SEEDS_TABLE, EVALUATION_FILE = "seeds.json", "seeds.txt", "evaluation.json"
 FORMAT = "mjrft-brax-ppo/1"
 
 
@@ -440,8 +443,9 @@ def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, s
 
     env = mjx_env_of(policy.meta, config_overrides)
     if getattr(env, "gym_id", None) is None:
-        raise ValueError(f"{policy.meta.get('env')} has no gymnasium env of the same task (only mjrft's robots have one): mjrft eval "
-                         "measures their speed and cost of transport; this run's results are Brax's evaluations in its progress.csv")
+        raise ValueError(f"{policy.meta.get('env')} has no gymnasium env of the same task (only mjrft's robots have "
+                         "one): mjrft eval measures their speed and cost of transport; this run's results are Brax's "
+                         "evaluations in its progress.csv")
     steps = int(round(seconds / env.dt))
     act = policy.jax_fn()
     key = jax.random.PRNGKey(0)
@@ -561,32 +565,6 @@ class _AutoReset:
         return state.replace(data=data, obs=obs)
 
 
-def add_arguments(parser) -> None:
-    parser.add_argument("--config", default="hexapod-sand",
-                        help=f"named MJX recipe ({', '.join(named_recipes()) or 'none'}) or a .yaml / .json file")
-    parser.add_argument("--out", default="runs/hexapod-sand-mjx", help="run folder (policy.npz, policy.json, "
-                                                                         "progress.csv, checkpoints/)")
-    parser.add_argument("--timesteps", type=float, default=None, help="override num_timesteps (e.g. 2e7)")
-    parser.add_argument("--num-envs", type=int, default=None, help="override num_envs (worlds per batch)")
-    seeds = parser.add_mutually_exclusive_group()
-    seeds.add_argument("--seed", type=int, default=None, help="override seed")
-    seeds.add_argument("--seeds", type=int, nargs="+", default=None, metavar="SEED",
-                       help="train one run per seed, each in OUT/seed-<SEED>/ (a seed whose folder holds a complete "
-                            "run of the same recipe is not trained again), evaluate each, and write the mean and "
-                            f"spread over the seeds to OUT/{SEEDS_TABLE} and OUT/{SEEDS_FILE}")
-    parser.add_argument("--eval-episodes", type=int, default=8,
-                        help="episodes of each final policy on the MJX env (0: none)")
-    parser.add_argument("--cpu-episodes", type=int, default=None,
-                        help="episodes of each final policy on the CPU env of the same task, the cross-check of the "
-                             "two backends (mjrft eval; default 10 with --seeds, 0 for one run)")
-    hosts = parser.add_argument_group("several hosts (jax.distributed; every local device is used in any case)")
-    hosts.add_argument("--coordinator", default=None, metavar="HOST:PORT",
-                       help="address of the first host's coordinator: start the same command on every host with "
-                            "--num-processes and its own --process-id; the first host (id 0) writes the run folder")
-    hosts.add_argument("--num-processes", type=int, default=None, help="number of hosts (processes) in the run")
-    hosts.add_argument("--process-id", type=int, default=None, help="this host's index, 0 to num-processes - 1")
-
-
 def start_distributed(coordinator, num_processes, process_id) -> None:
     """``jax.distributed.initialize`` for a run over several hosts (all three arguments given), before JAX touches a
     device; nothing with none of them. Each process then trains on its local devices and Brax's PPO averages the
@@ -601,238 +579,3 @@ def start_distributed(coordinator, num_processes, process_id) -> None:
     import jax
 
     jax.distributed.initialize(coordinator_address=coordinator, num_processes=num_processes, process_id=process_id)
-
-
-def _recipe_name(config) -> str:
-    """The recipe's name as the command line gave it (a file's stem)."""
-    path = Path(str(config))
-    return path.stem if path.suffix.lower() in (".yaml", ".yml", ".json") else str(config)
-
-
-def main(args) -> int:
-    # leave device memory outside XLA's pool for kernel launches (docs/gpu.md); a user's own setting wins
-    os.environ.setdefault("XLA_PYTHON_CLIENT_MEM_FRACTION", "0.6")
-    cfg = load_recipe(args.config)
-    if args.timesteps is not None:
-        if not (math.isfinite(args.timesteps) and args.timesteps >= 1 and float(args.timesteps).is_integer()):
-            raise ValueError(f"--timesteps must be a whole number >= 1, got {args.timesteps!r}")
-        cfg["num_timesteps"] = int(args.timesteps)
-    if args.num_envs is not None:
-        cfg["num_envs"] = args.num_envs
-    if args.seed is not None:
-        cfg["seed"] = args.seed
-    seeds = getattr(args, "seeds", None)
-    if seeds is not None:
-        check_seeds(seeds)
-    for flag, value in (("--eval-episodes", args.eval_episodes), ("--cpu-episodes", args.cpu_episodes)):
-        if value is not None and value < 0:
-            raise ValueError(f"{flag} must be >= 0, got {value}")
-    cpu_episodes = args.cpu_episodes if args.cpu_episodes is not None else (10 if seeds is not None else 0)
-    cfg = check_recipe(cfg, f"MJX training recipe {args.config!r} with the command-line overrides")
-    start_distributed(args.coordinator, args.num_processes, args.process_id)
-    import jax
-
-    check_devices(cfg)
-    if seeds is not None:
-        train_seeds(cfg, args.out, seeds, eval_episodes=args.eval_episodes, cpu_episodes=cpu_episodes,
-                    name=_recipe_name(args.config))
-        return 0
-    print(f"Brax PPO on {cfg['env']} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
-          f"{jax.device_count()} device(s) ({jax.devices()[0].platform}, {jax.process_count()} host(s)); "
-          f"run folder {args.out}")
-    summary = train_recipe(cfg, args.out)
-    if jax.process_index() != 0:
-        return 0
-    print(f"trained in {summary['wall_s']:.1f} s; policy {Path(args.out) / POLICY_FILE}")
-    if summary["env_id"] is None:  # an environment of MJX only (a Playground task): Brax's own evaluation
-        ret = summary["final"].get("eval/episode_reward")
-        print((f"final evaluation: return {ret:.3f}; " if ret is not None else "")
-              + f"{cfg['env']} has no gymnasium env on the CPU (mjrft eval runs mjrft's robots' policies)")
-        return 0
-    row = evaluate_run(args.out, args.eval_episodes, cpu_episodes)
-    for line in _evaluation_lines(row):
-        print(line)
-    if not cpu_episodes:
-        print(f"evaluate on the CPU env: mjrft eval --policy {args.out} --episodes 10")
-    return 0
-
-
-# ---------------------------------------------------------------------- several seeds
-def check_seeds(seeds) -> list[int]:
-    """``--seeds``: integers >= 0, each once."""
-    seeds = list(seeds)
-    if not seeds or any(isinstance(s, bool) or not isinstance(s, int) or s < 0 for s in seeds):
-        raise ValueError(f"--seeds must be integers >= 0, got {seeds!r}")
-    if len(set(seeds)) != len(seeds):
-        raise ValueError(f"--seeds must name each seed once, got {seeds!r}")
-    return seeds
-
-
-def seed_folder(out, seed: int) -> Path:
-    """The run folder of ``seed`` in a several-seed run ``out`` (``out/seed-<seed>``)."""
-    return Path(out) / f"seed-{int(seed)}"
-
-
-def _same_recipe(meta: dict, cfg: dict) -> bool:
-    """Whether a run's recipe (its ``policy.json``) is ``cfg``, the description aside."""
-    def settings(recipe):
-        return {k: v for k, v in (recipe or {}).items() if k != "description"}
-
-    return settings(meta.get("recipe")) == settings(json.loads(json.dumps(cfg)))
-
-
-def completed_run(folder, cfg: dict) -> bool:
-    """Whether ``folder`` holds a complete run of the recipe ``cfg`` (``policy.json``: ``"complete": true`` and
-    the same recipe); a complete run of another recipe is refused (one line naming the folder), an incomplete or
-    missing one is trained (again)."""
-    folder = Path(folder)
-    if not is_mjx_policy(folder):
-        return False
-    meta = read_meta(folder)
-    if not meta.get("complete"):
-        return False
-    if not _same_recipe(meta, cfg):
-        raise ValueError(f"{folder} holds a complete run of another recipe (or seed); give another --out")
-    return True
-
-
-def evaluate_run(folder, eval_episodes: int = 8, cpu_episodes: int = 10) -> dict:
-    """The results of a finished run folder: the return of Brax's final evaluation (``eval/episode_reward`` of
-    ``policy.json``), the training's wall time, and the deterministic policy's speed, cost of transport, fall rate
-    and diverged episodes over ``eval_episodes`` episodes of 10 s on its MJX env (:func:`evaluate_mjx`, ``mjx_*``)
-    and over ``cpu_episodes`` on the gymnasium env of the same task (``mjrft eval``'s
-    :func:`mjrft.train.evaluate.evaluate`, ``cpu_*``): the cross-check of the two backends. An environment without
-    a gymnasium twin (the Go2 joystick task) has the return and the wall time only."""
-    meta = read_meta(folder)
-    row = {"return": float((meta.get("final") or {}).get("eval/episode_reward", math.nan)),
-           "train_s": float(meta.get("wall_s", math.nan)), "eval_episodes": 0, "cpu_episodes": 0}
-    if meta.get("env_id") is None:
-        return row
-    policy = load_policy(folder)
-    if eval_episodes > 0:
-        res = evaluate_mjx(policy, episodes=eval_episodes)
-        row.update(eval_episodes=eval_episodes, mjx_speed=res["speed"], mjx_cot=res["cost_of_transport"],
-                   mjx_fell=res["fell"], mjx_diverged=res["diverged"])
-    if cpu_episodes > 0:
-        from .evaluate import evaluate
-
-        _, res = evaluate(str(folder), episodes=cpu_episodes)
-        row.update(cpu_episodes=cpu_episodes, cpu_speed=res["speed"], cpu_cot=res["cot"], cpu_fell=res["fall_rate"],
-                   cpu_diverged=res["diverged"])
-    return row
-
-
-def _evaluation_lines(row: dict) -> list[str]:
-    lines = []
-    for key, where, how in (("mjx", "MJX", "mjrft eval --backend mjx"), ("cpu", "CPU", "mjrft eval")):
-        n = row.get(f"{key}_episodes" if key == "cpu" else "eval_episodes", 0)
-        if n:
-            lines.append(f"{where} evaluation ({n} episodes of 10 s, {how}): speed {row[key + '_speed']:.3f} m/s, "
-                         f"CoT {row[key + '_cot']:.2f}, fell {row[key + '_fell']:.0%}, diverged {row[key + '_diverged']}")
-    return lines
-
-
-#: the columns of the several-seed summary: (key, header, decimals)
-SEED_COLUMNS = [("return", "return", 2), ("train_s", "train s", 1), ("mjx_speed", "MJX m/s", 3),
-                ("mjx_cot", "MJX CoT", 2), ("mjx_fell", "MJX fell", 2), ("cpu_speed", "CPU m/s", 3),
-                ("cpu_cot", "CPU CoT", 2), ("cpu_fell", "CPU fell", 2)]
-
-
-def train_seeds(cfg: dict, out, seeds, *, eval_episodes: int = 8, cpu_episodes: int = 10, name: str = "",
-                report=print) -> dict:
-    """The recipe ``cfg`` once per seed, each run in :func:`seed_folder` (the run of ``mjrft train-mjx --seed S
-    --out OUT/seed-S``; a folder that holds a complete run of the same recipe and seed is not trained again),
-    each final policy evaluated (:func:`evaluate_run`, kept in the run folder's ``evaluation.json``), and the
-    summary over the seeds (:mod:`mjrft.train.seeds`: each seed's row, then mean, sample standard deviation,
-    minimum and maximum) written to ``out/seeds.txt`` and ``out/seeds.json`` after every seed; returns the
-    summary. Over several hosts every host trains each seed and the first one evaluates and writes."""
-    import jax
-
-    from .seeds import seeds_table, spread
-
-    seeds = check_seeds(seeds)
-    out = Path(out)
-    runs = {s: {**cfg, "seed": s} for s in seeds}
-    done = {s: completed_run(seed_folder(out, s), c) for s, c in runs.items()}  # refuse a foreign folder first
-    writer = jax.process_index() == 0
-    rows = []
-    summary = {}
-    for s in seeds:
-        folder = seed_folder(out, s)
-        saved = folder / EVALUATION_FILE
-        if done[s]:
-            report(f"seed {s}: {folder} holds the complete run of this recipe; not trained again")
-        else:
-            if writer and saved.exists():
-                saved.unlink()
-            report(f"seed {s}: Brax PPO on {cfg['env']} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
-                   f"{jax.device_count()} device(s) ({jax.devices()[0].platform}); run folder {folder}")
-            train_recipe(runs[s], folder, report=report)
-        if not writer:
-            continue
-        row = None
-        if saved.is_file():  # an earlier invocation's evaluation of this complete run, with the same episodes
-            kept = json.loads(saved.read_text())
-            if (kept.get("eval_episodes"), kept.get("cpu_episodes")) == (eval_episodes, cpu_episodes):
-                row = kept["row"]
-        if row is None:
-            row = evaluate_run(folder, eval_episodes, cpu_episodes)
-            _write_json(saved, {"eval_episodes": eval_episodes, "cpu_episodes": cpu_episodes, "row": row})
-        rows.append({"seed": s, **row})
-        for line in _evaluation_lines(row):
-            report(f"seed {s}: {line}")
-        summary = _seed_summary(cfg, name, out, seeds, rows, eval_episodes, cpu_episodes, spread)
-        _write_json(out / SEEDS_FILE, summary)
-        text = _seed_report(summary, seeds_table)
-        tmp = out / (SEEDS_TABLE + ".tmp")
-        tmp.write_text(text + "\n")
-        os.replace(tmp, out / SEEDS_TABLE)
-    if writer:
-        report(_seed_report(summary, seeds_table))
-        report(f"wrote {out / SEEDS_TABLE} and {out / SEEDS_FILE}")
-    return summary
-
-
-def _write_json(path: Path, data) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(data, indent=2) + "\n")
-    os.replace(tmp, path)
-
-
-def _seed_summary(cfg, name, out, seeds, rows, eval_episodes, cpu_episodes, spread) -> dict:
-    meta = read_meta(seed_folder(out, rows[0]["seed"]))
-    keys = [k for k, _, _ in SEED_COLUMNS]
-    return {"recipe": name, "env": cfg["env"], "env_id": meta.get("env_id"), "seeds": list(seeds),
-            "finished": [r["seed"] for r in rows], "num_timesteps": cfg["num_timesteps"], "num_envs": cfg["num_envs"],
-            "eval_episodes": eval_episodes, "cpu_episodes": cpu_episodes, "device": meta.get("device"),
-            "devices": meta.get("devices"), "rows": rows,
-            "spread": {k: spread([r.get(k, math.nan) for r in rows]) for k in keys}}
-
-
-def _seed_report(summary: dict, seeds_table) -> str:
-    """The text of ``seeds.txt``: what was run, the table, the equivalent commands of each seed."""
-    name, env, env_id = summary["recipe"] or "(recipe)", summary["env"], summary["env_id"]
-    rows = summary["rows"]
-    head = (f"Recipe {name} over {len(summary['seeds'])} seeds ({', '.join(map(str, summary['seeds']))}; "
-            f"{len(rows)} finished) on {env}: {summary['num_envs']:,} worlds, {summary['num_timesteps']:,} steps each "
-            f"on {summary['devices']} device(s) ({summary['device']})")
-    lines = [head, "return: the mean episode return of Brax's final evaluation during training; train s: training "
-                   "wall time"]
-    if env_id is None:
-        lines.append(f"{env} has no gymnasium env of the same task: no MJX or CPU evaluation of speed and cost of "
-                     "transport")
-    else:
-        lines.append(f"MJX: {summary['eval_episodes']} deterministic episodes of 10 s on the MJX env {env} "
-                     f"(mjrft eval --backend mjx); CPU: {summary['cpu_episodes']} on the CPU env {env_id} (mjrft eval), "
-                     "the cross-check of the two backends; CoT from the actuators' power over every physics step; "
-                     "fell: the fraction of episodes that ended in a fall")
-    lines += ["", seeds_table(rows, SEED_COLUMNS), "", "the same runs and evaluations, one seed at a time:"]
-    for s in summary["seeds"]:
-        lines.append(f"$ mjrft train-mjx --config {name} --seed {s} --out {seed_folder('OUT', s)}")
-        if env_id is not None:
-            if summary["eval_episodes"]:
-                lines.append(f"$ mjrft eval --policy {seed_folder('OUT', s)} --episodes {summary['eval_episodes']} "
-                             "--backend mjx")
-            if summary["cpu_episodes"]:
-                lines.append(f"$ mjrft eval --policy {seed_folder('OUT', s)} --episodes {summary['cpu_episodes']}")
-    return "\n".join(lines)

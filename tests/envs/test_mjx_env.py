@@ -283,7 +283,8 @@ def test_the_seeds_summary_holds_the_cpu_cross_check(trained):
     assert (summary["env"], summary["env_id"], summary["seeds"]) == ("BipedSand", "mjrft/BipedSand-v0", [0])
     assert summary["spread"]["cpu_speed"]["mean"] == row["cpu_speed"] and summary["spread"]["cpu_speed"]["n"] == 1
     text = (trained.parent / "seeds.txt").read_text()
-    assert "CPU: 1 on the CPU env mjrft/BipedSand-v0" in text and "$ mjrft eval --policy OUT/seed-0 --episodes 1" in text
+    assert "CPU: 1 on the CPU env mjrft/BipedSand-v0" in text
+    assert "$ mjrft eval --policy OUT/seed-0 --episodes 1" in text
 
 
 def test_each_evaluation_keeps_its_policy_as_a_run_folder(trained):
