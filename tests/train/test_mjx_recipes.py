@@ -66,6 +66,35 @@ def test_bad_seeds_are_refused(bad, match):
         seeds.check_seeds(bad)
 
 
+@pytest.mark.slow  # six CPU envs built and stepped: ~25 s on a busy 2-core machine
+def test_a_policy_of_every_robot_runs_on_the_cpu_env_of_its_task(tmp_path):
+    """The cross-check's other half for every MJX env with a gymnasium twin: a policy file in train-mjx's form
+    (policy.json with the env's gymnasium id and sizes, policy.npz; fresh weights) runs on that CPU env through
+    mjrft eval's evaluate, two steps of one episode each (the sizes are the rigid env's: both grounds share the
+    task)."""
+    import gymnasium
+
+    import mjrft.envs  # noqa: F401  (registers the ids)
+    from mjrft.envs.mjx.locomotion import Biped, Hexapod, Humanoid
+    from mjrft.mjx import envs
+    from mjrft.train.evaluate import evaluate
+
+    for cls in (Hexapod, Biped, Humanoid):
+        cpu = gymnasium.make(cls.gym_ids["rigid"])
+        sizes = cpu.observation_space.shape[0], cpu.action_space.shape[0]
+        cpu.close()
+        for ground in ("sand", "rigid"):
+            name, gym_id = cls.registry_name(ground), cls.gym_ids[ground]
+            assert name in envs.names() and gym_id in gymnasium.registry
+            meta = {"env": name, "env_config": {}, "env_id": gym_id, "env_kwargs": {}, "observation_size": sizes[0],
+                    "action_size": sizes[1], "network": {"policy_hidden_layer_sizes": [4],
+                                                         "value_hidden_layer_sizes": [4]}, "complete": True}
+            run = tmp_path / name
+            mjx_ppo.save_policy(run, mjx_ppo._template(meta)[1], meta)
+            rows, summary = evaluate(str(run), episodes=1, env_kwargs={"max_episode_steps": 2})
+            assert (summary["env_id"], summary["kind"], rows[0]["steps"]) == (gym_id, "brax-ppo", 2), name
+
+
 def test_eval_says_that_the_go2_joystick_task_has_no_cpu_env(tmp_path, capsys):
     """A policy of an MJX env without a gymnasium twin (``env_id`` null in its policy.json): mjrft eval refuses it
     in one line that says so, on either backend, before building anything."""
