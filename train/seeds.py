@@ -148,13 +148,14 @@ SEED_COLUMNS = [("return", "return", 2), ("train_s", "train s", 1), ("mjx_speed"
 
 
 def train_seeds(cfg: dict, out, seeds, *, eval_episodes: int = 8, cpu_episodes: int = 10, name: str = "",
-                report=print) -> dict:
+                command: str = "", report=print) -> dict:
     """The recipe ``cfg`` once per seed, each run in :func:`seed_folder` (the run of ``mjrft train-mjx --seed S
     --out OUT/seed-S``; a folder that holds a complete run of the same recipe and seed is not trained again),
     each final policy evaluated (:func:`evaluate_run`, kept in the run folder's ``evaluation.json``), and the
     summary over the seeds (:mod:`mjrft.train.seeds`: each seed's row, then mean, sample standard deviation,
     minimum and maximum) written to ``out/seeds.txt`` and ``out/seeds.json`` after every seed; returns the
-    summary. Over several hosts every host trains each seed and the first one evaluates and writes."""
+    summary. ``name``: the recipe's name; ``command``: the ``mjrft train-mjx`` command line of the recipe and its
+    overrides, which ``seeds.txt`` repeats for each seed. Over several hosts every host trains each seed and the first one evaluates and writes."""
     import jax
 
     seeds = check_seeds(seeds)
@@ -195,7 +196,8 @@ def train_seeds(cfg: dict, out, seeds, *, eval_episodes: int = 8, cpu_episodes: 
         rows.append({"seed": s, **row})
         for line in evaluation_lines(row):
             report(f"seed {s}: {line}")
-        summary = _seed_summary(cfg, name, out, seeds, rows, eval_episodes, cpu_episodes)
+        summary = _seed_summary(cfg, name, command or f"mjrft train-mjx --config {name}", out, seeds, rows,
+                                eval_episodes, cpu_episodes)
         _write_json(out / SEEDS_FILE, summary)
         text = _seed_report(summary)
         tmp = out / (SEEDS_TABLE + ".tmp")
@@ -213,10 +215,10 @@ def _write_json(path: Path, data) -> None:
     os.replace(tmp, path)
 
 
-def _seed_summary(cfg, name, out, seeds, rows, eval_episodes, cpu_episodes) -> dict:
+def _seed_summary(cfg, name, command, out, seeds, rows, eval_episodes, cpu_episodes) -> dict:
     meta = read_meta(seed_folder(out, rows[0]["seed"]))
     keys = [k for k, _, _ in SEED_COLUMNS]
-    return {"recipe": name, "env": cfg["env"], "env_id": meta.get("env_id"), "seeds": list(seeds),
+    return {"recipe": name, "command": command, "out": str(out), "env": cfg["env"], "env_id": meta.get("env_id"), "seeds": list(seeds),
             "finished": [r["seed"] for r in rows], "num_timesteps": cfg["num_timesteps"], "num_envs": cfg["num_envs"],
             "eval_episodes": eval_episodes, "cpu_episodes": cpu_episodes, "device": meta.get("device"),
             "devices": meta.get("devices"), "rows": rows,
@@ -243,11 +245,11 @@ def _seed_report(summary: dict) -> str:
                      "fell: the fraction of episodes that ended in a fall")
     lines += ["", seeds_table(rows, SEED_COLUMNS), "", "the same runs and evaluations, one seed at a time:"]
     for s in summary["seeds"]:
-        lines.append(f"$ mjrft train-mjx --config {name} --seed {s} --out {seed_folder('OUT', s)}")
+        folder = seed_folder(summary["out"], s)
+        lines.append(f"$ {summary['command']} --seed {s} --out {folder}")
         if env_id is not None:
             if summary["eval_episodes"]:
-                lines.append(f"$ mjrft eval --policy {seed_folder('OUT', s)} --episodes {summary['eval_episodes']} "
-                             "--backend mjx")
+                lines.append(f"$ mjrft eval --policy {folder} --episodes {summary['eval_episodes']} --backend mjx")
             if summary["cpu_episodes"]:
-                lines.append(f"$ mjrft eval --policy {seed_folder('OUT', s)} --episodes {summary['cpu_episodes']}")
+                lines.append(f"$ mjrft eval --policy {folder} --episodes {summary['cpu_episodes']}")
     return "\n".join(lines)

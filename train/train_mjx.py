@@ -76,8 +76,12 @@ def main(args) -> int:
 
     check_devices(cfg)
     if seeds is not None:
+        command = " ".join([f"mjrft train-mjx --config {args.config}"]
+                           + [f"{flag} {value:g}" if isinstance(value, float) else f"{flag} {value}"
+                              for flag, value in (("--timesteps", args.timesteps), ("--num-envs", args.num_envs))
+                              if value is not None])
         train_seeds(cfg, args.out, seeds, eval_episodes=args.eval_episodes, cpu_episodes=cpu_episodes,
-                    name=_recipe_name(args.config))
+                    name=_recipe_name(args.config), command=command)
         return 0
     print(f"Brax PPO on {cfg['env']} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
           f"{jax.device_count()} device(s) ({jax.devices()[0].platform}, {jax.process_count()} host(s)); "

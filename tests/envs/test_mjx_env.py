@@ -284,7 +284,7 @@ def test_the_seeds_summary_holds_the_cpu_cross_check(trained):
     assert summary["spread"]["cpu_speed"]["mean"] == row["cpu_speed"] and summary["spread"]["cpu_speed"]["n"] == 1
     text = (trained.parent / "seeds.txt").read_text()
     assert "CPU: 1 on the CPU env mjrft/BipedSand-v0" in text
-    assert "$ mjrft eval --policy OUT/seed-0 --episodes 1" in text
+    assert f"$ mjrft eval --policy {trained} --episodes 1" in text
 
 
 def test_each_evaluation_keeps_its_policy_as_a_run_folder(trained):

@@ -150,7 +150,7 @@ def test_seeds_write_a_run_per_seed_and_the_spread(tmp_path, monkeypatch, capsys
     text = (out / "seeds.txt").read_text()
     assert "Recipe tiny over 2 seeds (3, 1; 2 finished) on Go2JoystickRigid" in text
     assert "Go2JoystickRigid has no gymnasium env of the same task" in text
-    assert "$ mjrft train-mjx --config tiny --seed 1 --out OUT/seed-1" in text
+    assert f"$ mjrft train-mjx --config {recipe} --seed 1 --out {out / 'seed-1'}" in text
     assert [line.split()[:2] for line in text.splitlines() if line.startswith(("mean", "  sd"))] == [
         ["mean", "12.00"], ["sd", "1.41"]]
     capsys.readouterr()
