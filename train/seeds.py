@@ -155,7 +155,8 @@ def train_seeds(cfg: dict, out, seeds, *, eval_episodes: int = 8, cpu_episodes: 
     summary over the seeds (:mod:`mjrft.train.seeds`: each seed's row, then mean, sample standard deviation,
     minimum and maximum) written to ``out/seeds.txt`` and ``out/seeds.json`` after every seed; returns the
     summary. ``name``: the recipe's name; ``command``: the ``mjrft train-mjx`` command line of the recipe and its
-    overrides, which ``seeds.txt`` repeats for each seed. Over several hosts every host trains each seed and the first one evaluates and writes."""
+    overrides, which ``seeds.txt`` repeats for each seed. Over several hosts every host trains each seed and the
+    first one evaluates and writes."""
     import jax
 
     seeds = check_seeds(seeds)
@@ -218,8 +219,9 @@ def _write_json(path: Path, data) -> None:
 def _seed_summary(cfg, name, command, out, seeds, rows, eval_episodes, cpu_episodes) -> dict:
     meta = read_meta(seed_folder(out, rows[0]["seed"]))
     keys = [k for k, _, _ in SEED_COLUMNS]
-    return {"recipe": name, "command": command, "out": str(out), "env": cfg["env"], "env_id": meta.get("env_id"), "seeds": list(seeds),
-            "finished": [r["seed"] for r in rows], "num_timesteps": cfg["num_timesteps"], "num_envs": cfg["num_envs"],
+    return {"recipe": name, "command": command, "out": str(out), "env": cfg["env"], "env_id": meta.get("env_id"),
+            "seeds": list(seeds), "finished": [r["seed"] for r in rows], "num_timesteps": cfg["num_timesteps"],
+            "num_envs": cfg["num_envs"],
             "eval_episodes": eval_episodes, "cpu_episodes": cpu_episodes, "device": meta.get("device"),
             "devices": meta.get("devices"), "rows": rows,
             "spread": {k: spread([r.get(k, math.nan) for r in rows]) for k in keys}}
