@@ -302,6 +302,10 @@ def policy_config(policy) -> dict | None:
         from .mjx_ppo import read_meta
 
         meta = read_meta(policy)
+        if meta["env_id"] is None:  # an MJX env without a gymnasium twin (the Go2 joystick task)
+            raise ValueError(f"{policy} was trained on {meta.get('env')}, an MJX env with no gymnasium env of the same "
+                             "task: mjrft eval has no CPU env to run it on (its results are Brax's evaluations in "
+                             "its progress.csv)")
         return {"env_id": meta["env_id"], "env_kwargs": meta.get("env_kwargs") or {}}
     return run_config(resolve_model(policy)[0])
 

@@ -24,6 +24,11 @@ function of one observation; ``mjrft eval --policy runs/hex-mjx`` runs it on the
 (:mod:`mjrft.train.evaluate`) and ``--backend mjx`` on the MJX env (:func:`evaluate_mjx`): the same policy on
 both backends is the cross-check of the two physics paths.
 
+Every environment of the registry has a named recipe (:func:`named_recipes`; docs/gpu.md lists them).
+``mjrft train-mjx --config biped-sand --out runs/biped --seeds 0 1 2`` (:mod:`mjrft.train.train_mjx`, the command
+line) trains one run folder per seed, evaluates each final policy on the MJX env and on the CPU env of the same task
+(the cross-check of the two backends) and writes the mean and spread over the seeds (:mod:`mjrft.train.seeds`).
+
 Recipe keys (:data:`RECIPE_KEYS`): ``env`` (a name of :func:`mjrft.mjx.envs.names`), ``env_config`` (its
 configuration overrides, ``{"dotted.key": value}``, e.g. ``{"reward_config.scales.energy": -0.1}``),
 ``num_timesteps``, ``num_envs``,
@@ -437,6 +442,10 @@ def evaluate_mjx(policy: MjxPolicy, episodes: int = 10, seconds: float = 10.0, s
     import jax.numpy as jnp
 
     env = mjx_env_of(policy.meta, config_overrides)
+    if getattr(env, "gym_id", None) is None:
+        raise ValueError(f"{policy.meta.get('env')} has no gymnasium env of the same task (only mjrft's robots have "
+                         "one): mjrft eval measures their speed and cost of transport; this run's results are Brax's "
+                         "evaluations in its progress.csv")
     steps = int(round(seconds / env.dt))
     act = policy.jax_fn()
     key = jax.random.PRNGKey(0)
@@ -556,24 +565,6 @@ class _AutoReset:
         return state.replace(data=data, obs=obs)
 
 
-def add_arguments(parser) -> None:
-    parser.add_argument("--config", default="hexapod-sand",
-                        help=f"named MJX recipe ({', '.join(named_recipes()) or 'none'}) or a .yaml / .json file")
-    parser.add_argument("--out", default="runs/hexapod-sand-mjx", help="run folder (policy.npz, policy.json, "
-                                                                         "progress.csv, checkpoints/)")
-    parser.add_argument("--timesteps", type=float, default=None, help="override num_timesteps (e.g. 2e7)")
-    parser.add_argument("--num-envs", type=int, default=None, help="override num_envs (worlds per batch)")
-    parser.add_argument("--seed", type=int, default=None, help="override seed")
-    parser.add_argument("--eval-episodes", type=int, default=8,
-                        help="episodes of the final policy on the MJX env (0: none)")
-    hosts = parser.add_argument_group("several hosts (jax.distributed; every local device is used in any case)")
-    hosts.add_argument("--coordinator", default=None, metavar="HOST:PORT",
-                       help="address of the first host's coordinator: start the same command on every host with "
-                            "--num-processes and its own --process-id; the first host (id 0) writes the run folder")
-    hosts.add_argument("--num-processes", type=int, default=None, help="number of hosts (processes) in the run")
-    hosts.add_argument("--process-id", type=int, default=None, help="this host's index, 0 to num-processes - 1")
-
-
 def start_distributed(coordinator, num_processes, process_id) -> None:
     """``jax.distributed.initialize`` for a run over several hosts (all three arguments given), before JAX touches a
     device; nothing with none of them. Each process then trains on its local devices and Brax's PPO averages the
@@ -588,41 +579,3 @@ def start_distributed(coordinator, num_processes, process_id) -> None:
     import jax
 
     jax.distributed.initialize(coordinator_address=coordinator, num_processes=num_processes, process_id=process_id)
-
-
-def main(args) -> int:
-    # leave device memory outside XLA's pool for kernel launches (docs/gpu.md); a user's own setting wins
-    os.environ.setdefault("XLA_PYTHON_CLIENT_MEM_FRACTION", "0.6")
-    cfg = load_recipe(args.config)
-    if args.timesteps is not None:
-        if not (math.isfinite(args.timesteps) and args.timesteps >= 1 and float(args.timesteps).is_integer()):
-            raise ValueError(f"--timesteps must be a whole number >= 1, got {args.timesteps!r}")
-        cfg["num_timesteps"] = int(args.timesteps)
-    if args.num_envs is not None:
-        cfg["num_envs"] = args.num_envs
-    if args.seed is not None:
-        cfg["seed"] = args.seed
-    cfg = check_recipe(cfg, f"MJX training recipe {args.config!r} with the command-line overrides")
-    start_distributed(args.coordinator, args.num_processes, args.process_id)
-    import jax
-
-    check_devices(cfg)
-    print(f"Brax PPO on {cfg['env']} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
-          f"{jax.device_count()} device(s) ({jax.devices()[0].platform}, {jax.process_count()} host(s)); "
-          f"run folder {args.out}")
-    summary = train_recipe(cfg, args.out)
-    if jax.process_index() != 0:
-        return 0
-    print(f"trained in {summary['wall_s']:.1f} s; policy {Path(args.out) / POLICY_FILE}")
-    if summary["env_id"] is None:  # an environment of MJX only (a Playground task): Brax's own evaluation
-        ret = summary["final"].get("eval/episode_reward")
-        print((f"final evaluation: return {ret:.3f}; " if ret is not None else "")
-              + f"{cfg['env']} has no gymnasium env on the CPU (mjrft eval runs mjrft's robots' policies)")
-        return 0
-    if args.eval_episodes > 0:
-        res = evaluate_mjx(load_policy(args.out), episodes=args.eval_episodes)
-        print(f"MJX evaluation ({res['episodes']} episodes of 10 s): speed {res['speed']:.3f} m/s, "
-              f"CoT {res['cost_of_transport']:.2f}, fell {res['fell']:.0%}, diverged {res['diverged']}, sand unstable "
-              f"in {res['unstable']}, out of its law's range in {res['out_of_range']} episodes")
-    print(f"evaluate on the CPU env: mjrft eval --policy {args.out} --episodes 10")
-    return 0

@@ -1,11 +1,13 @@
 """The MJX envs stepped against their gymnasium envs (the hexapod, and the biped and the humanoid on sand), under
-Brax's and MuJoCo Playground's training wrappers, and the Brax PPO recipe end to end on CPU JAX: ``mjrft train-mjx``
-trains a few hundred steps, writes pickle-free policy files, and ``mjrft eval`` runs the policy on the CPU env and on
-the MJX env."""
+Brax's and MuJoCo Playground's training wrappers, and the Brax PPO recipe end to end on CPU JAX: ``mjrft train-mjx
+--seeds 0`` trains a few hundred steps on the biped on sand, writes pickle-free policy files and the summary over the
+seeds with the policy's episode on the CPU env, and ``mjrft eval`` runs the policy on the CPU env and on the MJX
+env."""
 
 from __future__ import annotations
 
 import json
+import math
 import warnings
 
 import numpy as np
@@ -246,7 +248,7 @@ def test_biped_and_humanoid_on_sand_follow_their_gymnasium_envs(name):
     cpu.close()
 
 
-TINY = {"num_timesteps": 400, "num_envs": 4, "episode_length": 50,
+TINY = {"env": "BipedSand", "num_timesteps": 400, "num_envs": 4, "episode_length": 50,
         "network": {"policy_hidden_layer_sizes": [16, 16], "value_hidden_layer_sizes": [16, 16]},
         "ppo": {"unroll_length": 5, "batch_size": 4, "num_minibatches": 2, "num_updates_per_batch": 1,
                 "num_evals": 2, "num_eval_envs": 4, "normalize_observations": True, "learning_rate": 3e-4}}
@@ -254,27 +256,45 @@ TINY = {"num_timesteps": 400, "num_envs": 4, "episode_length": 50,
 
 @pytest.fixture(scope="module")
 def trained(tmp_path_factory):
+    """The tiny recipe on the biped on sand, as one seed of a several-seed run: the run folder ``seed-0``, its
+    policy evaluated on the CPU env (one episode) and the summary over the seeds."""
     root = tmp_path_factory.mktemp("mjx")
     recipe = root / "tiny.json"
     recipe.write_text(json.dumps(TINY))
-    out = root / "run"
-    assert cli(["train-mjx", "--config", str(recipe), "--out", str(out), "--eval-episodes", "0"]) == 0
-    return out
+    out = root / "runs"
+    assert cli(["train-mjx", "--config", str(recipe), "--out", str(out), "--seeds", "0", "--eval-episodes", "0",
+                "--cpu-episodes", "1"]) == 0
+    return out / "seed-0"
 
 
 def test_recipe_trains_and_writes_pickle_free_files(trained):
-    assert sorted(p.name for p in trained.iterdir()) == ["checkpoints", "policy.json", "policy.npz", "progress.csv"]
+    assert sorted(p.name for p in trained.iterdir()) == ["checkpoints", "evaluation.json", "policy.json", "policy.npz",
+                                                         "progress.csv"]
     meta = json.loads((trained / "policy.json").read_text())
-    assert meta["format"] == mjx_ppo.FORMAT and meta["env_id"] == "mjrft/HexapodSand-v0"
-    assert (meta["env"], meta["env_config"], meta["env_kwargs"]) == ("HexapodSand", {}, {})
-    assert meta["recipe"]["num_timesteps"] == 400 and meta["observation_size"] == 35 and meta["complete"] is True
+    assert meta["format"] == mjx_ppo.FORMAT and meta["env_id"] == "mjrft/BipedSand-v0"
+    assert (meta["env"], meta["env_config"], meta["env_kwargs"]) == ("BipedSand", {}, {})
+    assert meta["recipe"]["num_timesteps"] == 400 and meta["observation_size"] == 21 and meta["complete"] is True
     rows = (trained / "progress.csv").read_text().splitlines()
     assert rows[0].startswith("steps,") and len(rows) == 3 and rows[-1].startswith("400,")
     with np.load(trained / "policy.npz", allow_pickle=False) as z:
         assert all(z[k].dtype != object for k in z.files) and len(z.files) > 6
     policy = mjx_ppo.load_policy(trained)
-    a = policy(np.zeros(35))
-    assert a.shape == (6,) and np.all(np.abs(a) <= 1.0)
+    a = policy(np.zeros(21))
+    assert a.shape == (8,) and np.all(np.abs(a) <= 1.0)
+
+
+def test_the_seeds_summary_holds_the_cpu_cross_check(trained):
+    """``--seeds 0 --cpu-episodes 1``: the policy ran one episode on the CPU env of the same task (mjrft eval), and
+    the summary over the seeds reports it."""
+    row = json.loads((trained / "evaluation.json").read_text())["row"]
+    assert row["cpu_episodes"] == 1 and row["cpu_diverged"] == 0 and math.isfinite(row["cpu_speed"])
+    assert row["eval_episodes"] == 0 and "mjx_speed" not in row
+    summary = json.loads((trained.parent / "seeds.json").read_text())
+    assert (summary["env"], summary["env_id"], summary["seeds"]) == ("BipedSand", "mjrft/BipedSand-v0", [0])
+    assert summary["spread"]["cpu_speed"]["mean"] == row["cpu_speed"] and summary["spread"]["cpu_speed"]["n"] == 1
+    text = (trained.parent / "seeds.txt").read_text()
+    assert "CPU: 1 on the CPU env mjrft/BipedSand-v0" in text
+    assert f"$ mjrft eval --policy {trained} --episodes 1" in text
 
 
 def test_each_evaluation_keeps_its_policy_as_a_run_folder(trained):
@@ -285,17 +305,17 @@ def test_each_evaluation_keeps_its_policy_as_a_run_folder(trained):
     assert first.meta["num_timesteps"] == 0 and first.meta["complete"] is False
     with np.load(folders[-1] / "policy.npz") as a, np.load(trained / "policy.npz") as b:  # the last one is final
         assert a.files == b.files and all(np.array_equal(a[k], b[k]) for k in a.files)
-    obs = np.linspace(-1.0, 1.0, 35)
+    obs = np.linspace(-1.0, 1.0, 21)
     assert not np.allclose(first(obs), last(obs))  # 400 steps of training changed the policy
 
 
 def test_eval_runs_the_policy_on_both_backends(trained, capsys):
     assert cli(["eval", "--policy", str(trained), "--episodes", "1", "--no-progress", "max_episode_steps=20"]) == 0
     cpu_out = capsys.readouterr().out
-    assert "mjrft/HexapodSand-v0" in cpu_out and "fall rate 0%" in cpu_out
+    assert "mjrft/BipedSand-v0" in cpu_out and "1 episode(s)" in cpu_out
     assert cli(["eval", "--policy", str(trained), "--episodes", "2", "--backend", "mjx"]) == 0
     mjx_out = capsys.readouterr().out
-    assert "on the MJX env HexapodSand" in mjx_out and "diverged 0" in mjx_out
+    assert "on the MJX env BipedSand" in mjx_out and "diverged 0" in mjx_out
 
 
 def test_damaged_or_foreign_policy_files_are_named(trained, tmp_path):
