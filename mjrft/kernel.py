@@ -494,19 +494,15 @@ def _kernel(tables, mjd, gravity, dt, st, gr_on):
                      or (gcx - gg[g, 1]) * (gcx - gg[g, 1]) + (gcy - gg[g, 2]) * (gcy - gg[g, 2]) > g_drift2)
             if fresh:
                 gg[g, 0], gg[g, 1], gg[g, 2] = g_clock, gcx, gcy
-                for i in range(e0, e1):
-                    ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
-                    pz = oz + r6 * ax + r7 * ay + r8 * az
-                    px = ox + r0 * ax + r1 * ay + r2 * az
-                    py = oy + r3 * ax + r4 * ay + r5 * az
-                    g_h, g_hx, g_hy, g_f = ground_sample(px, py, g_frame, st.g_cells)
-                    g_el[i, 0], g_el[i, 1], g_el[i, 2], g_el[i, 3], g_el[i, 4] = g_h, g_hx, g_hy, px, py
-                    g_el[i, 5] = (g_f - g_phi0) * g_inv_range
             for i in range(e0, e1):
                 ax, ay, az = e_lpos[i, 0], e_lpos[i, 1], e_lpos[i, 2]
                 pz = oz + r6 * ax + r7 * ay + r8 * az
                 px = ox + r0 * ax + r1 * ay + r2 * az
                 py = oy + r3 * ax + r4 * ay + r5 * az
+                if fresh:  # read the ground where the element is now (in the same pass: its position once)
+                    g_h, g_hx, g_hy, g_f = ground_sample(px, py, g_frame, st.g_cells)
+                    g_el[i, 0], g_el[i, 1], g_el[i, 2], g_el[i, 3], g_el[i, 4] = g_h, g_hx, g_hy, px, py
+                    g_el[i, 5] = (g_f - g_phi0) * g_inv_range
                 g_h = g_el[i, 0] + g_el[i, 1] * (px - g_el[i, 3]) + g_el[i, 2] * (py - g_el[i, 4])
                 if has_hf:
                     depth = surface_height(px, py, surface, hf_z, hf_frame) + g_h - pz

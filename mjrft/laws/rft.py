@@ -72,6 +72,36 @@ def trails(nx, ny, nz, mx, my, mz):
     return nx * mx + ny * my + nz * mz < -TRAIL_DOT
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _batch_stress(nx, ny, nz, mx, my, mz, depth, p0, p1, p2, p3, p4, p5, p6, p7, p8):
+    """The body of the batched law (:func:`rft_stress_batch`, :func:`rft_stress_batch_packed`): the stress on one
+    element with unit normal ``n``, unit motion direction ``m``, depth ``depth`` (clamped at 0) and Li's nine
+    coefficients ``p0``-``p8``, without a branch (:func:`motion_plane` written with selects)."""
+    lw = min(1.0, max(0.0, 0.5 + (nx * mx + ny * my + nz * mz) * (0.5 / LEAD_EPS)))
+    q = min(1.0, (mx * mx + my * my) * INV_PLANE_FADE2)
+    pw = PLANE_EPS * (1.0 - q) * (1.0 - q)  # plane_weight
+    hx = mx + pw * nx
+    hy = my + pw * ny
+    h2 = hx * hx + hy * hy
+    use = h2 > TINY * TINY
+    inv = 1.0 / math.sqrt(h2 if use else 1.0)
+    rx = hx * inv if use else 1.0
+    ry = hy * inv if use else 0.0
+    vr = mx * rx + my * ry
+    ivn = 1.0 / math.sqrt(max(vr * vr + mz * mz, TINY * TINY))
+    cg = vr * ivn
+    sg = -mz * ivn
+    nr = nx * rx + ny * ry
+    w2 = nr * nr + nz * nz
+    iw = 1.0 / max(w2, TINY * TINY)
+    c2 = (nz * nz - nr * nr) * iw
+    s2 = -2.0 * nr * nz * iw
+    az = (p0 + p1 * c2 + p2 * (s2 * cg + c2 * sg) + p3 * sg + p4 * (c2 * sg - s2 * cg))
+    ax = (p5 * (c2 * cg - s2 * sg) + p6 * cg + p7 * (c2 * cg + s2 * sg) + p8 * s2)
+    k = lw * math.sqrt(w2) * max(depth, 0.0) if w2 >= TINY * TINY else 0.0
+    return -ax * rx * k, -ax * ry * k, az * k
+
+
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
 def rft_stress_batch(count, depth, n, m, p, out):
     """:func:`rft_stress` on ``count`` elements at once, branch-free so the compiler vectorises it.
@@ -82,37 +112,9 @@ def rft_stress_batch(count, depth, n, m, p, out):
     About 7x faster per element than the scalar function (measured on a 2-core machine).
     """
     for i in range(count):
-        nx = n[0, i]
-        ny = n[1, i]
-        nz = n[2, i]
-        mx = m[0, i]
-        my = m[1, i]
-        mz = m[2, i]
-        lw = min(1.0, max(0.0, 0.5 + (nx * mx + ny * my + nz * mz) * (0.5 / LEAD_EPS)))
-        q = min(1.0, (mx * mx + my * my) * INV_PLANE_FADE2)
-        pw = PLANE_EPS * (1.0 - q) * (1.0 - q)  # plane_weight
-        hx = mx + pw * nx
-        hy = my + pw * ny
-        h2 = hx * hx + hy * hy
-        use = h2 > TINY * TINY
-        inv = 1.0 / math.sqrt(h2 if use else 1.0)
-        rx = hx * inv if use else 1.0
-        ry = hy * inv if use else 0.0
-        vr = mx * rx + my * ry
-        ivn = 1.0 / math.sqrt(max(vr * vr + mz * mz, TINY * TINY))
-        cg = vr * ivn
-        sg = -mz * ivn
-        nr = nx * rx + ny * ry
-        w2 = nr * nr + nz * nz
-        iw = 1.0 / max(w2, TINY * TINY)
-        c2 = (nz * nz - nr * nr) * iw
-        s2 = -2.0 * nr * nz * iw
-        az = (p[0] + p[1] * c2 + p[2] * (s2 * cg + c2 * sg) + p[3] * sg + p[4] * (c2 * sg - s2 * cg))
-        ax = (p[5] * (c2 * cg - s2 * sg) + p[6] * cg + p[7] * (c2 * cg + s2 * sg) + p[8] * s2)
-        k = lw * math.sqrt(w2) * max(depth[i], 0.0) if w2 >= TINY * TINY else 0.0
-        out[0, i] = -ax * rx * k
-        out[1, i] = -ax * ry * k
-        out[2, i] = az * k
+        out[0, i], out[1, i], out[2, i] = _batch_stress(n[0, i], n[1, i], n[2, i], m[0, i], m[1, i], m[2, i],
+                                                        depth[i], p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7],
+                                                        p[8])
 
 
 @njit(cache=True, error_model="numpy", fastmath={"contract", "arcp", "nsz"})
@@ -124,43 +126,8 @@ def rft_stress_batch_packed(count, depth, n, m, p, dp, t, out):
     :func:`rft_stress_batch` bit for bit."""
     for i in range(count):
         tt = t[i]
-        q0 = p[0] + tt * dp[0]
-        q1 = p[1] + tt * dp[1]
-        q2 = p[2] + tt * dp[2]
-        q3 = p[3] + tt * dp[3]
-        q4 = p[4] + tt * dp[4]
-        q5 = p[5] + tt * dp[5]
-        q6 = p[6] + tt * dp[6]
-        q7 = p[7] + tt * dp[7]
-        q8 = p[8] + tt * dp[8]
-        nx = n[0, i]
-        ny = n[1, i]
-        nz = n[2, i]
-        mx = m[0, i]
-        my = m[1, i]
-        mz = m[2, i]
-        lw = min(1.0, max(0.0, 0.5 + (nx * mx + ny * my + nz * mz) * (0.5 / LEAD_EPS)))
-        q = min(1.0, (mx * mx + my * my) * INV_PLANE_FADE2)
-        pw = PLANE_EPS * (1.0 - q) * (1.0 - q)  # plane_weight
-        hx = mx + pw * nx
-        hy = my + pw * ny
-        h2 = hx * hx + hy * hy
-        use = h2 > TINY * TINY
-        inv = 1.0 / math.sqrt(h2 if use else 1.0)
-        rx = hx * inv if use else 1.0
-        ry = hy * inv if use else 0.0
-        vr = mx * rx + my * ry
-        ivn = 1.0 / math.sqrt(max(vr * vr + mz * mz, TINY * TINY))
-        cg = vr * ivn
-        sg = -mz * ivn
-        nr = nx * rx + ny * ry
-        w2 = nr * nr + nz * nz
-        iw = 1.0 / max(w2, TINY * TINY)
-        c2 = (nz * nz - nr * nr) * iw
-        s2 = -2.0 * nr * nz * iw
-        az = (q0 + q1 * c2 + q2 * (s2 * cg + c2 * sg) + q3 * sg + q4 * (c2 * sg - s2 * cg))
-        ax = (q5 * (c2 * cg - s2 * sg) + q6 * cg + q7 * (c2 * cg + s2 * sg) + q8 * s2)
-        k = lw * math.sqrt(w2) * max(depth[i], 0.0) if w2 >= TINY * TINY else 0.0
-        out[0, i] = -ax * rx * k
-        out[1, i] = -ax * ry * k
-        out[2, i] = az * k
+        out[0, i], out[1, i], out[2, i] = _batch_stress(n[0, i], n[1, i], n[2, i], m[0, i], m[1, i], m[2, i],
+                                                        depth[i], p[0] + tt * dp[0], p[1] + tt * dp[1],
+                                                        p[2] + tt * dp[2], p[3] + tt * dp[3], p[4] + tt * dp[4],
+                                                        p[5] + tt * dp[5], p[6] + tt * dp[6], p[7] + tt * dp[7],
+                                                        p[8] + tt * dp[8])
