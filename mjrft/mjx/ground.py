@@ -38,6 +38,7 @@ from ..types import TerrainModel
 
 _DIRS8 = ((1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1))  # (di, dj), mjrft.ground._ridge
 _DIRS4 = ((1, 0), (-1, 0), (0, 1), (0, -1))  # mjrft.ground.relax_sweep
+TAKE_UNROLLED = 2  # the layers a column reaches deeper by in one take step by step as the CPU does (_take)
 
 
 class GroundState(NamedTuple):
@@ -60,6 +61,20 @@ class GroundState(NamedTuple):
     clock: jax.Array
     since: jax.Array
     stamp: jax.Array
+
+
+def _get(a, *idx):
+    """``a[idx]`` for scalar indices (a dynamic slice: inside the loops a gather or scatter on the grid may copy it)."""
+    k = len(idx)
+    start = tuple(jnp.asarray(v, jnp.int32) for v in idx) + (jnp.int32(0),) * (a.ndim - k)
+    return jax.lax.dynamic_slice(a, start, (1,) * k + a.shape[k:]).reshape(a.shape[k:])
+
+
+def _put(a, value, *idx):
+    """``a`` with ``a[idx] = value`` for scalar indices, in place (a dynamic update slice)."""
+    k = len(idx)
+    start = tuple(jnp.asarray(v, jnp.int32) for v in idx) + (jnp.int32(0),) * (a.ndim - k)
+    return jax.lax.dynamic_update_slice(a, jnp.reshape(jnp.asarray(value, a.dtype), (1,) * k + a.shape[k:]), start)
 
 
 def serial_loop(body, n, aux, carry):
@@ -321,7 +336,7 @@ class Ground:
         relax = nsweep > 0
         nxt = 1 - slot
         count = count.at[1 + nxt].set(jnp.where(relax, 0, count[1 + nxt]))
-        carry = serial_loop(self._relax_body, nsweep, (stepf, sweep, slot), (cells, dirty, count, flags))
+        carry = serial_loop(self._relax_body, 4 * nsweep, (stepf, sweep, slot), (cells, dirty, count, flags))
         cells, dirty, count, flags = carry
         count = count.at[1 + slot].set(jnp.where(relax, 0, count[1 + slot]))
         clock = jnp.stack([step, jnp.where(relax, sweep, clock[1])])
@@ -340,7 +355,18 @@ class Ground:
             col = col + layer
             return col, h, m / (col + h)
 
-        return jax.lax.while_loop(lambda s: s[0] + s[1] < 0.5 * layer, deeper, (col, h, phi))
+        state = (col, h, phi)
+        for _ in range(TAKE_UNROLLED):  # the CPU's steps, one layer each, without a loop (XLA copies the grid at one)
+            more = state[0] + state[1] < 0.5 * layer
+            state = tuple(jnp.where(more, a, b) for a, b in zip(deeper(state), state))
+        # any further layers at once (the same grains; equal to the CPU's steps up to rounding)
+        col, h, phi = state
+        k = jnp.maximum(0.0, jnp.ceil((0.5 * layer - (col + h)) / layer))
+        more = k > 0.0
+        m = phi * (col + h) + k * (phi0 * layer)
+        col_k = col + k * layer
+        return (jnp.where(more, col_k, col), h,
+                jnp.where(more, m / jnp.where(more, col_k + h, 1.0), phi))
 
     @staticmethod
     def _mix_in(col, h, phi, bulk, solid):
@@ -348,17 +374,26 @@ class Ground:
         h = h + bulk
         return h, m / (col + h)
 
-    def _mark(self, cells, dirty, count, j, i, value, slot, when):
-        """:func:`mjrft.ground._mark` where ``when``."""
-        need = when & (cells[j, i, C_MARK] != value)
-        cells = cells.at[j, i, C_MARK].set(jnp.where(need, value, cells[j, i, C_MARK]))
-        at = jnp.where(need, count[1 + slot], self.ncell)
-        dirty = dirty.at[slot, at].set(j * self.nx + i, mode="drop")
-        return cells, dirty, count.at[1 + slot].add(need.astype(jnp.int32))
+    def _write(self, cells, dirty, rows, js, is_, need, at, value, slot):
+        """``cells`` with ``rows[t]`` (m, 8) at cells ``(js[t], is_[t])`` and ``dirty`` with ``value[t]`` at
+        ``(slot, at[t])`` where ``need[t]``, in the order of ``t``: a loop with one update of each array per
+        iteration, which XLA makes in place (several updates of a loop-carried array in one iteration make it copy
+        the whole grid)."""
 
-    @staticmethod
-    def _flag(flags, j, i, when):
-        return flags.at[j >> BLOCK_SHIFT, i >> BLOCK_SHIFT].set(flags[j >> BLOCK_SHIFT, i >> BLOCK_SHIFT] | when)
+        # the barrier keeps XLA from sinking the rows' reads of ``cells`` into the loop (which would then copy it)
+        rows, js, is_, need, at, value = jax.lax.optimization_barrier((rows, js, is_, need, at, value))
+
+        def one(t, c):
+            cells, dirty = c
+            cells = _put(cells, rows[t], js[t], is_[t])
+            p = jnp.minimum(at[t], self.ncell - 1)  # (a list holds each cell once: never clamped)
+            return cells, _put(dirty, jnp.where(need[t], value[t], _get(dirty, slot, p)), slot, p)
+
+        return jax.lax.fori_loop(0, rows.shape[0], one, (cells, dirty))
+
+    def _flags(self, flags, js, is_, when):
+        """The blocks of cells ``(js, is_)`` listed where ``when`` (mjrft.ground._raise_block)."""
+        return flags.at[jnp.where(when, js >> BLOCK_SHIFT, self.nby), is_ >> BLOCK_SHIFT].set(True, mode="drop")
 
     def _touched_body(self, k, live, aux, carry):
         touched, sub, swept, stepf, sweep, slot = aux
@@ -367,19 +402,19 @@ class Ground:
         dtype = cells.dtype
         crit, phi_cp = self.crit, self.phi_cp
         inv_a = 1.0 / (self.frame[2] * self.frame[2])
-        c = touched[k]
+        c = _get(touched, k)
         j, i = c // nx, c % nx
-        row = cells[j, i]
+        row = _get(cells, j, i)
         col, h, phi, pend = row[C_COL], row[C_H], row[C_PHI], row[C_PEND]
         # shear: the grains moved through are left at the critical state
-        f = swept[k] * inv_a / (col + h)
+        f = _get(swept, k) * inv_a / (col + h)
         shear = (f > 0.0) & (phi != crit)
         m = phi * (col + h)
         phi_s = phi + jnp.minimum(f, 1.0) * (crit - phi)
         h = jnp.where(shear, m / phi_s - col, h)
         phi = jnp.where(shear, phi_s, phi)
         # the footprint deepens by dv: compaction of loose grains, then the rest on the rim
-        dv = sub[k] * inv_a - pend
+        dv = _get(sub, k) * inv_a - pend
         deepen = dv > 0.0
         pend = jnp.where(deepen, pend + dv, pend)
         va = jnp.where(deepen & (phi < phi_cp), jnp.minimum(dv, (col + h) * (1.0 - phi / phi_cp)), 0.0)
@@ -391,41 +426,46 @@ class Ground:
         vr = dv - va
         rim = deepen & (vr > 0.0)
         # the ridge (mjrft.ground._ridge): along each of 8 directions the first cell within reach no body is in
-        r = jnp.arange(1, self.ridge + 1)
-        found, rj, ri = [], [], []
-        for di, dj in _DIRS8:
-            ii, jj = i + di * r, j + dj * r
-            inb = (ii >= 0) & (jj >= 0) & (ii < nx) & (jj < ny)
-            free = inb & (cells[jnp.clip(jj, 0, ny - 1), jnp.clip(ii, 0, nx - 1), C_STAMP] != stepf)
-            first = jnp.argmax(free)
-            found.append(jnp.any(free))
-            rj.append(jj[first])
-            ri.append(ii[first])
-        found, rj, ri = jnp.stack(found), jnp.stack(rj), jnp.stack(ri)
+        r = jnp.arange(1, self.ridge + 1, dtype=jnp.int32)
+        dirs = jnp.asarray(_DIRS8, jnp.int32)
+        ii, jj = i + dirs[:, :1] * r[None, :], j + dirs[:, 1:] * r[None, :]  # (8, reach)
+        inb = (ii >= 0) & (jj >= 0) & (ii < nx) & (jj < ny)
+        free = inb & (cells[jnp.clip(jj, 0, ny - 1), jnp.clip(ii, 0, nx - 1), C_STAMP] != stepf)
+        first = jnp.argmax(free, axis=1)
+        found = jnp.any(free, axis=1)
         nfound = jnp.sum(found, dtype=jnp.int32)
         to_rim = live & rim & (nfound > 0)
+        put = to_rim & found  # (8,): the rim cells, in the directions' order
+        rj = jnp.where(put, jnp.take_along_axis(jj, first[:, None], axis=1)[:, 0], j)
+        ri = jnp.where(put, jnp.take_along_axis(ii, first[:, None], axis=1)[:, 0], i)
         share = phi * vr / jnp.maximum(nfound, 1).astype(dtype)
+        rims = cells[rj, ri]  # (8, 8); where no share lands, the touched cell's own row (rewritten below)
+        m_r = rims[:, C_PHI] * (rims[:, C_COL] + rims[:, C_H]) + share
+        h_r = rims[:, C_H] + share / crit
         sweepf = sweep.astype(dtype)
-        for d in range(8):
-            put = to_rim & found[d]
-            jj, ii = jnp.where(put, rj[d], 0), jnp.where(put, ri[d], 0)
-            rr = cells[jj, ii]
-            h2, phi2 = self._mix_in(rr[C_COL], rr[C_H], rr[C_PHI], share / crit, share)
-            cells = cells.at[jj, ii, C_H].set(jnp.where(put, h2, rr[C_H]))
-            cells = cells.at[jj, ii, C_PHI].set(jnp.where(put, phi2, rr[C_PHI]))
-            flags = self._flag(flags, jj, ii, put)
-            cells, dirty, count = self._mark(cells, dirty, count, jj, ii, sweepf, slot, put)
+        need = put & (rims[:, C_MARK] != sweepf)
+        new_rims = rims.at[:, C_H].set(h_r).at[:, C_PHI].set(m_r / (rims[:, C_COL] + h_r))
+        new_rims = jnp.where(put[:, None], new_rims.at[:, C_MARK].set(jnp.where(need, sweepf, rims[:, C_MARK])), rims)
+        at = _get(count, 1 + slot) + jnp.cumsum(need, dtype=jnp.int32) - 1
         col_t, h_t, phi_t = self._take(col, h, phi, jnp.where(to_rim, vr, 0.0))
         col = jnp.where(to_rim, col_t, col)
         h = jnp.where(to_rim, h_t, h)
         phi = jnp.where(to_rim, phi_t, phi)
         pend = jnp.where(rim & ~to_rim, pend - vr, pend)
         new = row.at[C_COL].set(col).at[C_H].set(h).at[C_PHI].set(phi).at[C_PEND].set(pend).at[C_SWEPT].set(0.0)
-        cells = cells.at[j, i].set(jnp.where(live, new, cells[j, i]))
-        flags = self._flag(flags, j, i, live)
+        rows = jnp.concatenate([new_rims, jnp.where(live, new, row)[None]])
+        js, is_ = jnp.concatenate([rj, j[None]]), jnp.concatenate([ri, i[None]])
+        cells, dirty = self._write(cells, dirty, rows, js, is_, jnp.concatenate([need, jnp.zeros(1, bool)]),
+                                   jnp.concatenate([at, jnp.zeros(1, jnp.int32)]), js * nx + is_, slot)
+        count = count + jnp.where(jnp.arange(3) == 1 + slot, jnp.sum(need, dtype=jnp.int32), 0).astype(count.dtype)
+        flags = self._flags(flags, js, is_, jnp.concatenate([put, live[None]]))
         return cells, dirty, count, flags
 
     def _relax_body(self, k, live, aux, carry):
+        """One (listed cell, neighbour) pair of the sweep: ``k = 4 * (the cell's place in the list) + neighbour``, in
+        the CPU's order, each move seeing the ones before. The pair is read and written as the 2 x 2 cells around it
+        and its two marks as two places of the list: one read and one update of each array per pair, which XLA
+        makes in place (it copies a loop-carried grid updated twice in an iteration, or in a nested loop)."""
         stepf, sweep, slot = aux
         cells, dirty, count, flags = carry
         nx, ny = self.nx, self.ny
@@ -434,36 +474,48 @@ class Ground:
         base = jnp.asarray(self.base, dtype)
         nxt = 1 - slot
         mark = (sweep + 1).astype(dtype)
-        c = dirty[slot, k]
+        c = _get(dirty, slot, k // 4)
         j, i = c // nx, c % nx
-        live = live & (cells[j, i, C_STAMP] != stepf)
-        for di, dj in _DIRS4:
-            ii, jj = i + di, j + dj
-            ok = live & (ii >= 0) & (jj >= 0) & (ii < nx) & (jj < ny)
-            ii, jj = jnp.clip(ii, 0, nx - 1), jnp.clip(jj, 0, ny - 1)
-            ok = ok & (cells[jj, ii, C_STAMP] != stepf)
-            hc = base[j, i] + cells[j, i, C_H]
-            hn = base[jj, ii] + cells[jj, ii, C_H]
-            high = hc >= hn
-            jh, ih = jnp.where(high, j, jj), jnp.where(high, i, ii)
-            jl, il = jnp.where(high, jj, j), jnp.where(high, ii, i)
-            drop = jnp.where(high, hc - hn, hn - hc)
-            rh = cells[jh, ih]
-            s = jnp.minimum(1.0, jnp.maximum(0.0, (rh[C_PHI] - self.phi_lp) * self.inv_range))
-            excess = drop - cell * (self.tan_lp + s * (self.tan_cp - self.tan_lp))
-            move = ok & (excess > RELAX_TOL * cell)
-            q = jnp.where(move, 0.5 * RELAX * excess, 0.0)
-            solid = rh[C_PHI] * q
-            col_h, h_h, phi_h = self._take(rh[C_COL], rh[C_H], rh[C_PHI], q)
-            cells = cells.at[jh, ih].set(jnp.where(move, rh.at[C_COL].set(col_h).at[C_H].set(h_h).at[C_PHI].set(phi_h),
-                                                   rh))
-            flags = self._flag(flags, jh, ih, move)
-            rl = cells[jl, il]
-            h_l, phi_l = self._mix_in(rl[C_COL], rl[C_H], rl[C_PHI], q, solid)
-            cells = cells.at[jl, il].set(jnp.where(move, rl.at[C_H].set(h_l).at[C_PHI].set(phi_l), rl))
-            flags = self._flag(flags, jl, il, move)
-            cells, dirty, count = self._mark(cells, dirty, count, jh, ih, mark, nxt, move)
-            cells, dirty, count = self._mark(cells, dirty, count, jl, il, mark, nxt, move)
+        d = k % 4
+        dirs = jnp.asarray(_DIRS4, jnp.int32)
+        ii, jj = i + dirs[d, 0], j + dirs[d, 1]
+        ok = live & (ii >= 0) & (jj >= 0) & (ii < nx) & (jj < ny)
+        ii, jj = jnp.clip(ii, 0, nx - 1), jnp.clip(jj, 0, ny - 1)
+        wj = jnp.clip(jnp.minimum(j, jj), 0, ny - 2)
+        wi = jnp.clip(jnp.minimum(i, ii), 0, nx - 2)
+        win = jax.lax.dynamic_slice(cells, (wj, wi, jnp.int32(0)), (2, 2, N_FIELDS))
+        rc, rn = win[j - wj, i - wi], win[jj - wj, ii - wi]
+        ok = ok & (rc[C_STAMP] != stepf) & (rn[C_STAMP] != stepf)
+        hc = _get(base, j, i) + rc[C_H]
+        hn = _get(base, jj, ii) + rn[C_H]
+        high = hc >= hn
+        rh, rl = jnp.where(high, rc, rn), jnp.where(high, rn, rc)
+        jh, ih = jnp.where(high, j, jj), jnp.where(high, i, ii)
+        jl, il = jnp.where(high, jj, j), jnp.where(high, ii, i)
+        drop = jnp.where(high, hc - hn, hn - hc)
+        s = jnp.minimum(1.0, jnp.maximum(0.0, (rh[C_PHI] - self.phi_lp) * self.inv_range))
+        excess = drop - cell * (self.tan_lp + s * (self.tan_cp - self.tan_lp))
+        move = ok & (excess > RELAX_TOL * cell)
+        q = jnp.where(move, 0.5 * RELAX * excess, 0.0)
+        solid = rh[C_PHI] * q
+        col_h, h_h, phi_h = self._take(rh[C_COL], rh[C_H], rh[C_PHI], q)
+        h_l, phi_l = self._mix_in(rl[C_COL], rl[C_H], rl[C_PHI], q, solid)
+        old = jnp.stack([rh, rl])
+        need = move & (old[:, C_MARK] != mark)  # both listed for the next sweep, the high one first
+        new = jnp.stack([rh.at[C_COL].set(col_h).at[C_H].set(h_h).at[C_PHI].set(phi_h),
+                         rl.at[C_H].set(h_l).at[C_PHI].set(phi_l)])
+        rows = jnp.where(move, new.at[:, C_MARK].set(jnp.where(need, mark, old[:, C_MARK])), old)
+        js, is_ = jnp.stack([jh, jl]), jnp.stack([ih, il])
+        win = win.at[jh - wj, ih - wi].set(rows[0]).at[jl - wj, il - wi].set(rows[1])
+        cells = jax.lax.dynamic_update_slice(cells, win, (wj, wi, jnp.int32(0)))
+        at = jnp.minimum(_get(count, 1 + nxt), self.ncell - 2)  # (a list holds each cell once: never clamped)
+        two = jax.lax.dynamic_slice(dirty, (nxt, at), (1, 2))[0]
+        flat = js * nx + is_
+        two = jnp.where(need[0], jnp.where(need[1], flat, jnp.stack([flat[0], two[1]])),
+                        jnp.where(need[1], jnp.stack([flat[1], two[1]]), two))
+        dirty = jax.lax.dynamic_update_slice(dirty, two[None], (nxt, at))
+        count = count + jnp.where(jnp.arange(3) == 1 + nxt, jnp.sum(need, dtype=jnp.int32), 0).astype(count.dtype)
+        flags = self._flags(flags, js, is_, jnp.stack([move, move]))
         return cells, dirty, count, flags
 
     # ------------------------------------------------------------------ accounting
