@@ -15,8 +15,11 @@ numba kernel does (:func:`mjrft.kernel.terrain_kernel_ground` and :func:`mjrft.g
   swept volumes (vectorised over elements), then the footprints' compaction and ridges, the cells the bodies left
   and one Gauss-Seidel relaxation sweep in the CPU's order: the sweeps move grains between neighbours one listed
   cell after the other, each move reading the heights the moves before it left, so they run as ``lax`` loops over
-  the touched cells and the listed cells (the few tens to hundreds a step lists, not the grid). The result equals
-  the numba kernel's to rounding (``tests/mjrft/mjx/test_mjx_ground.py``).
+  the touched cells and the listed (cell, neighbour) pairs (the few tens to hundreds of cells an update lists, not
+  the grid), each iteration reading and updating the grid once, which XLA does in place. A column that reaches more
+  than :data:`TAKE_UNROLLED` layers deeper in one take gets the further layers at once (the CPU adds them one by one:
+  the same grains, equal to rounding). The result equals the numba kernel's to rounding
+  (``tests/mjrft/mjx/test_mjx_ground.py``).
 
 Under ``jax.vmap`` a loop whose trip count differs between worlds would select the whole carry (every world's grid)
 on each iteration; :func:`serial_loop` instead runs the longest world's count with each iteration's writes masked
