@@ -52,7 +52,7 @@ class GroundState(NamedTuple):
     indices of the cells a body was in at the last update (row 0) and at this one (row 1); ``dirty`` (2, cells) the
     relaxation sweeps' lists; ``count`` (3,) their lengths (held, dirty 0, dirty 1); ``clock`` (2,) (updates, sweeps);
     ``since`` the simulated time since the last update (s); ``stamp`` (nby, nbx) the last update that changed each
-    block of 4 x 4 cells."""
+    block of 4 x 4 cells; ``bed`` (8,) the record of a cell of the prepared bed (what :func:`reset` restores)."""
 
     cells: jax.Array
     elem: jax.Array
@@ -64,6 +64,15 @@ class GroundState(NamedTuple):
     clock: jax.Array
     since: jax.Array
     stamp: jax.Array
+    bed: jax.Array
+
+
+def reset(g: GroundState) -> GroundState:
+    """``g`` back at the prepared bed (one world's state or a batch): every cell the record ``g.bed``, no reading, no
+    list, the clocks at 0 (:meth:`mjrft.types.TerrainState.forget`)."""
+    zero = jax.tree_util.tree_map(jnp.zeros_like, g)
+    return zero._replace(cells=jnp.broadcast_to(g.bed[..., None, None, :], g.cells.shape),
+                         group=jnp.full_like(g.group, -1.0), bed=g.bed)
 
 
 def _get(a, *idx):
@@ -155,17 +164,13 @@ class Ground:
         cells = jnp.zeros((self.ny, self.nx, N_FIELDS), dtype)
         cells = cells.at[:, :, C_PHI].set(self.phi0).at[:, :, C_COL].set(self.layer)
         n = max(1, self.n)
+        bed = jnp.zeros(N_FIELDS, dtype).at[C_PHI].set(self.phi0).at[C_COL].set(self.layer)
         return GroundState(cells=cells, elem=jnp.zeros((self.n, 6), dtype),
                            group=jnp.full((self.n_groups, 3), -1.0, dtype),
                            active=jnp.zeros(self.n_groups, bool), held=jnp.zeros((2, n), jnp.int32),
                            dirty=jnp.zeros((2, self.ncell), jnp.int32), count=jnp.zeros(3, jnp.int32),
                            clock=jnp.zeros(2, jnp.int32), since=jnp.zeros((), dtype),
-                           stamp=jnp.zeros((self.nby, self.nbx), jnp.int32))
-
-    def reset(self, g: GroundState) -> GroundState:
-        """``g`` back at the prepared bed (its dtype kept)."""
-        fresh = self.init(g.cells.dtype)
-        return jax.tree_util.tree_map(lambda f, s: jnp.broadcast_to(f, s.shape).astype(s.dtype), fresh, g)
+                           stamp=jnp.zeros((self.nby, self.nbx), jnp.int32), bed=bed)
 
     # ------------------------------------------------------------------ readers
     def sample(self, cells, x, y, field: int, add_base: bool):

@@ -93,6 +93,7 @@ from ..types import TerrainModel
 from .forces import Features, region_force
 from ..ground import C_H, C_PHI
 from .ground import Ground, GroundState
+from .ground import reset as reset_ground
 from . import guards as _guards
 from .guards import Guards, k6, mobilities, monomials
 from .integrator import integrate
@@ -333,11 +334,12 @@ class Sand:
                          bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.zeros((), jnp.asarray(0.0).dtype),
                          **extra)
 
-    def reset(self, state: SandState) -> SandState:
+    @staticmethod
+    def reset(state: SandState) -> SandState:
         """``state`` with its memory forgotten, its ground memory back at the prepared bed and its bad-state and
         guards' records cleared (the medium kept)."""
         if state.ground is not None:
-            state = state._replace(ground=self.ground.reset(state.ground))
+            state = state._replace(ground=reset_ground(state.ground))
         state = state._replace(u=jnp.zeros_like(state.u), wrench=jnp.zeros_like(state.wrench),
                                sinkage=jnp.zeros_like(state.sinkage), bad_body=jnp.full_like(state.bad_body, -1),
                                bad_time=jnp.zeros_like(state.bad_time))

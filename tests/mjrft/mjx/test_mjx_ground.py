@@ -134,7 +134,7 @@ def test_the_ground_and_the_wrench_equal_the_kernels_under_vmap(runs, replayed):
 
 def test_the_grains_are_conserved(runs, replayed):
     """The grains' solid volume is conserved to rounding while the bulk volume changed with the packing; control: the
-    same check rejects the ground with one ridge's grains removed."""
+    same check rejects the ground with one ridge's grains removed. A reset restores the prepared bed."""
     sand, (state, _) = replayed
     with jax.enable_x64(True):
         solid0 = float(sand.ground.volumes(sand.ground.init())[0])
@@ -147,6 +147,9 @@ def test_the_grains_are_conserved(runs, replayed):
             ridge = np.unravel_index(np.argmax(state.ground.cells[k][..., C_H]), state.ground.cells[k].shape[:2])
             lost = g._replace(cells=g.cells.at[ridge + (C_H,)].set(0.0))
             assert abs(float(sand.ground.volumes(lost)[0]) - solid0) > 1e-7 * solid0
+            # Sand.reset restores the prepared bed
+            fresh = rmjx.Sand.reset(jax.tree_util.tree_map(lambda a: jnp.asarray(a[k]), state)).ground
+            assert all(np.array_equal(a, b) for a, b in zip(fresh, sand.init().ground))
 
 
 def test_float32_follows_and_the_wrong_physics_is_rejected(runs, replayed):
