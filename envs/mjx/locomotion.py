@@ -293,7 +293,8 @@ class LocomotionEnv(MjxEnv):
         kwargs["healthy_z_range"] = tuple(kwargs["healthy_z_range"])
         if ground == "sand":
             t = config.terrain
-            kwargs.update(medium=t.medium, law=t.law, resolution=t.resolution, ground_memory=t.ground_memory)
+            kwargs.update(medium=t.medium, law=t.law, resolution=t.resolution,
+                          ground_memory=t.get("ground_memory", False))  # (a configuration saved without the key)
             r = config.randomization.to_dict()
             drawn = TerrainRandomization(**r)  # checked here, once for both backends
             plain = TerrainRandomization()
