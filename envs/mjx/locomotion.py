@@ -25,8 +25,10 @@ key                            meaning (the gymnasium env's keyword argument)
                                humanoid's ``task``, ``foot_length``, ``foot_width``, ``foot_cutout``)
 ``model``                      further keyword arguments of the robot's MJCF generator (empty; add keys to a
                                default configuration before ``load``)
-``terrain`` (sand)             ``medium``, ``law``, ``resolution`` (None: the model's own) and ``cull``
-                               (:class:`mjrft.mjx.Sand`)
+``terrain`` (sand)             ``medium``, ``law``, ``resolution`` (None: the model's own), ``cull``
+                               (:class:`mjrft.mjx.Sand`) and ``ground_memory`` (the gymnasium env's: the ground
+                               remembers footprints, ridges and packing per world, :mod:`mjrft.mjx.ground`; reset
+                               with each episode; not with ``randomization``)
 ``randomization`` (sand)       the gymnasium env's ``terrain_randomization`` (the fields of
                                :class:`~mjrft.envs.randomization.TerrainRandomization`, which checks them):
                                ``media`` (a list; empty: the terrain's own), ``stress_scale``, ``surface_height``,
@@ -183,8 +185,14 @@ class LocomotionEnv(MjxEnv):
             extra = {} if n_strips == 0 else {
                 "regions": [Region(UNUSED_STRIP_X + gap * k, r.media[0], law) for k in range(n_strips)]}
             #: the JAX terrain (:class:`mjrft.mjx.Sand`), built on the model before it goes to the device
+            memory = cpu.terrain.terrain_model.settings.ground  # the ground memory's options (None: off)
+            if r is not None and memory is not None:
+                raise NotImplementedError("terrain.ground_memory with randomization: a world's ground memory keeps "
+                                          "the packing rows of the terrain's own medium; draw the terrain in the "
+                                          "gymnasium env or leave randomization at its defaults")
             self.sand = Sand(model, st.medium, st.law, resolution=st.resolution,
-                             resolution_scale=st.resolution_scale, cull=cull, **extra)
+                             resolution_scale=st.resolution_scale, cull=cull,
+                             ground_memory=memory if memory is not None else False, **extra)
             bottom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "bed_bottom")
             if bottom >= 0:
                 model.geom_contype[bottom] = 0
@@ -262,7 +270,7 @@ class LocomotionEnv(MjxEnv):
             model=config_dict.create(),
             impl="jax")
         if sand:
-            cfg.terrain = config_dict.create(medium=None, law=None, resolution=None, cull=None)
+            cfg.terrain = config_dict.create(medium=None, law=None, resolution=None, cull=None, ground_memory=False)
             cfg.randomization = config_dict.create(**{f.name: f.default for f in fields(TerrainRandomization)})
         return cfg
 
@@ -285,7 +293,8 @@ class LocomotionEnv(MjxEnv):
         kwargs["healthy_z_range"] = tuple(kwargs["healthy_z_range"])
         if ground == "sand":
             t = config.terrain
-            kwargs.update(medium=t.medium, law=t.law, resolution=t.resolution)
+            kwargs.update(medium=t.medium, law=t.law, resolution=t.resolution,
+                          ground_memory=t.get("ground_memory", False))  # (a configuration saved without the key)
             r = config.randomization.to_dict()
             drawn = TerrainRandomization(**r)  # checked here, once for both backends
             plain = TerrainRandomization()

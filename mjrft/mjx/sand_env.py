@@ -132,6 +132,10 @@ class SandEnv:
         kwargs.setdefault("implicit", True)
         self.env = env
         self.sand = Sand(model, medium, law, cull=cull, **kwargs)  # removes the floor's contacts from the MjModel
+        if self.sand.ground is not None:
+            raise NotImplementedError("on_sand carries the terrain's state in data.userdata, which does not hold the "
+                                      "ground memory (ground_memory=True): step mjrft.mjx.Sand with its SandState, "
+                                      "or use mjrft's MJX environments (terrain.ground_memory)")
         env._mjx_model = self.sand.put_model()  # ... then to the device
         self.floor = self.sand.terrain_model.settings.floor
         own = self.sand.terrain_model.settings.medium
@@ -148,7 +152,8 @@ class SandEnv:
         self._sensors = self._floor_sensors(model)
         # the terrain state's layout in data.userdata, after the model's own values: each field of a fresh state
         self._base = int(model.nuserdata)
-        self._layout = tuple((k, np.shape(v), np.asarray(v).dtype) for k, v in self.sand.init()._asdict().items())
+        self._layout = tuple((k, np.shape(v), np.asarray(v).dtype) for k, v in self.sand.init()._asdict().items()
+                             if v is not None)
         self._tail = sum(int(np.prod(s)) for _, s, _ in self._layout)
         self._steps = 0  # mjx.step calls seen while the last reset / step was traced
 

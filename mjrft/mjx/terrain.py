@@ -43,6 +43,13 @@ region), the surface (``state.surface``: a height, or the height field's samples
 (``state.bounds``), drawn per episode by an environment (:meth:`init`). The buoyancy's gravity is the model's at
 construction.
 
+Ground memory (a terrain built with ``ground_memory``; :mod:`mjrft.ground`, docs/terrain.md "Ground memory"): on the
+direct pass, ``state.ground`` (:class:`mjrft.mjx.ground.GroundState`) holds each world's height map and packing, which
+the elements read (their depth and parameter row) and every step updates as the numba kernel does
+(:mod:`mjrft.mjx.ground`; ``tests/mjrft/mjx/test_mjx_ground.py`` compares them); :meth:`Sand.ground_height` and
+:meth:`Sand.ground_packing` read it; :meth:`Sand.reset` restores the prepared bed. A terrain without it traces none of
+it.
+
 Culling: the CPU kernel skips elements above the surface in groups; here every element's position is
 computed each step (a few multiply-adds), and the rest (velocity, memory, law) runs on all elements
 with the ones above the surface masked. ``cull=K`` instead gathers at most ``K`` elements below the surface
@@ -84,6 +91,9 @@ from ..laws.registry import parameter_vector
 from ..media import get_medium
 from ..types import TerrainModel
 from .forces import Features, region_force
+from ..ground import C_H, C_PHI
+from .ground import Ground, GroundState
+from .ground import reset as reset_ground
 from . import guards as _guards
 from .guards import Guards, k6, mobilities, monomials
 from .integrator import integrate
@@ -120,7 +130,10 @@ class SandState(NamedTuple):
     :data:`mjrft.mjx.guards.GUARDS` (springs, depth_stiffness, chatter, depth_range, speed_range):
     ``guard_count`` (5,) the steps on which it fired, ``guard_body`` (5,) the first body (-1: never),
     ``guard_time`` (5,) the time then, ``guard_value`` (5, 2) its worst step
-    (:data:`~mjrft.mjx.guards.VALUE_COLUMNS`)."""
+    (:data:`~mjrft.mjx.guards.VALUE_COLUMNS`).
+
+    ``ground``: the ground memory (:class:`mjrft.mjx.ground.GroundState`) of a terrain built with
+    ``ground_memory``, else None."""
 
     u: jax.Array
     params: jax.Array
@@ -138,6 +151,7 @@ class SandState(NamedTuple):
     guard_body: jax.Array | None = None
     guard_time: jax.Array | None = None
     guard_value: jax.Array | None = None
+    ground: GroundState | None = None
 
 
 class _Pass(NamedTuple):
@@ -156,6 +170,7 @@ class _Pass(NamedTuple):
     stiff: jax.Array | None
     dstiff: jax.Array | None
     extremes: tuple | None
+    ground: GroundState | None = None
 
 
 class Sand:
@@ -203,9 +218,6 @@ class Sand:
         return self
 
     def _init_from(self, model: mujoco.MjModel, tm: TerrainModel, cull, guards: bool = True) -> None:
-        if tm.ground.on:
-            raise NotImplementedError("mjrft.mjx does not model the ground memory (ground_memory=True, mjrft.ground); "
-                                      "step a terrain with one on the CPU path (mjrft.GranularTerrain)")
         if int(tm.elements.body_root.shape[0]) != model.nbody:
             raise ValueError(f"terrain_model was built on a model with {tm.elements.body_root.shape[0]} bodies, not "
                              f"this one ({model.nbody})")
@@ -218,6 +230,19 @@ class Sand:
         self.general = bool(rg.law.shape[0] > 1 or self.law not in _DIRECT or cs0.inertial or cs0.solid > 0.0
                             or water_depth(rg.params) > 0.0 or np.any(rg.rho > 0.0) or sf.hfield_z.size > 0)
         self._stress = None if self.general else law_function(self.law)
+        #: the ground memory (:class:`mjrft.mjx.ground.Ground`; None without ``ground_memory``)
+        self.ground = None
+        if tm.ground.on:
+            if self.general:
+                raise NotImplementedError(
+                    "mjrft.mjx models the ground memory (ground_memory=True) on a terrain of one dry region of rft, "
+                    "rft3d or depth_only on a flat surface (the direct pass); this terrain takes the general pass "
+                    "(regions, water, buoyancy, the inertial regime, solidify or a height field): step it on the CPU "
+                    "path (mjrft.GranularTerrain)")
+            if cull is not None:
+                raise NotImplementedError("cull is not available with the ground memory (ground_memory=True): "
+                                          "pass cull=None")
+            self.ground = Ground(tm)
         self.reg_law = np.asarray(rg.law, dtype=np.int32)
         self.reg_rho = np.array(rg.rho, dtype=np.float64)
         self.reg_map = np.asarray(rg.map)
@@ -299,6 +324,11 @@ class Sand:
             raise ValueError(f"bounds must hold the terrain's {self.bounds.size} strips' x_min, got shape "
                              f"{jnp.shape(b)}")
         extra = {} if self.guards is None else self.guards.init_fields()
+        if self.ground is not None:
+            if params is not None:
+                raise ValueError("a terrain with a ground memory keeps its medium's packing rows (mjrft.ground): "
+                                 "init(params=...) is not available with ground_memory; build the Sand on the medium")
+            extra["ground"] = self.ground.init()
         return SandState(u=jnp.zeros((self.n_elements, 3)), params=jnp.asarray(p), surface=jnp.asarray(z),
                          bounds=jnp.asarray(b), wrench=jnp.zeros((self.nbody, 6)), sinkage=jnp.zeros(self.nbody),
                          bad_body=jnp.array(-1, dtype=jnp.int32), bad_time=jnp.zeros((), jnp.asarray(0.0).dtype),
@@ -306,7 +336,10 @@ class Sand:
 
     @staticmethod
     def reset(state: SandState) -> SandState:
-        """``state`` with its memory forgotten and its bad-state and guards' records cleared (the medium kept)."""
+        """``state`` with its memory forgotten, its ground memory back at the prepared bed and its bad-state and
+        guards' records cleared (the medium kept)."""
+        if state.ground is not None:
+            state = state._replace(ground=reset_ground(state.ground))
         state = state._replace(u=jnp.zeros_like(state.u), wrench=jnp.zeros_like(state.wrench),
                                sinkage=jnp.zeros_like(state.sinkage), bad_body=jnp.full_like(state.bad_body, -1),
                                bad_time=jnp.zeros_like(state.bad_time))
@@ -329,6 +362,31 @@ class Sand:
         p = parameter_vector(get_medium(medium))
         p[STRESS_SLOTS] *= check_positive("stress_scale", stress_scale)
         return p
+
+    def ground_height(self, state: SandState, x, y) -> jax.Array:
+        """Height (m) of the grains' surface at world ``(x, y)`` (arrays broadcast) in one world's ``state``: the
+        undisturbed surface plus the ground memory's footprints, ridges and packing change, bilinear between the cell
+        centres (:meth:`mjrft.GranularTerrain.ground_height`); without a ground memory the sand surface. Inside
+        ``jit``; ``jax.vmap`` it over a batch of states."""
+        dtype = jnp.asarray(state.u).dtype
+        x, y = jnp.broadcast_arrays(jnp.asarray(x, dtype), jnp.asarray(y, dtype))
+        if state.ground is not None:
+            return self.ground.sample(state.ground.cells, x, y, C_H, True) + (
+                jnp.asarray(state.surface, dtype) - self.surface)
+        if self.hfield:
+            return surface_height(x, y, 0.0, jnp.asarray(state.surface, dtype), self.hf_frame)
+        return jnp.broadcast_to(jnp.asarray(state.surface, dtype), x.shape)
+
+    def ground_packing(self, state: SandState, x, y) -> jax.Array:
+        """Volume fraction of the grains at world ``(x, y)`` (arrays broadcast) in one world's ``state``, bilinear
+        between the ground memory's cell centres (:meth:`mjrft.GranularTerrain.ground_packing`); without a ground
+        memory the medium's prepared volume fraction (NaN when the medium has none)."""
+        dtype = jnp.asarray(state.u).dtype
+        x, y = jnp.broadcast_arrays(jnp.asarray(x, dtype), jnp.asarray(y, dtype))
+        if state.ground is not None:
+            return self.ground.sample(state.ground.cells, x, y, C_PHI, False)
+        vf = self.terrain_model.settings.medium.volume_fraction
+        return jnp.full(x.shape, jnp.nan if vf is None else float(vf), dtype)
 
     # ------------------------------------------------------------------ physics
     def element_kinematics(self, d):
@@ -437,7 +495,7 @@ class Sand:
         needs the model's dynamics, which :meth:`step` runs. The guards that need no dynamics (chatter, the
         ranges) are advanced; the stability limits need the model's mass matrix, which :meth:`step` has."""
         ev = self._evaluate(d, state, dt, implicit=False)
-        w, state = self._finish(d, state, ev.w, ev.u, ev.sink, ev.body_bad, ev.over)
+        w, state = self._finish(d, state, ev.w, ev.u, ev.sink, ev.body_bad, ev.over, ev.ground)
         return w, self._guard(d, state, ev, dt)
 
     def _evaluate(self, d, state: SandState, dt, implicit: bool) -> _Pass:
@@ -452,7 +510,12 @@ class Sand:
         area = jnp.asarray(self.area, dtype)
         onehot = jnp.asarray(self.onehot, dtype)
         params = state.params.astype(dtype)
-        if self.hfield:
+        ground = None
+        if self.ground is not None:  # the grains' surface and packing as the ground memory holds them
+            depth, t, ground = self.ground.read(state.ground, d.geom_xpos, d.geom_xmat, pos,
+                                                state.surface.astype(dtype))
+            params = params[None, :] + t[:, None] * jnp.asarray(self.ground.dparams[0], dtype)[None, :]
+        elif self.hfield:
             depth = surface_height(pos[:, 0], pos[:, 1], 0.0, state.surface.astype(dtype), self.hf_frame) - pos[:, 2]
         else:
             depth = state.surface.astype(dtype) - pos[:, 2]
@@ -484,6 +547,8 @@ class Sand:
         if ok is not None:
             elem_bad = elem_bad | ~ok
         body_bad = jnp.matmul(onehot, elem_bad.astype(w.dtype), precision=HIGHEST) > 0.0
+        if ground is not None:  # the footprints, ridges, packing and slopes, once per period (not in a bad world)
+            ground = self.ground.update(ground, pos, vel, nrm, depth, u, area, dt, ~jnp.any(elem_bad))
         sink = jnp.max(jnp.where(onehot > 0.0, jnp.maximum(depth, 0.0)[None, :], 0.0), axis=1)
         moments = None
         if implicit:  # with the inertial regime its dampers join the springs in G (mjrft.implicit_step)
@@ -496,7 +561,7 @@ class Sand:
             stiff, dstiff = _guards.rotate_moments(local, d.xmat[self.imp_rows][None])  # (nb, 10) each, world frame
             extremes = _guards.buried_extremes(sink, jnp.where(buried, jnp.sum(vel * vel, axis=-1), 0.0),
                                                self.moment_table, self.imp_rows)
-        return _Pass(w, u, sink, body_bad, over, moments, stiff, dstiff, extremes)
+        return _Pass(w, u, sink, body_bad, over, moments, stiff, dstiff, extremes, ground)
 
     def _guard(self, d, state: SandState, ev: _Pass, dt, w6=None) -> SandState:
         """``state`` with the guards advanced by the step whose element pass is ``ev`` (the applied wrench in
@@ -523,7 +588,7 @@ class Sand:
         return jac, jnp.matmul(minv, jac.T, precision=HIGHEST)
 
     @staticmethod
-    def _finish(d, state: SandState, w, u, sink, body_bad, over) -> tuple[jax.Array, SandState]:
+    def _finish(d, state: SandState, w, u, sink, body_bad, over, ground=None) -> tuple[jax.Array, SandState]:
         """The wrench and the new state from an evaluation: a world with a non-finite body (or more than ``cull``
         buried elements) gets a zero wrench and keeps its memory, and the first such body (or ``OVERFLOW``) and
         the time are recorded unless an earlier one is."""
@@ -533,6 +598,8 @@ class Sand:
         u = jnp.where(bad, state.u, u)
         new_bad = jnp.where(state.bad_body != -1, state.bad_body, jnp.where(bad, first, -1)).astype(jnp.int32)
         new_time = jnp.where((state.bad_body == -1) & bad, d.time, state.bad_time)
+        if ground is not None:
+            state = state._replace(ground=ground)
         return w, state._replace(u=u, wrench=w, sinkage=jnp.where(bad, 0.0, sink), bad_body=new_bad,
                                  bad_time=new_time.astype(state.bad_time.dtype))
 
@@ -569,7 +636,7 @@ class Sand:
         d = mjx.sensor_vel(m, d)
         if not self.implicit:
             ev = self._evaluate(d, state, dt, implicit=False)
-            w, state = self._finish(d, state, ev.w, ev.u, ev.sink, ev.body_bad, ev.over)
+            w, state = self._finish(d, state, ev.w, ev.u, ev.sink, ev.body_bad, ev.over, ev.ground)
             if self.guards is not None:
                 jac, minv_jt = self.mobility(m, d)
                 state = self._guard(d, state, ev, dt, mobilities(jac, minv_jt, self.imp_rows.size))
@@ -664,7 +731,7 @@ class Sand:
         imp_bad = jnp.matmul(place, rows_bad.astype(ev.w.dtype), precision=HIGHEST) > 0.0
         body_bad = jnp.where(jnp.any(ev.body_bad), ev.body_bad, imp_bad)  # the explicit failure first, as on the CPU
         w = jnp.matmul(place, jnp.where(rows_bad[:, None], 0.0, f_new), precision=HIGHEST)
-        w, state = self._finish(d, state, w, ev.u, ev.sink, body_bad, ev.over)
+        w, state = self._finish(d, state, w, ev.u, ev.sink, body_bad, ev.over, ev.ground)
         if self.guards is not None:
             state = self._guard(d, state, ev, dt, mobilities(jac, minv_jt, self.imp_rows.size))
         f_flat = w[self.imp_rows].reshape(-1)  # zero where the world went bad

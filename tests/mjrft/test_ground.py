@@ -247,14 +247,17 @@ def test_packing_pairs_and_bad_settings():
 
 
 
-def test_the_jax_path_refuses_the_ground_memory():
+def test_the_jax_path_takes_the_ground_memory_on_the_direct_pass_only():
     pytest.importorskip("jax")
     from mjrft.mjx import Sand
 
     m = mujoco.MjModel.from_xml_string(FOOT.format(hx=0.02, hy=0.02, hz=0.005))
-    with pytest.raises(NotImplementedError, match="ground memory"):
-        Sand.from_model(m, GranularTerrain(m, "poppy_cp", ground_memory=True).terrain_model)
-    assert Sand.from_model(m, GranularTerrain(m, "poppy_cp").terrain_model).law == "rft"
+    assert Sand.from_model(m, GranularTerrain(m, "poppy_cp", ground_memory=True).terrain_model).ground is not None
+    assert Sand.from_model(m, GranularTerrain(m, "poppy_cp").terrain_model).ground is None
+    with pytest.raises(NotImplementedError, match="ground memory"):  # the general pass (here the inertial regime)
+        Sand.from_model(m, GranularTerrain(m, "poppy_cp", inertial=True, ground_memory=True).terrain_model)
+    with pytest.raises(NotImplementedError, match="cull"):
+        Sand.from_model(m, GranularTerrain(m, "poppy_cp", ground_memory=True).terrain_model, cull=10)
 
 
 def test_envs_pass_the_keyword_through():
