@@ -210,9 +210,21 @@ def train_seeds(cfg: dict, out, seeds, *, eval_episodes: int = 8, cpu_episodes: 
     return summary
 
 
+def _strict(value):
+    """``value`` with every non-finite float (a spread of one seed, a task without a CPU env) as None, so that the
+    file is strict JSON, which every JSON reader takes."""
+    if isinstance(value, dict):
+        return {k: _strict(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_strict(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
 def _write_json(path: Path, data) -> None:
     tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(data, indent=2) + "\n")
+    tmp.write_text(json.dumps(_strict(data), indent=2, allow_nan=False) + "\n")
     os.replace(tmp, path)
 
 
