@@ -15,6 +15,15 @@ memory (:mod:`mjrft.ground`, ``ground_memory=True``); their control is the same 
     disturbed ground rise with frequency (the mechanism), the fig. 7 transition near 6 Hz (full runs), the 12 Hz
     speed within 50 % of the experiment's 50 cm/s (the scale; as ``dynaroach_robot``), stride falling then rising.
 
+``li2013_robot_memory``
+    The RHex-class robot of ``li2013_robot`` (C-legs, held in the sagittal plane as Li's simulation) at 1-5 Hz on
+    closely (phi 0.62) and loosely (0.58) packed poppy seeds (Li, Zhang & Goldman 2013 suppl. table S1), with the
+    ground memory and, as the control, without it. Checks, each evaluated on both: the robot advances on LP at every
+    f (fig. S13 / main fig. 4C: the measured curves, whose values are not in the source texts), the speed on CP at
+    least the speed on LP and the legs sinking deeper on LP at every f (the thesis's sec. 1.4.1 on SandBot: "as the
+    yield stress of the material decreased with lower phi, the leg sank deeper ... decreasing its effective stride
+    length"). The report lists the checks the memory changes and measures the packing and the relief under the legs.
+
 ``thesis_hubo_stance_memory``
     The thesis (sec. 4.4.1, fig. 25) ties HUBO's one-foot stance on the 30.4 cm board, and its fall on the natural
     foot and on the cut-out board, to the stress under the foot against the bed's yield stress ("grains solidify
@@ -36,6 +45,7 @@ from mjrft.ground import C_H, C_PHI
 from ..case import CaseResult, Check, Line, Panel, case, check_band, check_close, check_outcome, published
 from . import dynaroach
 
+LI2013 = "Li, Zhang & Goldman, Science 2013 (suppl.)"  # li2013_robot.CITE, as HUBO below
 HUBO = "Robophysics PhD thesis, ch. IV (HUBO)"  # thesis_hubo.CITE (that module is imported when a HUBO run needs it,
 # so that the registry keeps the cases in the order of their modules)
 
@@ -285,4 +295,135 @@ def run_hubo(quick: bool) -> CaseResult:
                "tell the full board from the cut-out either: the thesis's criterion, the foot's mean stress against "
                "a yield stress of the bed, needs a law whose strength does not scale with the footing." + extra),
         notes="The loose bed is a measurement of what compaction does, not a check (the thesis gives no packing).",
+    )
+
+
+# ------------------------------------------------------------------------------------------------
+# the RHex-class robot on closely and loosely packed poppy seeds
+# ------------------------------------------------------------------------------------------------
+RHEX_MEDIA = ("poppy_cp", "poppy_lp")
+
+
+def rhex_settings(quick: bool) -> tuple[list, float]:
+    """The stride frequencies (Hz) and the trial length (s) of ``li2013_robot_memory``."""
+    from . import li2013_robot
+
+    return ([1.0, 3.0, 5.0], 4.0) if quick else ([1.0, 2.0, 3.0, 4.0, 5.0], li2013_robot.EPISODE)
+
+
+def rhex_sweep(freqs, seconds: float, memory: bool) -> dict:
+    """{(medium, f): :func:`~mjrft.tools.validation.cases.li2013_robot.free_trial`} of the C-leg robot held in the
+    sagittal plane on poppy CP and LP (law rft), ``memory`` the terrain's ground memory."""
+    from . import li2013_robot
+
+    return {(md, f): li2013_robot.free_trial(1.0, f, md, "rft", 0, seconds, planar=True, measure_ground=True,
+                                             ground_memory=memory)
+            for md in RHEX_MEDIA for f in freqs}
+
+
+def _l(key):
+    return published("li2013_robot", key)
+
+
+def rhex_checks(freqs, runs) -> list[Check]:
+    """The published outcomes on the sweep ``runs`` (:func:`rhex_sweep`: the memory's, or the control's)."""
+    v = {k: 100 * r["speed"] for k, r in runs.items()}
+    sink = {k: 1e3 * r["leg_sinkage"] for k, r in runs.items()}
+
+    def pairs(x, unit):
+        return ", ".join(f"{x['poppy_cp', f]:.1f}/{x['poppy_lp', f]:.1f}" for f in freqs) + \
+            f" {unit} (CP/LP at {', '.join(f'{f:g}' for f in freqs)} Hz)"
+
+    return [
+        check_outcome("C-legs on poppy LP: the robot advances at every tested f",
+                      all(v["poppy_lp", f] > 0 for f in freqs), published=_l("runs_on_lp").value,
+                      simulated=", ".join(f"{v['poppy_lp', f]:.1f}" for f in freqs) + " cm/s", tolerance="v_x > 0",
+                      source=_l("runs_on_lp").source),
+        check_outcome("speed on poppy CP >= on poppy LP at every tested f (lower phi, shorter effective stride)",
+                      all(v["poppy_cp", f] >= v["poppy_lp", f] for f in freqs),
+                      published=_l("lower_phi_shorter_stride").value, simulated=pairs(v, "cm/s"),
+                      source=_l("lower_phi_shorter_stride").source + "; phi " + _l("volume_fractions").note
+                      + " (" + _l("volume_fractions").source + ")"),
+        check_outcome("legs sink deeper on poppy LP than on poppy CP at every tested f",
+                      all(sink["poppy_lp", f] > sink["poppy_cp", f] for f in freqs),
+                      published=_l("lower_phi_deeper").value, simulated=pairs(sink, "mm mean deepest leg depth"),
+                      source=_l("lower_phi_deeper").source),
+    ]
+
+
+@case("li2013_robot_memory", "RHex-class robot at 1-5 Hz on closely and loosely packed poppy seeds with the ground "
+      "memory", LI2013)
+def run_rhex(quick: bool) -> CaseResult:
+    from . import li2013_robot
+
+    freqs, seconds = rhex_settings(quick)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        on, off = rhex_sweep(freqs, seconds, True), rhex_sweep(freqs, seconds, False)
+    checks, control = rhex_checks(freqs, on), rhex_checks(freqs, off)
+    changed = [a.name for a, b in zip(checks, control) if a.passed != b.passed]
+    label = {"poppy_cp": "poppy CP", "poppy_lp": "poppy LP"}
+
+    def line(runs, md, key, k, what):
+        return Line(freqs, [k * runs[md, f][key] for f in freqs], f"{label[md]}, {what}")
+
+    panels = [Panel(title, "stride frequency f (Hz)", ylabel, [
+        line(runs, md, key, k, what) for runs, what in ((on, "ground memory"), (off, "no memory (control)"))
+        for md in RHEX_MEDIA]) for title, ylabel, key, k in (
+        ("C-legs, planar: average forward speed", "v_x (cm/s)", "speed", 100.0),
+        ("C-legs, planar: mean deepest leg depth below the local surface", "depth (mm)", "leg_sinkage", 1e3))]
+
+    def row(runs):
+        return "; ".join(f"{label[md]} " + ", ".join(f"{f:g} Hz {100 * runs[md, f]['speed']:.1f} cm/s "
+                                                    f"{1e3 * runs[md, f]['leg_sinkage']:.1f} mm" for f in freqs)
+                         for md in RHEX_MEDIA)
+
+    gap = {m: [1e3 * (r["poppy_lp", f]["leg_sinkage"] - r["poppy_cp", f]["leg_sinkage"]) for f in freqs]
+           for m, r in (("on", on), ("off", off))}
+    verdicts = "; ".join(f"{a.name}: memory {a.verdict}, control {b.verdict}" for a, b in zip(checks, control))
+    return CaseResult(
+        name="li2013_robot_memory",
+        title="RHex-class robot at 1-5 Hz on closely and loosely packed poppy seeds with the ground memory",
+        paper=LI2013 + "; " + HUBO.split(",")[0] + ", sec. 1.4.1",
+        source="Li 2013 suppl. table S1, fig. S13 (main fig. 4C); thesis secs. 1.4.1, 2.5.2",
+        setup=(f"li2013_robot's free-trial robot (mjrft/HexapodSand-v0, C-legs +1/R', alternating tripod at f = "
+               f"{', '.join(f'{f:g}' for f in freqs)} Hz, the env's start, reset noise of seed 0) held in the sagittal "
+               f"plane (planar=True, as Li's simulation), law rft, {seconds:g} s per trial (speed after the first "
+               f"{li2013_robot.SETTLE:g} s; depth averaged over the second half), on poppy_cp (phi 0.62) and poppy_lp "
+               f"(phi 0.58), ground memory on (GroundOptions defaults: 1 cm cells, 3 cm layer, Li's LP/CP pair, "
+               f"critical state 0.60); the same trials without the memory are the control. With the memory: "
+               f"{row(on)}. Without: {row(off)}."),
+        checks=checks, panels=panels,
+        cause=(f"Measured: the checks on the control (memory off): {verdicts}. The checks the memory changes: "
+               + (", ".join(changed) if changed else "none")
+               + ". The legs' depth on LP minus on CP (mm) at " + ", ".join(f"{f:g}" for f in freqs) + " Hz: "
+               + ", ".join(f"{x:+.1f}" for x in gap["on"]) + " with the memory, "
+               + ", ".join(f"{x:+.1f}" for x in gap["off"]) + " without. Under the legs' buried elements (mean over the "
+               "second half) the memory holds phi "
+               + "; ".join(f"{label[md]} " + ", ".join(f"{on[md, f]['leg_packing']:.3f}" for f in freqs)
+                           for md in RHEX_MEDIA)
+               + " (prepared 0.62 and 0.58): the loose bed is compacted toward the critical state (0.60) and past it "
+               "by the legs' load, the close one barely dilates. The track's relief at the end (lowest / highest "
+               "surface above the undisturbed one, mm): "
+               + "; ".join(f"{label[md]} " + ", ".join(f"{1e3 * on[md, f]['track_relief'][0]:.1f}/"
+                                                       f"{1e3 * on[md, f]['track_relief'][1]:+.1f}" for f in freqs)
+                           for md in RHEX_MEDIA)
+               + ": the volume a footprint displaces compacts loose grains first and heaps up the rest, so the "
+               "closely packed bed, which cannot compact, raises the higher ridges. The legs on CP reach deeper with "
+               "the memory (" + ", ".join(f"{1e3 * off['poppy_cp', f]['leg_sinkage']:.1f} -> "
+                                          f"{1e3 * on['poppy_cp', f]['leg_sinkage']:.1f}" for f in freqs)
+               + " mm) although the packing under them stays near 0.62, so not through a weaker bed: a leg's depth is "
+               "read from the level its cell had before the leg entered it (docs/terrain.md), and the legs enter "
+               "the ridges of the earlier strides. The speed ordering without the memory: LP ahead of CP at "
+               + (", ".join(f"{f:g}" for f in freqs if off["poppy_lp", f]["speed"] > off["poppy_cp", f]["speed"])
+                  or "no") + " Hz tested, the two beds' speeds at most "
+               f"{100 * max(abs(off['poppy_lp', f]['speed'] / off['poppy_cp', f]['speed'] - 1) for f in freqs):.0f} % "
+               "apart: Li's LP and CP coefficients (table S2) change the legs' depth more than the robot's stride."),
+        notes=("The robot is held in the sagittal plane: the free robot turns at 4-5 Hz (li2013_robot's measured "
+               "period-2 bounce), which mixes the turn into v_x. Fig. S13's measured speeds are not in the source "
+               "texts, so no simulated speed is compared with a measured one (as li2013_robot). The thesis's "
+               "SandBot (a different RHex-class robot and gait, Li et al. 2009) failed to advance at phi = 0.58; "
+               "Li 2013's robot ran on loosely packed poppy seeds (fig. S13), so the advance on LP is the check. "
+               "Depth: each step the deepest element of the six legs below the surface it meets (with the memory, "
+               "the local surface)."),
     )

@@ -205,7 +205,7 @@ def _yaw(q) -> float:
 
 
 def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: int = 0, seconds: float = EPISODE,
-               phase: float = 0.0, **env_kw) -> dict:
+               phase: float = 0.0, measure_ground: bool = False, **env_kw) -> dict:
     """One free-body trial: ``mjrft/HexapodSand-v0`` as a user makes it (free joint, the env's start and reset
     noise of ``seed``; ``env_kw`` passed on, e.g. ``timestep``), curvature in 1/R', the tripod at f (Hz) with tripod
     A at ``phase`` cycles, ``seconds`` long (held planar with ``planar=True``: heading and path heading 0).
@@ -216,7 +216,13 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
     second half the two half-cycles' mean torso height (m) and mean vertical force on the six legs (N; the
     half-cycles of the gait's phase, ``floor(2 (phase + f t))`` even, then odd: one tripod's stance each), each
     tripod's mean hip lag behind its command (rad) and the largest fraction of steps a hip servo spent at its
-    torque limit."""
+    torque limit. With ``measure_ground``, also ``leg_sinkage``: the legs' deepest element depth below the surface
+    they meet (m; with the ground memory, its local surface), averaged over every physics step of the second half;
+    ``leg_packing``: the grains' volume fraction (:meth:`~mjrft.GranularTerrain.ground_packing`) under the legs'
+    buried elements and ``leg_surface``: the grains' surface there above the undisturbed one (m,
+    :meth:`~mjrft.GranularTerrain.ground_height`), both averaged over the second half's physics steps;
+    ``track_relief``: the lowest and highest surface (m, above the undisturbed one) over the robot's track (10 cm
+    around it) at the end."""
     from mjrft.models.hexapod import LEG_NAMES, R_PRIME
 
     env = gymnasium.make("mjrft/HexapodSand-v0", medium=medium, law=law, curvature=curvature / R_PRIME["rhex"],
@@ -227,6 +233,8 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
     gait = make_gait(f"tripod:f={f:.10g},phase={phase:.10g}", env)
     legs = [m.body(f"leg_{n}").id for n in LEG_NAMES]
     n_settle, n_total = int(round(SETTLE / u.dt)), int(round(seconds / u.dt))
+    leg_elems = np.isin(u.terrain.elem_body, legs)
+    ground_rows = ([], [], [])  # the legs' deepest depth; under their buried elements: packing, surface height
     half_rows = []  # (half-cycle parity, torso z, legs' Fz) at every physics step of the second half
 
     def measure(data):
@@ -234,6 +242,14 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
             w = u.terrain.wrench
             half = int(math.floor(2 * (phase + f * data.time))) % 2
             half_rows.append((half, data.xpos[u.task.torso, 2], w[legs, 2].sum()))
+            if measure_ground:
+                t = u.terrain
+                buried = leg_elems & (t.depth > 0)
+                ground_rows[0].append(float(t.depth[buried].max()) if buried.any() else 0.0)
+                if buried.any():
+                    bx, by = t.pos[buried, 0], t.pos[buried, 1]
+                    ground_rows[1].append(float(t.ground_packing(bx, by).mean()))
+                    ground_rows[2].append(float((t.ground_height(bx, by) - t.surface_height(bx, by)).mean()))
 
     u.each_physics_step(measure)
     planar = u.planar  # held in the x-z plane (qpos: x, z, pitch): no heading, no sideways path
@@ -265,6 +281,15 @@ def free_trial(curvature: float, f: float, medium: str, law: str = "rft", seed: 
            "legs_fz_halves": tuple(float(x[:, 2].mean()) for x in halves),
            "tripod_lag": tuple(float(x) for x in np.mean(lags, axis=0)),
            "saturated": float(np.mean(saturated, axis=0).max())}
+    if measure_ground:
+        out["leg_sinkage"], out["leg_packing"], out["leg_surface"] = (float(np.mean(x)) if x else math.nan
+                                                                      for x in ground_rows)
+        x1 = float(d.qpos[0])
+        ys = (float(d.xpos[u.task.torso, 1]),) if planar else (y0, float(d.qpos[1]))  # planar qpos: x, z, pitch
+        gx, gy = np.meshgrid(np.linspace(min(x0, x1) - 0.1, max(x0, x1) + 0.1, 200),
+                             np.linspace(min(ys) - 0.1, max(ys) + 0.1, 41))
+        relief = u.terrain.ground_height(gx, gy) - u.terrain.surface_height(gx, gy)
+        out["track_relief"] = (float(relief.min()), float(relief.max()))
     env.close()
     return out
 

@@ -1,4 +1,4 @@
-"""Validation cases dynaroach_memory and thesis_hubo_stance_memory (the ground memory): each case's outcome test, its
+"""Validation cases dynaroach_memory, li2013_robot_memory and thesis_hubo_stance_memory (the ground memory): each case's outcome test, its
 known disagreements and its controls, the same runs without the memory (:class:`helpers.CaseTests`)."""
 
 from __future__ import annotations
@@ -46,6 +46,43 @@ def dynaroach_without_memory():
     assert "own legs: legs land on previously disturbed ground at high frequency" in passed_on - passed_off
     # the one check no memory-off run fails is dynaroach_robot's own 12 Hz speed (its controls are that case's)
     assert passed_on & passed_off <= {"one-hinge: speed at 12 Hz (experiment)"}
+
+
+RHEX_CAUSE = ("with the memory the loose bed is compacted under the legs and the close one heaps the higher ridges, "
+              "so the legs no longer sink deeper on poppy LP than on CP; the speed ordering CP >= LP fails with and "
+              "without the memory (LP ahead at 5 Hz)")
+SPEED = "speed on poppy CP >= on poppy LP at every tested f (lower phi, shorter effective stride)"
+DEEPER = "legs sink deeper on poppy LP than on poppy CP at every tested f"
+
+
+@outcome("li2013_robot_memory")
+def rhex_memory_outcomes(r):
+    by = r.by_name
+    assert by["C-legs on poppy LP: the robot advances at every tested f"].passed  # fig. S13: it runs on LP
+    assert "The checks the memory changes: " + DEEPER in r.cause and len(r.panels) == 2
+
+
+@disagreement("li2013_robot_memory", reason=RHEX_CAUSE)
+def rhex_memory_packing(r):
+    assert r.by_name[DEEPER].passed or r.by_name[SPEED].passed
+
+
+@control("li2013_robot_memory", "the memory-off runs pass the sinkage check the memory fails; both checks reject a "
+         "bed whose packing does not matter")
+def rhex_without_memory():
+    freqs, seconds = ground.rhex_settings(True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = ground.rhex_sweep(freqs, seconds, False)
+    by = {c.name: c.passed for c in ground.rhex_checks(freqs, off)}
+    assert by[DEEPER]  # without the memory the prepared packing decides the legs' depth, as the thesis states
+    same = {key: dict(off["poppy_cp", key[1]]) for key in off}  # both beds alike: the orderings must fail
+    by = {c.name: c.passed for c in ground.rhex_checks(freqs, same)}
+    assert not by[DEEPER] and by[SPEED]
+    swapped = {(md, f): off["poppy_lp" if md == "poppy_cp" else "poppy_cp", f] for md, f in off}  # LP <-> CP
+    assert not any(c.passed for c in ground.rhex_checks(freqs, swapped)[1:])
+    stalled = {key: dict(r, speed=0.0) for key, r in off.items()}  # a robot that does not advance on LP
+    assert not ground.rhex_checks(freqs, stalled)[0].passed
 
 
 @outcome("thesis_hubo_stance_memory")
