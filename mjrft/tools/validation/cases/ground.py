@@ -398,8 +398,8 @@ def run_rhex(quick: bool) -> CaseResult:
                + (", ".join(changed) if changed else "none")
                + ". The legs' depth on LP minus on CP (mm) at " + ", ".join(f"{f:g}" for f in freqs) + " Hz: "
                + ", ".join(f"{x:+.1f}" for x in gap["on"]) + " with the memory, "
-               + ", ".join(f"{x:+.1f}" for x in gap["off"]) + " without. Under the legs' buried elements (mean over the "
-               "second half) the memory holds phi "
+               + ", ".join(f"{x:+.1f}" for x in gap["off"]) + " without. Under the legs' buried elements (mean "
+               "over the second half) the memory holds phi "
                + "; ".join(f"{label[md]} " + ", ".join(f"{on[md, f]['leg_packing']:.3f}" for f in freqs)
                            for md in RHEX_MEDIA)
                + " (prepared 0.62 and 0.58): the loose bed is compacted toward the critical state (0.60) and past it "

@@ -1,5 +1,6 @@
-"""Validation cases dynaroach_memory, li2013_robot_memory and thesis_hubo_stance_memory (the ground memory): each case's outcome test, its
-known disagreements and its controls, the same runs without the memory (:class:`helpers.CaseTests`)."""
+"""Validation cases dynaroach_memory, li2013_robot_memory and thesis_hubo_stance_memory (the ground memory): each
+case's outcome test, its known disagreements and its controls, the same runs without the memory
+(:class:`helpers.CaseTests`)."""
 
 from __future__ import annotations
 
