@@ -49,6 +49,10 @@ Common keyword arguments (all environments):
                            field) and a strip layout (``strips``, ``strip_length``, ``strip_start``),
                            from the env's ``np_random`` (``reset(seed=s)`` reproduces it). Sand
                            environments only. Options and their meaning: :mod:`mjrft.envs.randomization`.
+``implicit``               ``True``: the implicit granular step (:class:`mjrft.GranularTerrain`'s ``implicit``; the
+                           grains' springs stable at any physics step); default False, the explicit step. The
+                           errors of each coupling against the physics step, per robot:
+                           ``python benchmarks/env_timestep.py`` (docs/numerics.md, "Each env's physics step").
 ``ground_memory``          ``True`` (or a :class:`mjrft.ground.GroundOptions`): the ground remembers footprints,
                            ridges and the grains' packing within the episode (:class:`mjrft.GranularTerrain`'s
                            ``ground_memory``); ``reset()`` restores the prepared bed. Default False.
@@ -140,11 +144,13 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                  width: int = 480, height: int = 480, camera_name: str | None = None,
                  camera_id: int | None = None, pickle_kwargs: dict | None = None,
                  preset: str | None = None, timestep: float | None = None, terrain_randomization=None,
-                 ground_memory=False):
+                 ground_memory=False, implicit: bool = False):
         healthy_z_range = tuple(float(v) for v in healthy_z_range)
         if len(healthy_z_range) != 2 or not healthy_z_range[0] < healthy_z_range[1]:
             raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
         max_tilt = check_positive("max_tilt", max_tilt)
+        if not isinstance(implicit, (bool, np.bool_)):
+            raise TypeError(f"implicit must be True or False, got {implicit!r}")
         for name, val in (("width", width), ("height", height)):
             if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
                 raise ValueError(f"{name} must be an integer >= 1 (pixels), got {val!r}")
@@ -192,7 +198,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         utils.EzPickle.__init__(self, **(pickle_kwargs or {}))
 
         self.terrain = (GranularTerrain(self.model, sim.medium, sim.law, resolution=sim.resolution,
-                                        resolution_scale=sim.resolution_scale, ground_memory=ground_memory)
+                                        resolution_scale=sim.resolution_scale, ground_memory=ground_memory,
+                                        implicit=implicit)
                         if self.sand else None)
         # terrain randomisation: None costs nothing (no draw, no info entry)
         self.randomizer = (None if randomization is None else

@@ -210,6 +210,8 @@ BENCH = [
     ("bench_third_party.py --resolution-scale nan", "--resolution-scale must be finite and > 0, got nan"),
     ("element_budget.py --scales 2 -1", "--scales must be finite and > 0, got -1.0"),
     ("element_budget.py --scales inf", "--scales must be finite and > 0, got inf"),
+    ("env_timestep.py --budget 0", "--budget must be finite and > 0, got 0.0"),
+    ("power_timestep.py --seconds nan", "--seconds must be finite and > 0, got nan"),
 ]
 
 

@@ -26,7 +26,8 @@ key                            meaning (the gymnasium env's keyword argument)
 ``model``                      further keyword arguments of the robot's MJCF generator (empty; add keys to a
                                default configuration before ``load``)
 ``terrain`` (sand)             ``medium``, ``law``, ``resolution`` (None: the model's own), ``cull``
-                               (:class:`mjrft.mjx.Sand`) and ``ground_memory`` (the gymnasium env's: the ground
+                               (:class:`mjrft.mjx.Sand`), ``implicit`` (the gymnasium env's: the implicit granular
+                               step) and ``ground_memory`` (the gymnasium env's: the ground
                                remembers footprints, ridges and packing per world, :mod:`mjrft.mjx.ground`; reset
                                with each episode; not with ``randomization``)
 ``randomization`` (sand)       the gymnasium env's ``terrain_randomization`` (the fields of
@@ -191,7 +192,7 @@ class LocomotionEnv(MjxEnv):
                                           "the packing rows of the terrain's own medium; draw the terrain in the "
                                           "gymnasium env or leave randomization at its defaults")
             self.sand = Sand(model, st.medium, st.law, resolution=st.resolution,
-                             resolution_scale=st.resolution_scale, cull=cull,
+                             resolution_scale=st.resolution_scale, cull=cull, implicit=cpu.terrain.implicit,
                              ground_memory=memory if memory is not None else False, **extra)
             bottom = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "bed_bottom")
             if bottom >= 0:
@@ -270,7 +271,8 @@ class LocomotionEnv(MjxEnv):
             model=config_dict.create(),
             impl="jax")
         if sand:
-            cfg.terrain = config_dict.create(medium=None, law=None, resolution=None, cull=None, ground_memory=False)
+            cfg.terrain = config_dict.create(medium=None, law=None, resolution=None, cull=None, ground_memory=False,
+                                             implicit=False)
             cfg.randomization = config_dict.create(**{f.name: f.default for f in fields(TerrainRandomization)})
         return cfg
 
@@ -293,8 +295,8 @@ class LocomotionEnv(MjxEnv):
         kwargs["healthy_z_range"] = tuple(kwargs["healthy_z_range"])
         if ground == "sand":
             t = config.terrain
-            kwargs.update(medium=t.medium, law=t.law, resolution=t.resolution,
-                          ground_memory=t.get("ground_memory", False))  # (a configuration saved without the key)
+            kwargs.update(medium=t.medium, law=t.law, resolution=t.resolution,  # (.get: a configuration saved
+                          ground_memory=t.get("ground_memory", False), implicit=t.get("implicit", False))  # without)
             r = config.randomization.to_dict()
             drawn = TerrainRandomization(**r)  # checked here, once for both backends
             plain = TerrainRandomization()

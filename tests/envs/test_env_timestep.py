@@ -1,0 +1,66 @@
+"""The physics-step study's outcomes (benchmarks/env_timestep.py, benchmarks/power_timestep.py), each with a control."""
+
+import importlib.util
+import warnings
+from pathlib import Path
+
+import gymnasium
+import mujoco
+import numpy as np
+import pytest
+
+import mjrft.envs  # noqa: F401
+from mjrft import TerrainStabilityWarning
+from mjrft.train.evaluate import evaluate
+
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks"
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(name, BENCH / f"{name}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+HINGE = ('<mujoco><option timestep="0.001" integrator="{}" gravity="0 0 0"/><worldbody><body>'
+         '<joint name="j" type="hinge" armature="1e-5"/><geom type="sphere" size="0.001" mass="1e-6"/></body>'
+         '</worldbody><actuator><position joint="j" kp="2" kv="0.02" forcelimited="true" forcerange="-0.3 0.3"/>'
+         '</actuator></mujoco>')
+
+
+@pytest.mark.parametrize("integrator", ["implicitfast", "implicit", "Euler"])
+@pytest.mark.parametrize("ctrl,v", [(0.01, 0.0), (0.01, 3.0), (1.0, 0.0)])
+def test_the_applied_force_rule_is_mujocos_step(integrator, ctrl, v):
+    power = _load("power_timestep")
+    m = mujoco.MjModel.from_xml_string(HINGE.format(integrator))
+    d = mujoco.MjData(m)
+    d.ctrl[0], d.qvel[0] = ctrl, v
+    mujoco.mj_step(m, d)
+    f, v0 = d.actuator_force[0], d.actuator_velocity[0]
+    applied = f + power.velocity_gain(m, d)[0] * (power.end_velocity(m, d)[0] - v0)
+    inertia = 1e-5 + 0.4 * 1e-6 * 0.001 ** 2
+    assert inertia * (d.qvel[0] - v) / 1e-3 == pytest.approx(applied, rel=1e-6)
+    # control: the start state's force is what the implicit integrators apply only where the force is clamped
+    unclamped_implicit = integrator != "Euler" and ctrl < 1.0
+    assert (inertia * (d.qvel[0] - v) / 1e-3 == pytest.approx(f, rel=1e-6)) is not unclamped_implicit
+
+
+def _biped(dt, implicit, policy="rect", seconds=6.0):
+    kw = dict(timestep=dt, frame_skip=round(0.01 / dt), implicit=implicit, pitch_free=False, episode_seconds=seconds)
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always", TerrainStabilityWarning)
+        _, s = evaluate(policy, "mjrft/BipedSand-v0", episodes=1, env_kwargs=kw)
+    return s, sum(issubclass(w.category, TerrainStabilityWarning) for w in rec)
+
+
+def test_the_biped_keeps_its_gait_at_2_ms_with_the_implicit_step_and_the_explicit_step_warns():
+    ref, _ = _biped(0.0001, False)  # within 0.01 % of the study's 0.05 ms reference
+    implicit, warned = _biped(0.002, True)
+    assert warned == 0
+    assert implicit["speed"] == pytest.approx(ref["speed"], rel=0.02)
+    assert implicit["sink_mean_mm"] == pytest.approx(ref["sink_mean_mm"], rel=0.02)
+    # control: random actions take the explicit step at 2 ms past the feet's stability limit
+    study = _load("env_timestep")
+    _, warned = _biped(0.002, False, policy=study.RandomActions(8))
+    assert warned > 0
