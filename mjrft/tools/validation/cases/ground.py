@@ -765,8 +765,9 @@ def run_flipper(quick: bool) -> CaseResult:
                "the packing they meet (grains sheared toward the critical state 0.60: closely packed ones dilate, "
                "loosely packed ones compact) sets the thrust per unit immersion, which stays near its first cycle's "
                "while the immersion falls. On the free robot the thrust falls below what the dragging body needs "
-               "and the step collapses. Without the memory every cycle meets the prepared bed and the step holds "
-               "or grows as the dragging body sinks and the plates reach deeper (" + sinking + ")."),
+               "and the step collapses. Without the memory every cycle meets the prepared bed: the step dips in "
+               "the second cycle as the dragging body sinks, then grows as the plates reach deeper (" + sinking
+               + ")."),
         notes=("Sources: the thesis states the outcome (sec. 1.4.2) and cites Mazouchova, Umbanhowar & Goldman, "
                "Bioinspiration & Biomimetics 2013 for it; that paper's text is not among the sources, and its "
                "flipper size, insertion depth, sweep, body mass, distance per cycle and cycles to failure were not "
