@@ -31,6 +31,21 @@ memory (:mod:`mjrft.ground`, ``ground_memory=True``); their control is the same 
     trials (natural foot, 30.4 cm board, the cut-out board; CoM -1, 0, +1 cm; quick: 0) with the ground memory, on
     the case's ``poppy_cp`` and, as a measurement of the compaction (not a check), on ``poppy_lp`` (the thesis's
     bed was raked level; its packing is not given). Checks as in ``thesis_hubo_stance``.
+
+``flipperbot_memory``
+    The thesis (sec. 1.4.2, on Mazouchova, Umbanhowar & Goldman 2013): sea-turtle hatchlings travel significantly
+    less in a cycle whose flipper meets material disturbed in a prior cycle, and FlipperBot, whose flippers began
+    interacting with previously disturbed material after a few cycles, no longer generated enough thrust against its
+    body drag and failed to advance; a flexible wrist shrank the disturbed region and kept it advancing. A flipper
+    robot built here (:func:`flipper_xml`: a 19 cm box body dragging on the grains, two plates inserted, swept back,
+    lifted and returned in a symmetric gait) of 0.5, 1 and 2 kg on closely and loosely packed poppy seeds, and its
+    flippers on the body held fixed (the thrust rig), with the ground memory and, as the control, without it.
+    Measured per cycle: the body's advance, the plates' thrust impulse, the share of their buried element-steps in
+    cells they were buried in during an earlier cycle (kinematics only, the same with and without the memory).
+    Checks: a robot whose flippers re-enter fails to advance (the last half of the cycles << the first), its first
+    re-entering cycle travels significantly less than the one before, the held flippers' thrust falls once they
+    re-enter, and robots whose flippers stay clear keep advancing (the flexible wrist's statement; the wrist itself
+    is not modelled).
 """
 
 from __future__ import annotations
@@ -38,11 +53,14 @@ from __future__ import annotations
 import math
 import warnings
 
+import mujoco
 import numpy as np
 
+from mjrft import GranularTerrain
 from mjrft.ground import C_H, C_PHI
 
-from ..case import CaseResult, Check, Line, Panel, case, check_band, check_close, check_outcome, published
+from ..case import (MUCH_LESS, SIMILAR, CaseResult, Check, Line, Panel, case, check_band, check_close, check_outcome,
+                    published, similar)
 from . import dynaroach
 
 LI2013 = "Li, Zhang & Goldman, Science 2013 (suppl.)"  # li2013_robot.CITE, as HUBO below
@@ -426,4 +444,342 @@ def run_rhex(quick: bool) -> CaseResult:
                "Li 2013's robot ran on loosely packed poppy seeds (fig. S13), so the advance on LP is the check. "
                "Depth: each step the deepest element of the six legs below the surface it meets (with the memory, "
                "the local surface)."),
+    )
+
+
+# ------------------------------------------------------------------------------------------------
+# FlipperBot: flippers re-entering the grains they disturbed in a prior cycle
+# ------------------------------------------------------------------------------------------------
+FLIPPER = "flipperbot"
+FLIPPER_CITE = "Robophysics PhD thesis, sec. 1.4.2 (FlipperBot: Mazouchova, Umbanhowar & Goldman 2013)"
+FLIPPER_MEDIA = ("poppy_cp", "poppy_lp")
+#: the rig's choices (m; the thesis and the sources found give the gait's form only, and the body's 19 cm length):
+#: the body box (length, width, height); the shoulders' position ahead of its centre and at its sides; the arm from
+#: the shoulder to the flipper plate (above the grains); the plate (radial length, height, thickness)
+BODY = (0.19, 0.10, 0.03)
+SHOULDER = (0.05, 0.05)
+ARM = 0.04
+PADDLE = (0.04, 0.03, 0.003)
+#: the gait: one cycle per PERIOD (s); the plates are inserted (cycle fraction 0 to 0.2) at SWEEP ahead of the
+#: lateral, swept back at depth to SWEEP behind it (0.2 to 0.6), lifted (0.6 to 0.7) and returned in the air (0.7 to 1);
+#: the insertion stroke STROKE (m) from LIFT above the plate's rest position to STROKE below it (the plate's bottom,
+#: 5 mm below the belly's at rest, then reaches about 3.5 cm below the surface)
+PERIOD = 1.0
+SWEEP = math.radians(45.0)
+STROKE = 0.03
+LIFT = 0.02
+FLIPPER_PHASES = (0.2, 0.6, 0.7)
+FLIPPER_SETTLE = 0.5  # s the robot rests on the grains, plates up, before the first cycle
+#: body masses (kg): the flippers' thrust against the body's drag decides the step, and FlipperBot's mass was not found
+FLIPPER_MASSES = (0.5, 1.0, 2.0)
+#: a cycle re-enters disturbed material when more than this share of its plates' buried element-steps lie in cells
+#: (REENTRY_CELL, the memory's cell) that the plates were buried in during an earlier cycle: a record of the
+#: kinematics, the same with and without the memory
+REENTER = 0.5
+REENTRY_CELL = 0.01
+
+
+def flipper_xml(mass: float, held: bool = False) -> str:
+    """The flipper robot: a box body (``mass`` kg) free to slide along x and z on the grains (``held``: fixed, the
+    rig that measures the flippers' thrust), two arms with a vertical insertion slide and a vertical-axis sweep hinge
+    at the shoulders (position servos), each carrying a flat plate whose broad face is normal to its sweep."""
+    bx, by, bz = (v / 2 for v in BODY)
+    joints = "" if held else ('<joint name="x" type="slide" axis="1 0 0"/>'
+                              '<joint name="z" type="slide" axis="0 0 1"/>')
+    arms, servos = [], []
+    for side, s in (("l", 1), ("r", -1)):
+        arms.append(
+            f'<body name="shoulder_{side}" pos="{SHOULDER[0]} {s * SHOULDER[1]} 0">'
+            f'<joint name="lift_{side}" type="slide" axis="0 0 1" range="-0.1 0.1" armature="0.2"/>'
+            f'<joint name="sweep_{side}" type="hinge" axis="0 0 1" armature="0.001"/>'
+            f'<geom name="arm_{side}" type="box" pos="0 {s * ARM / 2} 0.02" size="0.004 {ARM / 2} 0.004" mass="0.01" '
+            f'contype="0" conaffinity="0"/>'
+            f'<body name="flipper_{side}" pos="0 {s * ARM} 0">'
+            f'<geom name="paddle_{side}" type="box" pos="0 {s * PADDLE[0] / 2} {0.01 - PADDLE[1] / 2}" '
+            f'size="{PADDLE[2] / 2} {PADDLE[0] / 2} {PADDLE[1] / 2}" mass="0.01"/></body></body>')
+        servos.append(f'<position joint="lift_{side}" kp="2000" kv="60"/>'
+                      f'<position joint="sweep_{side}" kp="20" kv="0.5"/>')
+    return (f'<mujoco model="flipper"><option timestep="0.0005"/><worldbody>'
+            f'<body name="body" pos="0 0 {bz}">{joints}'
+            f'<geom name="belly" type="box" size="{bx} {by} {bz}" mass="{mass}"/>{"".join(arms)}</body>'
+            f'</worldbody><actuator>{"".join(servos)}</actuator></mujoco>')
+
+
+def flipper_pose(t: float) -> tuple[float, float]:
+    """The plates' insertion (m, + up) and sweep angle (rad ahead of the lateral) at time ``t`` of the gait."""
+    p = (t / PERIOD) % 1.0
+    ins, swe, lif = FLIPPER_PHASES
+    if p < ins:
+        return LIFT - (LIFT + STROKE) * p / ins, SWEEP
+    if p < swe:
+        return -STROKE, SWEEP * (1 - 2 * (p - ins) / (swe - ins))
+    if p < lif:
+        return -STROKE + (LIFT + STROKE) * (p - swe) / (lif - swe), -SWEEP
+    return LIFT, -SWEEP * (1 - 2 * (p - lif) / (1 - lif))
+
+
+def flipper_run(mass: float, medium: str, memory: bool, cycles: int, held: bool = False) -> dict:
+    """``cycles`` gait cycles of the flipper robot (``held``: the body fixed) on ``medium`` (law rft), ``memory`` the
+    ground memory, after :data:`FLIPPER_SETTLE` s at rest. Per cycle: ``distance`` (m, the body's x), ``impulse``
+    (N s, the grains' x force on the two plates over the cycle: their thrust), ``reentry`` (the share of the plates'
+    buried element-steps in cells they were buried in during an earlier cycle), ``depth`` (m, the mean depth of the
+    plates' buried elements below the surface they meet), ``immersion`` (m s, that depth summed over the buried
+    elements and integrated over the cycle), ``height`` (m, the body's centre above the undisturbed surface at the
+    cycle's end) and, with the memory, ``met_height`` (m) and ``met_packing``: the mean surface and volume fraction
+    the earlier cycles left in the cells under the plates' buried elements (the ground at the cycle's start)."""
+    from mjrft.ground import GroundOptions
+
+    m = mujoco.MjModel.from_xml_string(flipper_xml(mass, held))
+    d = mujoco.MjData(m)
+    terrain = GranularTerrain(m, medium, "rft", ground_memory=GroundOptions() if memory else False)
+    plates = [m.body("flipper_l").id, m.body("flipper_r").id]
+    on_plate = np.isin(terrain.elem_body, plates)
+    dt = m.opt.timestep
+    d.ctrl[:] = [LIFT, -SWEEP, LIFT, SWEEP]
+    terrain.step(d, int(round(FLIPPER_SETTLE / dt)))
+    t0 = d.time
+    visited: set = set()
+    out = {k: [] for k in ("distance", "impulse", "reentry", "depth", "immersion", "height", "met_height",
+                           "met_packing")}
+    gt = terrain.terrain_model.ground
+    for _ in range(cycles):
+        x0 = float(d.qpos[0]) if not held else 0.0
+        ground = terrain.terrain_state.g_cells.copy() if memory else None
+        now: set = set()
+        impulse = depth = 0.0
+        buried = again = 0
+        met = np.zeros(2)
+        for _ in range(int(round(PERIOD / dt))):
+            ins, ang = flipper_pose(d.time - t0)
+            d.ctrl[:] = [ins, -ang, ins, ang]
+            terrain.step(d)
+            impulse += float(terrain.wrench[plates, 0].sum()) * dt
+            b = on_plate & (terrain.depth > 0)
+            if not b.any():
+                continue
+            depth += float(terrain.depth[b].sum())
+            pos = terrain.pos[b]
+            keys = (np.floor(pos[:, 0] / REENTRY_CELL).astype(np.int64) * 1_000_003
+                    + np.floor(pos[:, 1] / REENTRY_CELL).astype(np.int64)).tolist()
+            buried += len(keys)
+            again += sum(k in visited for k in keys)
+            now.update(keys)
+            if memory:
+                i = ((pos[:, 0] - gt.frame[0]) * gt.frame[3]).astype(np.int64)
+                j = ((pos[:, 1] - gt.frame[1]) * gt.frame[3]).astype(np.int64)
+                cells = ground[np.clip(j, 0, ground.shape[0] - 1), np.clip(i, 0, ground.shape[1] - 1)]
+                met += (cells[:, C_H].sum(), cells[:, C_PHI].sum())
+        visited |= now
+        out["distance"].append((float(d.qpos[0]) if not held else 0.0) - x0)
+        out["impulse"].append(impulse)
+        out["reentry"].append(again / buried if buried else 0.0)
+        out["depth"].append(depth / buried if buried else 0.0)
+        out["immersion"].append(depth * dt)
+        out["height"].append(float(d.xpos[1, 2]))
+        out["met_height"].append(met[0] / buried if memory and buried else math.nan)
+        out["met_packing"].append(met[1] / buried if memory and buried else math.nan)
+    return out
+
+
+def flipper_settings(quick: bool) -> dict:
+    """The media, body masses and cycles of ``flipperbot_memory``."""
+    if quick:
+        return {"media": ("poppy_cp",), "masses": (FLIPPER_MASSES[0], FLIPPER_MASSES[-1]), "cycles": 4}
+    return {"media": FLIPPER_MEDIA, "masses": FLIPPER_MASSES, "cycles": 8}
+
+
+def flipper_sweep(s: dict, memory: bool) -> dict:
+    """{(medium, mass): :func:`flipper_run`} of the free robot and {(medium, "held")}: the held rig (body fixed)."""
+    runs = {}
+    for md in s["media"]:
+        for mass in s["masses"]:
+            runs[md, mass] = flipper_run(mass, md, memory, s["cycles"])
+        runs[md, "held"] = flipper_run(FLIPPER_MASSES[0], md, memory, s["cycles"], held=True)
+    return runs
+
+
+def _f(key):
+    return published(FLIPPER, key)
+
+
+def _mm(values) -> str:
+    return ", ".join(f"{1e3 * v:.1f}" for v in values)
+
+
+def _reentering(runs) -> dict:
+    """The free-robot runs (key: (medium, mass)) whose plates re-enter disturbed material in every cycle after the
+    first."""
+    return {k: r for k, r in runs.items() if k[1] != "held" and min(r["reentry"][1:]) > REENTER}
+
+
+def fails_to_advance_check(label: str, runs) -> Check:
+    """FlipperBot (thesis sec. 1.4.2): once the flippers interact with previously disturbed material, the robot
+    "failed to advance with each cycle": in every run whose plates re-enter disturbed material in every cycle after
+    the first, the mean distance per cycle over the last half of the cycles is << (:data:`MUCH_LESS`, 10x below) the
+    first cycle's; and some run re-enters."""
+    re = _reentering(runs)
+    ratio = {k: float(np.mean(r["distance"][len(r["distance"]) // 2:]) / r["distance"][0]) for k, r in re.items()}
+    return check_outcome(
+        f"{label}: once its flippers re-enter material disturbed in a prior cycle, the robot fails to advance",
+        bool(re) and all(x <= 1 / MUCH_LESS for x in ratio.values()), published=_f("fails_to_advance").value,
+        simulated=("; ".join(f"{k[1]:g} kg: " + _mm(r["distance"]) + " mm per cycle, re-entry "
+                             + ", ".join(f"{100 * x:.0f}" for x in r["reentry"]) + " %" for k, r in re.items())
+                   if re else "no run's flippers re-enter disturbed material"),
+        source=_f("fails_to_advance").source, metric="last half of the cycles / first cycle: "
+        + (", ".join(f"{ratio[k]:.3f} ({k[1]:g} kg)" for k in re) or "none"),
+        tolerance=f"<= 1/{MUCH_LESS:g} ('failed to advance' read as '<<' the first cycle) in every re-entering run")
+
+
+def hatchling_drop_check(label: str, runs) -> Check:
+    """The hatchlings (thesis sec. 1.4.2): a cycle that meets material disturbed in a prior cycle travels a distance
+    that "dropped significantly": the first re-entering cycle's distance below the cycle's before it by more than
+    the "similar" band (:data:`~mjrft.tools.validation.case.SIMILAR`), in every re-entering run."""
+    re = _reentering(runs)
+    pairs = {k: (r["distance"][0], r["distance"][1]) for k, r in re.items()}
+    return check_outcome(
+        f"{label}: the first cycle in disturbed material travels significantly less than the cycle before",
+        bool(re) and all(b < a / (1 + SIMILAR) for a, b in pairs.values()), published=_f("hatchling_drop").value,
+        simulated=("; ".join(f"{k[1]:g} kg: {1e3 * a:.1f} -> {1e3 * b:.1f} mm" for k, (a, b) in pairs.items())
+                   or "no run's flippers re-enter disturbed material"),
+        source=_f("hatchling_drop").source,
+        tolerance=f"below the cycle before by more than the 'similar' band (ratio < 1/{1 + SIMILAR:g})")
+
+
+def thrust_drop_check(label: str, held: dict) -> Check:
+    """FlipperBot: the flippers in previously disturbed material "no longer generated enough thrust": on the held rig
+    (every cycle after the first re-enters the first's track) the last cycle's thrust impulse is below the first's by
+    more than the "similar" band."""
+    imp = held["impulse"]
+    return check_outcome(
+        f"{label}, body held: the flippers' thrust per cycle falls once they re-enter their disturbed track",
+        bool(min(held["reentry"][1:]) > REENTER and imp[-1] < imp[0] / (1 + SIMILAR)),
+        published=_f("fails_to_advance").value, source=_f("fails_to_advance").source,
+        simulated="thrust impulse " + ", ".join(f"{x:.3f}" for x in imp) + " N s per cycle, re-entry "
+        + ", ".join(f"{100 * x:.0f}" for x in held["reentry"]) + " %",
+        tolerance=f"last cycle below the first by more than the 'similar' band (ratio < 1/{1 + SIMILAR:g})")
+
+
+def keeps_advancing_check(label: str, runs) -> Check:
+    """The flexible-wrist FlipperBot (thesis sec. 1.4.2): with a smaller disturbed region the robot kept advancing for
+    multiple cycles. Read on the runs whose plates stay clear of their disturbed material (re-entry below
+    :data:`REENTER` in every cycle): every cycle's distance similar to the first's; and some run stays clear."""
+    clear = {k: r for k, r in runs.items() if k[1] != "held" and max(r["reentry"]) <= REENTER}
+    return check_outcome(
+        f"{label}: flippers that stay clear of their disturbed material keep the robot advancing every cycle",
+        bool(clear) and all(similar(x / r["distance"][0]) for r in clear.values() for x in r["distance"]),
+        published=_f("flexible_wrist").value, qualitative=False,
+        source=_f("flexible_wrist").source + " (the wrist itself is not modelled: the statement's cause, a disturbed "
+        "region the next cycle does not reach)",
+        simulated=("; ".join(f"{k[1]:g} kg: " + _mm(r["distance"]) + " mm per cycle" for k, r in clear.items())
+                   or "no run stays clear of its disturbed material"),
+        tolerance="every cycle within the 'similar' band of the first")
+
+
+def flipper_checks(s: dict, runs) -> list[Check]:
+    """The checks of ``flipperbot_memory`` on ``runs`` (:func:`flipper_sweep`: the memory's, or the control's)."""
+    checks = []
+    for md in s["media"]:
+        label = "poppy CP" if md == "poppy_cp" else "poppy LP"
+        free = {k: r for k, r in runs.items() if k[0] == md}
+        checks += [fails_to_advance_check(label, free), hatchling_drop_check(label, free),
+                   thrust_drop_check(label, runs[md, "held"]), keeps_advancing_check(label, free)]
+    return checks
+
+
+@case("flipperbot_memory", "FlipperBot's flippers re-entering the grains they disturbed, with the ground memory",
+      FLIPPER_CITE)
+def run_flipper(quick: bool) -> CaseResult:
+    s = flipper_settings(quick)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        on, off = flipper_sweep(s, True), flipper_sweep(s, False)
+    checks, control = flipper_checks(s, on), flipper_checks(s, off)
+    verdicts = "; ".join(f"{a.name}: memory {a.verdict}, control {b.verdict}" for a, b in zip(checks, control))
+    label = {"poppy_cp": "poppy CP", "poppy_lp": "poppy LP"}
+    cyc = list(range(1, s["cycles"] + 1))
+    panels = [Panel(f"{label[md]}: distance per cycle", "cycle", "body's advance (mm)", [
+        Line(cyc, [1e3 * x for x in runs[md, mass]["distance"]], f"{mass:g} kg, {what}")
+        for mass in s["masses"] for runs, what in ((on, "ground memory"), (off, "no memory (control)"))])
+        for md in s["media"]]
+    panels.append(Panel("Body held: the flippers' thrust per cycle", "cycle", "thrust impulse (N s)", [
+        Line(cyc, runs[md, "held"]["impulse"], f"{label[md]}, {what}") for md in s["media"]
+        for runs, what in ((on, "ground memory"), (off, "no memory (control)"))]))
+    panels.append(Panel("Plates in material disturbed in a prior cycle (ground memory)", "cycle",
+                        "share of buried element-steps", [
+                            Line(cyc, on[md, key]["reentry"], f"{label[md]}, " + (f"{key:g} kg" if key != "held"
+                                                                                     else "body held"))
+                            for md in s["media"] for key in (*s["masses"], "held")]))
+
+    def row(runs):
+        return "; ".join(f"{label[md]} {mass:g} kg " + _mm(runs[md, mass]["distance"]) + " mm"
+                         for md in s["media"] for mass in s["masses"])
+
+    re = sorted(_reentering(on))
+    clear = sorted(k for k, r in on.items() if k[1] != "held" and max(r["reentry"]) <= REENTER)
+    def per_immersion(k):  # thrust per unit immersion, each cycle, over the control's first cycle
+        ref = off[k]["impulse"][0] / off[k]["immersion"][0]
+        return [i / m / ref for i, m in zip(on[k]["impulse"], on[k]["immersion"])]
+
+    met = "; ".join(
+        f"{label[k[0]]} " + (f"{k[1]:g} kg" if k[1] != "held" else "body held") + ": surface "
+        + ", ".join(f"{1e3 * h:+.1f}" for h in on[k]["met_height"][1:]) + " mm, phi "
+        + ", ".join(f"{p:.3f}" for p in on[k]["met_packing"][1:]) + "; immersion "
+        + ", ".join(f"{100 * x / on[k]['immersion'][0]:.0f}" for x in on[k]["immersion"]) + " % of the first cycle's "
+        + "(without the memory " + ", ".join(f"{100 * x / off[k]['immersion'][0]:.0f}" for x in off[k]["immersion"])
+        + " %), thrust impulse " + ", ".join(f"{x:.2f}" for x in on[k]["impulse"]) + " N s (without the memory "
+        + ", ".join(f"{x:.2f}" for x in off[k]["impulse"]) + "), thrust per unit immersion "
+        + ", ".join(f"{x:.2f}" for x in per_immersion(k)) + " x the control's first cycle"
+        for k in re + [(md, "held") for md in s["media"]])
+    sinking = "; ".join(
+        f"{label[k[0]]} {k[1]:g} kg: " + _mm(off[k]["distance"][:3]) + " mm in the first cycles, the body's centre "
+        + _mm([off[k]["height"][0], off[k]["height"][-1]]).replace(", ", " -> ") + " mm above the surface"
+        for k in sorted(_reentering(off)))
+    prepared = ", ".join(f"{label[md]} {on[md, s['masses'][0]]['met_packing'][0]:.2f}" for md in s["media"])
+    return CaseResult(
+        name="flipperbot_memory",
+        title="FlipperBot's flippers re-entering the grains they disturbed, with the ground memory",
+        paper=FLIPPER_CITE, source="thesis sec. 1.4.2 (sea turtle hatchlings and FlipperBot, ref. [34])",
+        setup=(f"a flipper robot built by the case: a {BODY[0] * 100:g} x {BODY[1] * 100:g} x {BODY[2] * 100:g} cm "
+               f"box body of {', '.join(f'{m:g}' for m in s['masses'])} kg dragging on the grains (free along x and "
+               f"z), two flippers at its sides {SHOULDER[0] * 100:g} cm ahead of its centre, each a "
+               f"{PADDLE[0] * 100:g} x {PADDLE[1] * 100:g} cm plate {ARM * 100:g} cm out from a vertical sweep hinge "
+               f"and an insertion slide (position servos), in the symmetric gait: inserted {STROKE * 100:g} cm, "
+               f"swept back from {math.degrees(SWEEP):g} deg ahead of the lateral to {math.degrees(SWEEP):g} deg "
+               f"behind it, lifted and returned in the air, one cycle per {PERIOD:g} s, {s['cycles']} cycles after "
+               f"{FLIPPER_SETTLE:g} s at rest; and the same flippers on the body held fixed (the thrust rig: every "
+               f"cycle re-enters the first cycle's track). Poppy seeds ({', '.join(s['media'])}), law rft, physics "
+               f"step 0.5 ms, ground memory on (GroundOptions defaults: 1 cm cells, 3 cm layer); the same runs "
+               f"without the memory are the control. "
+               f"Distance per cycle with the memory: {row(on)}. Without: {row(off)}."),
+        checks=checks, panels=panels,
+        cause=(f"Measured: the checks on the control (memory off): {verdicts}. Whether the flippers re-enter "
+               "disturbed material is decided by the step against the sweep: the plates slip back through the grains "
+               "while the body advances, and the next insertion lands ahead of that track only when the step is "
+               "long enough. Runs that re-enter in every cycle after the first: "
+               + (", ".join(f"{label[k[0]]} {k[1]:g} kg" for k in re) or "none")
+               + "; runs that stay clear: " + (", ".join(f"{label[k[0]]} {k[1]:g} kg" for k in clear) or "none")
+               + f". Under the re-entering plates (cycles 2 on; prepared phi {prepared}) the earlier cycles left: "
+               + met + ". The immersion is the plates' depth below the local surface summed over their buried "
+               "element-steps (at a fixed strength a plate's force is about proportional to it). The plates meet the "
+               "surface their earlier cycles lowered (the holes stay open), so they are less immersed and push less; "
+               "the packing they meet (grains sheared toward the critical state 0.60: closely packed ones dilate, "
+               "loosely packed ones compact) sets the thrust per unit immersion, which stays near its first cycle's "
+               "while the immersion falls. On the free robot the thrust falls below what the dragging body needs "
+               "and the step collapses. Without the memory every cycle meets the prepared bed: the step dips in "
+               "the second cycle as the dragging body sinks, then grows as the plates reach deeper (" + sinking
+               + ")."),
+        notes=("Sources: the thesis states the outcome (sec. 1.4.2) and cites Mazouchova, Umbanhowar & Goldman, "
+               "Bioinspiration & Biomimetics 2013 for it; that paper's text is not among the sources, and its "
+               "flipper size, insertion depth, sweep, body mass, distance per cycle and cycles to failure were not "
+               "found. The body's 19 cm length is the press coverage's ('the 19 cm robot', The Engineer, April "
+               "2013), the poppy seed bed the Georgia Tech news release's (April 2013); the bed's packing was not "
+               "found, so the full case runs closely (0.62) and loosely (0.58) packed seeds. Every other "
+               "dimension, the servo gains, the gait's timing and the body masses are choices; the masses span "
+               "bodies whose step clears the previous sweep and bodies whose step does not, since FlipperBot's "
+               "mass, which decides that, was not found. The flexible wrist is not modelled (its joint, range and "
+               "stiffness are not in the sources); the check of its statement reads the runs whose flippers stay "
+               "clear of their disturbed material. A cycle re-enters when more than half of its plates' buried "
+               "element-steps lie in 1 cm cells the plates were buried in during an earlier cycle (kinematics "
+               "only: the same with and without the memory). Thrust: the grains' x force on both plates integrated "
+               "over the cycle."),
     )

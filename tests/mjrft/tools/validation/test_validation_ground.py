@@ -1,4 +1,5 @@
-"""Validation cases dynaroach_memory, li2013_robot_memory and thesis_hubo_stance_memory (the ground memory): each
+"""Validation cases dynaroach_memory, li2013_robot_memory, thesis_hubo_stance_memory and flipperbot_memory (the
+ground memory): each
 case's outcome test, its known disagreements and its controls, the same runs without the memory
 (:class:`helpers.CaseTests`)."""
 
@@ -111,6 +112,41 @@ def hubo_memory_checks_reject_wrong_readings():
     paper = {(0.152, False): [(3.7, 0.09)], (0.304, False): [(nan, 0.03)], (0.304, True): [(4.2, 0.1)]}
     assert all(c.passed for c in ground.stance_checks(paper, 1))
     assert thesis_hubo.HOLD_END == 10.0
+
+
+FAILS = "poppy CP: once its flippers re-enter material disturbed in a prior cycle, the robot fails to advance"
+DROP = "poppy CP: the first cycle in disturbed material travels significantly less than the cycle before"
+THRUST = "poppy CP, body held: the flippers' thrust per cycle falls once they re-enter their disturbed track"
+CLEAR = "poppy CP: flippers that stay clear of their disturbed material keep the robot advancing every cycle"
+
+
+@outcome("flipperbot_memory", slow=True)
+def flipper_memory_outcomes(r):
+    by = r.by_name
+    assert [c.name for c in r.checks] == [FAILS, DROP, THRUST, CLEAR] and not r.failed_outcomes
+    assert by[CLEAR].passed  # the light body's step clears its sweep: it keeps advancing with the memory
+    # the heavy body's flippers re-enter their track and it stops; the light body's stay clear of it
+    assert by[FAILS].simulated.startswith("2 kg:") and by[CLEAR].simulated.startswith("0.5 kg:")
+    # the measured mechanism: the plates meet the surface their earlier cycles lowered, at a lower packing
+    assert "Runs that re-enter in every cycle after the first: poppy CP 2 kg" in r.cause
+    assert "control FAIL" in r.cause and len(r.panels) == 3
+
+
+@control("flipperbot_memory", "the memory-off runs fail the checks the memory passes; the checks reject a robot that "
+         "never re-enters and one that slows without re-entering")
+def flipper_without_memory():
+    s = dict(ground.flipper_settings(True), masses=(2.0,))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        off = ground.flipper_sweep(s, False)
+    by = {c.name: c for c in ground.flipper_checks(s, off)}
+    assert min(off["poppy_cp", 2.0]["reentry"][1:]) > ground.REENTER  # the same kinematics re-enter the track
+    assert not by[FAILS].passed and not by[DROP].passed and not by[THRUST].passed
+    clear = {("poppy_cp", 0.5): {"distance": [0.07] * 5, "reentry": [0.0] * 5}}
+    assert not ground.fails_to_advance_check("x", clear).passed and not ground.hatchling_drop_check("x", clear).passed
+    assert ground.keeps_advancing_check("x", clear).passed
+    slowing = {("poppy_cp", 0.5): {"distance": [0.07, 0.05, 0.04, 0.03, 0.02], "reentry": [0.0] * 5}}
+    assert not ground.keeps_advancing_check("x", slowing).passed
 
 
 test_case, test_known_disagreement, test_control = case_tests.runners()
