@@ -252,10 +252,12 @@ def stance_checks(rows, n: int) -> list[Check]:
     stable = {k: sum(math.isnan(f) for f, _ in v) for k, v in rows.items()}
     nat, wide, cut = stable[(0.152, False)], stable[(0.304, False)], stable[(0.304, True)]
     src = published("thesis_hubo", "cutout_stance").source
-    return [thesis_hubo.falls_check("natural foot (15.2 cm): falls in every trial", nat, n, wide, "natural_foot_stance"),
+    stable_width = published("thesis_hubo", "stable_width")
+    return [thesis_hubo.falls_check("natural foot (15.2 cm): falls in every trial", nat, n, wide,
+                                    "natural_foot_stance"),
             check_outcome("30.4 cm board: stands in every trial", wide == n,
-                          published="stable stance (" + published("thesis_hubo", "stable_width").note + ")",
-                          simulated=f"{wide} of {n} trials stable", source=published("thesis_hubo", "stable_width").source),
+                          published="stable stance (" + stable_width.note + ")",
+                          simulated=f"{wide} of {n} trials stable", source=stable_width.source),
             thesis_hubo.falls_check("cut-out 30.4 cm board (half the area): falls", cut, n, wide, "cutout_stance"),
             check_outcome("full 30.4 cm board more stable than the cut-out board", wide > cut,
                           published="area, not the polygon of support, decides (sec. 4.4.1)",
