@@ -5,14 +5,20 @@
 The hexapod (its bundled scene: poppy seeds closely packed, Li RFT, 1,696 elements, 1 ms) walks its 2 Hz tripod for
 1 s on the terrain without a memory while a terrain with ``ground_memory=True`` is evaluated on the same states (its
 ground follows the legs; the motion does not depend on the memory's implementation); the next N physics steps are
-recorded as the kernel sees them (the ``mjData`` views after ``mj_step1``). Each timed round replays those N steps in order through the compiled kernel from a
-compiled loop, once on the terrain without a memory and once on the one with it (its state restored to the
-recording's start, so the ground evolves as it did while recording: the same footprints, ridges and avalanches),
-alternately; a round's time per step is its total over N. The fastest round of each is its cost (on a loaded
-machine most rounds run undisturbed). Printed per grid cell and update period: both times per step, the memory's
-share of the kernel ``(with - without) / without``, and the share of its updates (the replay with the memory but a
-zero dt, for which the kernel leaves the ground as it was at the recording's start: what is left is the cost of
-reading it).
+recorded as the kernel sees them (the ``mjData`` views after ``mj_step1``). Each timed round replays those N steps
+in order through the compiled kernel from a compiled loop: on the terrain without a memory, on the one with it (its
+state restored to the recording's start, so the ground evolves as it did while recording: the same footprints,
+ridges and avalanches) and on the one with it frozen (below), alternately; a round's time per step is its total over
+N. The fastest round of each is its cost (on a loaded machine most rounds run undisturbed). Printed per grid cell
+and update period: the times per step, the memory's share of the kernel ``(with - without) / without``, and how
+that splits: the replay with the memory and its updates held off (the ground frozen as it was at the recording's
+start, every element's memory advancing as in the others), ``(frozen - without) / without``, is what reading the
+ground costs (each element's surface and packing, each cull group's highest surface around it, the elements that
+the ridges left by the first second bring within reach); the rest, ``(with - frozen) / without``, is what the
+updates cost with what they cause: the updates themselves, the cull groups near a changed block reading the ground
+afresh, and the ridges each leg heaps around itself as it digs (more of the legs' elements placed and buried). Then,
+counted on one more replay of each, step by step: the elements placed per step (in the cull groups within reach) and
+buried, and the elements reading the ground afresh.
 """
 
 from __future__ import annotations
@@ -65,13 +71,16 @@ def record(steps: int, warm: float = 1.0, memory=True):
 
 
 @njit
-def replay(tables, views, gravity, dt, st):
+def replay(tables, views, gravity, dt, st, frozen=False):
     """The kernel on each recorded step in order (``views``: each field stacked over the steps): the terrain's own
-    (:func:`mjrft.kernel.terrain_kernel_ground` with a ground memory)."""
+    (:func:`mjrft.kernel.terrain_kernel_ground` with a ground memory; ``frozen``: its updates held off, the time since
+    the last one kept far below its period)."""
     gx, gm, xp, xm, xi, cv, sc = views
     bad = 0
     for s in range(gx.shape[0]):
         mjd = MjViews(gx[s], gm[s], xp[s], xm[s], xi[s], cv[s], sc[s])
+        if frozen:
+            st.g_since[0] = -1e300
         if tables.ground.on:
             status, _ = kernel.terrain_kernel_ground(tables, mjd, gravity, dt, st)
         else:
@@ -99,23 +108,41 @@ def restore(st, start) -> None:
             raise ValueError(f"state array {name} has shape {a.shape}, the recording's {b.shape}")
 
 
-def measure(steps: int, rounds: int, options: GroundOptions) -> tuple[dict, mjrft.GranularTerrain, float]:
-    """({"without", "with", "with, update skipped"}: the fastest round's time per step (us), the terrain with the
-    memory, dt) of one recording."""
+def measure(steps: int, rounds: int, options: GroundOptions) -> tuple[dict, dict, mjrft.GranularTerrain, float]:
+    """({"without", "with", "frozen"}: the fastest round's time per step (us), the same keys: their :func:`counts`, the
+    terrain with the memory, dt) of one recording (``frozen``: the terrain with the memory, its updates held off)."""
     model, on, off, views, start, dt = record(steps, memory=options)
-    best = {"without": np.inf, "with": np.inf, "with, update skipped": np.inf}
-    runs = {"without": (off, dt), "with": (on, dt), "with, update skipped": (on, 0.0)}
+    best = {"without": np.inf, "with": np.inf, "frozen": np.inf}
+    runs = {"without": (off, False), "with": (on, False), "frozen": (on, True)}
     for r in range(rounds + 1):  # round 0 compiles
-        for name, (t, step_dt) in runs.items():
+        for name, (t, frozen) in runs.items():
             restore(t.terrain_state, start)
             t0 = time.perf_counter_ns()
-            bad = replay(t.terrain_model.tables, views, 9.81, step_dt, t.terrain_state)
+            bad = replay(t.terrain_model.tables, views, 9.81, dt, t.terrain_state, frozen)
             elapsed = (time.perf_counter_ns() - t0) / steps * 1e-3
             if bad:
                 raise SystemExit(f"{name}: {bad} steps returned a bad status")
             if r > 0:
                 best[name] = min(best[name], elapsed)
-    return best, on, dt
+    return best, {name: counts(t, views, start, dt, frozen) for name, (t, frozen) in runs.items()}, on, dt
+
+
+def counts(t, views, start, dt: float, frozen: bool) -> tuple[float, float, float]:
+    """(elements placed: in the cull groups within reach, elements buried, elements reading the ground afresh: in the
+    groups whose reading changed), per step, on the replay of the terrain ``t`` from ``start`` (step by step)."""
+    st = t.terrain_state
+    restore(st, start)
+    size = np.diff(t.terrain_model.tables.elements.group_start)
+    placed = buried = fresh = 0
+    n = views.geom_xpos.shape[0]
+    for s in range(n):
+        before = st.g_group.copy()
+        replay(t.terrain_model.tables, MjViews(*(v[s:s + 1] for v in views)), 9.81, dt, st, frozen)
+        placed += size[st.group_active].sum()
+        buried += np.count_nonzero(st.depth > 0.0)
+        if before.shape[0]:
+            fresh += size[np.any(st.g_group != before, axis=1)].sum()
+    return placed / n, buried / n, fresh / n
 
 
 def main(argv=None) -> int:
@@ -133,23 +160,29 @@ def main(argv=None) -> int:
              + ("" if args.cells == [None] else " --cells " + " ".join(f"{c:g}" for c in args.cells))
              + ("" if args.periods == [GROUND_PERIOD] else " --periods " + " ".join(f"{p:g}" for p in args.periods))]
     header = False
+    elements = ["elements per step: placed (in the cull groups within reach) / buried, without the memory, with it "
+                "and with it frozen; reading the ground afresh, with it:",
+                f"{'cell':>6s} {'period':>7s} {'without':>9s} {'with':>9s} {'frozen':>9s} {'re-read':>8s}"]
     for cell in args.cells:
         for period in args.periods:
-            best, on, dt = measure(args.steps, args.rounds, GroundOptions(cell=cell, period=period))
+            best, count, on, dt = measure(args.steps, args.rounds, GroundOptions(cell=cell, period=period))
             gt = on.terrain_model.ground
             if not header:
                 lines += [f"hexapod (bundled scene: {on.medium.name}, {on.law}, {on.n_elements} elements, dt "
                           f"{dt * 1e3:g} ms), 2 Hz tripod on the terrain without a memory, a terrain with one "
                           f"evaluated on the same states; {args.steps} recorded steps after 1 s; fastest of "
                           f"{args.rounds} rounds, kernel time per step (us):",
-                          f"{'cell':>6s} {'period':>7s} {'without':>8s} {'with':>8s} {'update skipped':>15s} "
-                          f"{'memory / kernel':>16s} {'update alone':>13s}"]
+                          f"{'cell':>6s} {'period':>7s} {'without':>8s} {'with':>8s} {'frozen':>8s} "
+                          f"{'memory / kernel':>16s} {'reading':>8s} {'updates':>8s}"]
                 header = True
-            w, g, k = best["without"], best["with"], best["with, update skipped"]
-            lines.append(f"{gt.frame[2] * 1e3:4.0f}mm {gt.period * 1e3:5.0f}ms {w:8.2f} {g:8.2f} {k:15.2f} "
-                         f"{100 * (g - w) / w:15.1f}% {100 * (g - k) / w:12.1f}%")
+            w, g, k = best["without"], best["with"], best["frozen"]
+            lines.append(f"{gt.frame[2] * 1e3:4.0f}mm {gt.period * 1e3:5.0f}ms {w:8.2f} {g:8.2f} {k:8.2f} "
+                         f"{100 * (g - w) / w:15.1f}% {100 * (k - w) / w:7.1f}% {100 * (g - k) / w:7.1f}%")
             print(lines[-1] if len(lines) > 3 else "\n".join(lines), flush=True)
-    text = "\n".join(lines)
+            elements.append(f"{gt.frame[2] * 1e3:4.0f}mm {gt.period * 1e3:5.0f}ms "
+                            + " ".join(f"{'%.0f/%.0f' % count[name][:2]:>9s}" for name in ("without", "with", "frozen"))
+                            + f" {count['with'][2]:8.0f}")
+    text = "\n".join(lines + elements)
     print(text)
     if args.out:
         with open(args.out, "w") as fh:
