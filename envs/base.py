@@ -50,7 +50,8 @@ Common keyword arguments (all environments):
                            from the env's ``np_random`` (``reset(seed=s)`` reproduces it). Sand
                            environments only. Options and their meaning: :mod:`mjrft.envs.randomization`.
 ``implicit``               ``True``: the implicit granular step (:class:`mjrft.GranularTerrain`'s ``implicit``; the
-                           grains' springs stable at any physics step); default False, the explicit step. The
+                           grains' springs stable at any physics step), ``False`` the explicit one; default the
+                           robot's own (the hexapods: explicit; the biped and the humanoid: implicit). The
                            errors of each coupling against the physics step, per robot:
                            ``python benchmarks/env_timestep.py`` (docs/numerics.md, "Each env's physics step").
 ``ground_memory``          ``True`` (or a :class:`mjrft.ground.GroundOptions`): the ground remembers footprints,
@@ -134,6 +135,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
     #: the robot's own (timestep, frame_skip) on sand when neither preset, timestep nor frame_skip is given
     #: (None: the model's timestep and :data:`mjrft.tools.presets.FRAME_SKIP`)
     sand_step: tuple[float, int] | None = None
+    #: the robot's own granular coupling on sand when ``implicit`` is not given (True: the implicit step)
+    sand_implicit: bool = False
 
     def __init__(self, xml: str, *, sand: bool = True, healthy_z_range=(0.0, 1.0), max_tilt: float = 1.0,
                  medium=None, law=None, resolution=None,
@@ -144,13 +147,15 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
                  width: int = 480, height: int = 480, camera_name: str | None = None,
                  camera_id: int | None = None, pickle_kwargs: dict | None = None,
                  preset: str | None = None, timestep: float | None = None, terrain_randomization=None,
-                 ground_memory=False, implicit: bool = False):
+                 ground_memory=False, implicit: bool | None = None):
         healthy_z_range = tuple(float(v) for v in healthy_z_range)
         if len(healthy_z_range) != 2 or not healthy_z_range[0] < healthy_z_range[1]:
             raise ValueError(f"healthy_z_range must be (low, high) with low < high, got {healthy_z_range!r}")
         max_tilt = check_positive("max_tilt", max_tilt)
+        if implicit is None:
+            implicit = self.sand_implicit and sand
         if not isinstance(implicit, (bool, np.bool_)):
-            raise TypeError(f"implicit must be True or False, got {implicit!r}")
+            raise TypeError(f"implicit must be True, False or None (the robot's own), got {implicit!r}")
         for name, val in (("width", width), ("height", height)):
             if isinstance(val, bool) or not isinstance(val, (int, np.integer)) or val < 1:
                 raise ValueError(f"{name} must be an integer >= 1 (pixels), got {val!r}")

@@ -7,21 +7,22 @@ from mjrft.models.biped import biped_xml
 from .base import GranularMujocoEnv, split_env_kwargs
 from .tasks import BipedTask
 
-#: the sand biped's physics step (s) and steps per env step when neither ``preset``, ``timestep`` nor
-#: ``frame_skip`` is given: 0.5 ms x 20 = the 10 ms control period. Under random actions the feet's explicit
-#: granular-stiffness limit (:mod:`mjrft.stability`) falls to 0.98 ms on poppy_cp, below the model's 1 ms
-#: step; at 0.5 ms the test's 300 random steps stay within it (``tests/envs/test_biped_timestep.py``), and over a
-#: million random env steps one foot's limit fell to the 0.5 ms step once (``python benchmarks/soak.py``).
-SAND_TIMESTEP = 0.0005
-SAND_FRAME_SKIP = 20
+#: the sand biped's physics step (s), steps per env step and granular coupling when neither ``preset``, ``timestep``
+#: nor ``frame_skip`` (nor ``implicit``) is given: the implicit step at 2 ms x 5 = the 10 ms control period, the
+#: largest step whose gait speed and sinkage stay within 2 % of a 0.05 ms reference and that stays stable under random
+#: actions (``python benchmarks/env_timestep.py``; docs/numerics.md, "Each env's physics step"). The explicit step
+#: passes the feet's stability limit there under random actions (``tests/envs/test_biped_timestep.py``).
+SAND_TIMESTEP = 0.002
+SAND_FRAME_SKIP = 5
 
 
 class BipedSand(GranularMujocoEnv):
     """Planar 1.6 kg biped (x-z plane, 4 pitch servos per leg) walking forward (+x) on sand.
 
     Model: :func:`mjrft.models.biped_xml` (``foot``, ``foot_size``, ``foot_width``, ``sand``, ...);
-    granular bodies ``left_foot right_foot``. Physics step 0.5 ms, ``frame_skip = 20`` (``dt = 0.01`` s;
-    ``SAND_TIMESTEP``, ``SAND_FRAME_SKIP``) when neither ``preset``, ``timestep`` nor ``frame_skip`` is given;
+    granular bodies ``left_foot right_foot``. On sand the implicit granular step at 2 ms, ``frame_skip = 5``
+    (``dt = 0.01`` s; ``SAND_TIMESTEP``, ``SAND_FRAME_SKIP``) when neither ``preset``, ``timestep`` nor
+    ``frame_skip`` is given (``implicit=False``: the explicit step, which needs <= 0.5 ms);
     on the rigid floor 1 ms and ``frame_skip = 10``.
     Feet (``foot``): ``"cone"`` (default; the thesis robot's conical foot, circular sole 8.5 cm across),
     ``"wedge"`` (the thesis simulation's 8.5 x 8.5 x 7.5 cm wedge) or ``"roller"`` (a cylinder lying
@@ -80,6 +81,7 @@ class BipedSand(GranularMujocoEnv):
 
     defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.5, "healthy_z_range": (0.05, 0.6), "max_tilt": 1.0}
     sand_step = (SAND_TIMESTEP, SAND_FRAME_SKIP)
+    sand_implicit = True
 
     def __init__(self, sand: bool = True, *, foot: str = "cone", foot_size: float = 0.085,
                  pitch_free: bool = True, **kwargs):

@@ -272,7 +272,7 @@ class LocomotionEnv(MjxEnv):
             impl="jax")
         if sand:
             cfg.terrain = config_dict.create(medium=None, law=None, resolution=None, cull=None, ground_memory=False,
-                                             implicit=False)
+                                             implicit=bool(cls.gym_class.sand_implicit))
             cfg.randomization = config_dict.create(**{f.name: f.default for f in fields(TerrainRandomization)})
         return cfg
 
@@ -296,7 +296,8 @@ class LocomotionEnv(MjxEnv):
         if ground == "sand":
             t = config.terrain
             kwargs.update(medium=t.medium, law=t.law, resolution=t.resolution,  # (.get: a configuration saved
-                          ground_memory=t.get("ground_memory", False), implicit=t.get("implicit", False))  # without)
+                          ground_memory=t.get("ground_memory", False),
+                          implicit=t.get("implicit", cls.gym_class.sand_implicit))  # without)
             r = config.randomization.to_dict()
             drawn = TerrainRandomization(**r)  # checked here, once for both backends
             plain = TerrainRandomization()

@@ -42,8 +42,8 @@ def test_implicit_takes_a_step_the_explicit_coupling_cannot():
         assert np.all(np.isfinite(_walk(60, timestep=0.004, frame_skip=2, implicit=True)))
 
 
-def test_implicit_must_be_a_bool():
-    with pytest.raises(TypeError, match="implicit must be True or False, got 'yes'"):
+def test_implicit_must_be_a_bool_or_none():
+    with pytest.raises(TypeError, match=r"implicit must be True, False or None \(the robot's own\), got 'yes'"):
         gymnasium.make("mjrft/HexapodRigid-v0", implicit="yes")
 
 

@@ -64,3 +64,18 @@ def test_the_biped_keeps_its_gait_at_2_ms_with_the_implicit_step_and_the_explici
     study = _load("env_timestep")
     _, warned = _biped(0.002, False, policy=study.RandomActions(8))
     assert warned > 0
+
+
+def test_the_humanoid_keeps_the_explicit_step_that_holds_the_one_foot_stance():
+    # benchmarks/stance_timestep.py: on the 30.4 cm board with the CoM over the sole's centre the explicit 1 ms
+    # step (the env's default) stands the 10 s; the implicit step at 2 ms, within the gait budget, falls at ~7.6 s
+    import math
+
+    from mjrft.envs.humanoid import HumanoidSand
+    from mjrft.tools.validation.cases.thesis_hubo import HOLD_END, run_trial
+
+    assert not HumanoidSand.sand_implicit
+    assert math.isnan(run_trial("stance:com_x=0.0,lift=0.1", 0.304, False, HOLD_END)[3])
+    fall = run_trial("stance:com_x=0.0,lift=0.1", 0.304, False, HOLD_END,
+                     env_kwargs=dict(timestep=0.002, frame_skip=5, implicit=True))[3]
+    assert 5.0 < fall < HOLD_END

@@ -54,26 +54,27 @@ WIDTHS = (0.152, 0.178, 0.203, 0.229, 0.254, 0.304)
 
 
 def _env(foot_width: float, cutout: bool, yield_displacement: float | None = None, sand: bool = True,
-         ground_memory=False, medium=None):
+         ground_memory=False, medium=None, env_kwargs: dict | None = None):
     from mjrft.coupler import GranularTerrain
     from mjrft.envs.humanoid import HumanoidSand
 
     env = HumanoidSand(sand=sand, terminate_when_unhealthy=False, foot_width=foot_width, foot_cutout=cutout,
                        **({"ground_memory": ground_memory} if ground_memory else {}),
-                       **({"medium": medium} if medium is not None else {}))
+                       **({"medium": medium} if medium is not None else {}), **(env_kwargs or {}))
     if yield_displacement is not None:
-        env.terrain = GranularTerrain(env.model, yield_displacement=yield_displacement)
+        env.terrain = GranularTerrain(env.model, yield_displacement=yield_displacement, implicit=env.terrain.implicit)
     return env
 
 
 def run_trial(spec: str, foot_width: float, cutout: bool, t_end: float, yield_displacement: float | None = None,
-              sand: bool = True, ground_memory=False, medium=None):
+              sand: bool = True, ground_memory=False, medium=None, env_kwargs: dict | None = None):
     """Run the gait ``spec`` until ``t_end`` or a fall: (times, pelvis tilt, stance sinkage m, fall time or nan,
     fall direction: the pelvis z axis's (x, y) at the fall). ``sand=False``: a rigid floor (the controls);
-    ``ground_memory``: the terrain's (:mod:`mjrft.ground`); ``medium``: instead of the env's."""
+    ``ground_memory``: the terrain's (:mod:`mjrft.ground`); ``medium``: instead of the env's; ``env_kwargs``: further
+    keyword arguments of the env (its physics step: ``benchmarks/stance_timestep.py``)."""
     from ...gaits import make_gait
 
-    env = _env(foot_width, cutout, yield_displacement, sand, ground_memory, medium)
+    env = _env(foot_width, cutout, yield_displacement, sand, ground_memory, medium, env_kwargs)
     obs, _ = env.reset(seed=0)
     gait = make_gait(spec, env)
     ts, tilt, sink = [], [], []
