@@ -1,21 +1,20 @@
 """The README and the user guide (``docs/*.md``) stay true.
 
 * Every ```python block runs, in page order, each page in one namespace (a block may use what an earlier
-  block of its page defined), from a temporary folder, within ``BLOCK_SECONDS`` of wall time. A block is
-  skipped only when its first line is ``# doc-test: skip (reason)`` with a reason.
+  block of its page defined), from a temporary folder. A block is skipped only when its first line is
+  ``# doc-test: skip (reason)`` with a reason. Wall time is not asserted (tests hold no absolute times: a loaded
+  2-core machine takes several times as long); ``make test`` lists the slowest pages (``--durations``).
 * Every relative link and image of a page points at a file or folder that exists (anchors are not checked).
 * ``docs/cli.md`` is the current ``mjrft --help`` and ``mjrft <command> --help`` text
   (regenerate it with ``python docs/cli_reference.py``).
 
-The terrain kernels are compiled (or loaded from the on-disk cache) once before the blocks run, so a
-block's time is its own.
+The terrain kernels are compiled (or loaded from the on-disk cache) once before the blocks run.
 """
 
 from __future__ import annotations
 
 import re
 import sys
-import time
 import warnings
 from pathlib import Path
 
@@ -23,8 +22,6 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
-#: per-block wall-time budget: examples are meant to run in seconds; the margin covers a loaded 2-core machine
-BLOCK_SECONDS = 60.0
 FENCE = re.compile(r"^```([\w+-]*)[^\n]*\n(.*?)^```[ \t]*$", re.S | re.M)
 SKIP = re.compile(r"^#\s*doc-test:\s*skip\s*\((?P<reason>[^)]*\S[^)]*)\)\s*$")
 MARKER = re.compile(r"^#\s*doc-test\b")
@@ -85,15 +82,12 @@ def test_python_blocks_run(page, compiled, tmp_path, monkeypatch):
         if MARKER.match(first):
             assert SKIP.match(first), f"{_rel(page)}:{line}: write '# doc-test: skip (reason)', got {first!r}"
             continue
-        start = time.perf_counter()
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # the terrain's range and stability notes are not the example's
                 exec(compile(source, f"{_rel(page)}:{line}", "exec"), namespace)
         except Exception as exc:
             raise AssertionError(f"{_rel(page)}, python block at line {line} failed: {exc!r}") from exc
-        took = time.perf_counter() - start
-        assert took < BLOCK_SECONDS, f"{_rel(page)}:{line}: block took {took:.1f} s (budget {BLOCK_SECONDS} s)"
 
 
 @pytest.mark.parametrize("page", PAGES, ids=_rel)
