@@ -13,6 +13,8 @@ the largest difference of the wrench and of the memory, each relative to the lar
 
 from __future__ import annotations
 
+import functools
+
 import copy
 from typing import Callable, NamedTuple
 
@@ -104,23 +106,29 @@ def replay_steps(model: mujoco.MjModel, terrain_kwargs: dict, steps: int, every:
     return out
 
 
-def stand(sand, model: mujoco.MjModel, qpos, ctrl, seconds: float, state=None):
-    """Hold ``ctrl`` from ``qpos`` for ``seconds`` with ``sand.step`` (one jitted ``lax.scan``) from ``state`` (default
-    ``sand.init()``); returns (the last mjx.Data, the last SandState, the net vertical granular force over the
-    weight at every step)."""
+@functools.lru_cache(maxsize=8)
+def _stand_run(sand, steps: int):
+    """The jitted ``lax.scan`` of ``steps`` ``sand.step`` calls (one per terrain and length: a second :func:`stand`
+    with them compiles nothing)."""
     import jax
+
+    def body(carry, mx):
+        d, state = sand.step(mx, *carry)
+        return (d, state), state.wrench[:, 2].sum()
+
+    return jax.jit(lambda mx, d, s: jax.lax.scan(lambda c, _: body(c, mx), (d, s), None, length=steps))
+
+
+def stand(sand, model: mujoco.MjModel, qpos, ctrl, seconds: float, state=None):
+    """Hold ``ctrl`` from ``qpos`` for ``seconds`` with ``sand.step`` (one jitted ``lax.scan``, compiled once per
+    terrain and length) from ``state`` (default ``sand.init()``); returns (the last mjx.Data, the last SandState, the
+    net vertical granular force over the weight at every step)."""
     import jax.numpy as jnp
     from mujoco import mjx
 
     mx = sand.put_model()
     d0 = mjx.make_data(mx).replace(qpos=jnp.asarray(qpos), ctrl=jnp.asarray(ctrl))
     steps = int(round(seconds / model.opt.timestep))
-
-    def body(carry, _):
-        d, state = sand.step(mx, *carry)
-        return (d, state), state.wrench[:, 2].sum()
-
-    run = jax.jit(lambda d, s: jax.lax.scan(body, (d, s), None, length=steps))
-    (d, state), fz = run(d0, sand.init() if state is None else state)
+    (d, state), fz = _stand_run(sand, steps)(mx, d0, sand.init() if state is None else state)
     weight = float(model.body_subtreemass[0]) * -float(model.opt.gravity[2])
     return d, state, np.asarray(fz) / weight
