@@ -51,7 +51,7 @@ Common keyword arguments (all environments):
                            environments only. Options and their meaning: :mod:`mjrft.envs.randomization`.
 ``implicit``               ``True``: the implicit granular step (:class:`mjrft.GranularTerrain`'s ``implicit``; the
                            grains' springs stable at any physics step), ``False`` the explicit one; default the
-                           robot's own (the hexapods: explicit; the biped and the humanoid: implicit). The
+                           robot's own (the biped: implicit; the hexapods and the humanoid: explicit). The
                            errors of each coupling against the physics step, per robot:
                            ``python benchmarks/env_timestep.py`` (docs/numerics.md, "Each env's physics step").
 ``ground_memory``          ``True`` (or a :class:`mjrft.ground.GroundOptions`): the ground remembers footprints,
