@@ -25,6 +25,7 @@ the cost of transport's error is printed beside it but is not part of the budget
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import os
 import sys
@@ -64,6 +65,18 @@ class RandomActions:
         return np.clip(self.rng.normal(0.0, RANDOM_SD, self.n), -1.0, 1.0).astype(np.float32), state
 
 
+@functools.lru_cache(maxsize=None)
+def action_size(env_id: str) -> int:
+    """The number of actions of ``env_id`` (one env made per id, not per run)."""
+    import gymnasium
+
+    env = gymnasium.make(env_id)
+    try:
+        return int(env.action_space.shape[0])
+    finally:
+        env.close()
+
+
 def run(env_id: str, policy, dt: float, implicit: bool | None, seconds: float, extra: dict) -> dict:
     """One seeded episode of ``policy`` on ``env_id`` at physics step ``dt`` (``implicit`` None: a rigid env);
     the evaluation's summary plus the stability warnings raised and the wall time."""
@@ -78,9 +91,7 @@ def run(env_id: str, policy, dt: float, implicit: bool | None, seconds: float, e
     with warnings.catch_warnings(record=True) as rec:
         warnings.simplefilter("always", TerrainStabilityWarning)
         if policy == "random":
-            import gymnasium
-
-            policy = RandomActions(gymnasium.spec(env_id).make(**kwargs).action_space.shape[0])
+            policy = RandomActions(action_size(env_id))
         rows, summary = evaluate(policy, env_id, episodes=1, seed=0, env_kwargs=kwargs)
     row = rows[0]
     return {"speed": row["speed"], "sink": row["sink_mean_mm"], "cot": row["cot"], "seconds": row["seconds"],

@@ -65,26 +65,39 @@ def applied_power(m: mujoco.MjModel, d: mujoco.MjData) -> tuple[float, float]:
     return float(np.sum(np.abs(f * v0))), float(np.sum(np.abs(applied * v1)))
 
 
+#: one servo-driven hinge (kp 2, kv 0.02, forcerange +-0.3 N m, armature 1e-5 kg m^2, h = 1 ms), for the rule's check
+HINGE = ('<mujoco><option timestep="0.001" integrator="{}" gravity="0 0 0"/><worldbody><body>'
+         '<joint name="j" type="hinge" armature="1e-5"/><geom type="sphere" size="0.001" mass="1e-6"/>'
+         '</body></worldbody><actuator><position joint="j" kp="2" kv="0.02" forcelimited="true" '
+         'forcerange="-0.3 0.3"/></actuator></mujoco>')
+INTEGRATORS = ("implicitfast", "implicit", "Euler")
+#: (ctrl, initial velocity) of the check: the force unclamped at rest and moving, and clamped
+HINGE_CASES = ((0.01, 0.0), (0.01, 3.0), (1.0, 0.0))
+
+
+def hinge_step(integrator: str, ctrl: float, v: float) -> tuple[float, float, float]:
+    """One MuJoCo step of :data:`HINGE` from rest at 0 with velocity ``v`` and target ``ctrl``: (the force the step
+    applied, ``I dv / h``; the applied force by the rule, ``f + g (v' - v)``; the start state's force ``f``)."""
+    m = mujoco.MjModel.from_xml_string(HINGE.format(integrator))
+    d = mujoco.MjData(m)
+    d.ctrl[0], d.qvel[0] = ctrl, v
+    mujoco.mj_forward(m, d)
+    inertia = np.zeros((1, 1))
+    mujoco.mj_fullM(m, d, inertia)
+    mujoco.mj_step(m, d)
+    f, v0 = float(d.actuator_force[0]), float(d.actuator_velocity[0])
+    applied = f + float(velocity_gain(m, d)[0]) * (float(end_velocity(m, d)[0]) - v0)
+    return float(inertia[0, 0] * (d.qvel[0] - v) / m.opt.timestep), applied, f
+
+
 def check_rule() -> list[str]:
-    """The applied force against MuJoCo's step on one servo-driven hinge (inertia 1e-5, kp 2, kv 0.02, +-0.3 N m)."""
+    """The applied force against MuJoCo's step on :data:`HINGE` (:func:`hinge_step`)."""
     lines = ["rule check on one hinge (kp 2, kv 0.02, forcerange +-0.3, armature 1e-5, h = 1 ms): I dv / h against "
              "the applied force"]
-    for integrator in ("implicitfast", "implicit", "Euler"):
-        xml = (f'<mujoco><option timestep="0.001" integrator="{integrator}" gravity="0 0 0"/><worldbody><body>'
-               '<joint name="j" type="hinge" armature="1e-5"/><geom type="sphere" size="0.001" mass="1e-6"/>'
-               '</body></worldbody><actuator><position joint="j" kp="2" kv="0.02" forcelimited="true" '
-               'forcerange="-0.3 0.3"/></actuator></mujoco>')
-        m = mujoco.MjModel.from_xml_string(xml)
-        for ctrl, v in ((0.01, 0.0), (0.01, 3.0), (1.0, 0.0)):
-            d = mujoco.MjData(m)
-            d.ctrl[0], d.qvel[0] = ctrl, v
-            mujoco.mj_forward(m, d)
-            inertia = np.zeros((1, 1))
-            mujoco.mj_fullM(m, d, inertia)
-            mujoco.mj_step(m, d)
-            f, v0 = float(d.actuator_force[0]), float(d.actuator_velocity[0])
-            applied = f + float(velocity_gain(m, d)[0]) * (float(d.qvel[0]) - v0)
-            lines.append(f"  {integrator:12s} ctrl {ctrl:4.2f} v {v:3.1f}: I dv/h {inertia[0, 0] * (d.qvel[0] - v) / 1e-3:+.6f}"
+    for integrator in INTEGRATORS:
+        for ctrl, v in HINGE_CASES:
+            stepped, applied, f = hinge_step(integrator, ctrl, v)
+            lines.append(f"  {integrator:12s} ctrl {ctrl:4.2f} v {v:3.1f}: I dv/h {stepped:+.6f}"
                          f"  applied {applied:+.6f}  start force {f:+.6f}")
     return lines
 
