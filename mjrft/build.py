@@ -19,7 +19,7 @@ import numpy as np
 
 from .elements import build_elements, check_element_count
 from .floor import remove_contacts
-from .ground import build_ground_packing, build_ground, make_ground_state, with_ground_surface
+from .ground import build_ground_packing, build_ground, make_ground_state, uses_wake, with_ground_surface
 from .laws.solidify import STICK_SPEED, check_solidify
 from .params import P_WATER_DEPTH
 from .regions import build_regions
@@ -143,4 +143,4 @@ def make_state(tm: TerrainModel, model: mujoco.MjModel) -> TerrainState:
         scr_f=np.zeros((14 if tm.ground.on else 13, n)), scr_i=np.zeros((2, n), dtype=np.int64),
         imp_jac=np.zeros((6 * nb, nv)), imp_minv_jac=np.zeros((6 * nb, nv)), imp_blocks=np.zeros((nb, 6, 6)),
         imp_a=np.zeros((6 * nb, 6 * nb)), imp_rhs=np.zeros(12 * nb + 6), imp_rows=np.zeros(nb, dtype=np.int64),
-        **make_ground_state(tm.ground, n, len(tm.elements.group_geom)))
+        **make_ground_state(tm.ground, n, len(tm.elements.group_geom), uses_wake(tm.regions.law)))

@@ -42,7 +42,7 @@ from .build import (build_model, check_model, make_state, remove_floor_contacts,
                     with_surface)
 from .divergence import mujoco_reset_error, nonfinite_error, reset_count, whole_steps
 from .errors import SandContactWarning, check_finite, check_positive, unknown
-from .ground import C_H, C_PHI, sample_many
+from .ground import C_H, C_PHI, sample_many, uses_wake, wake_array
 from .implicit_step import IMPLICIT_FUNCTIONS
 from .laws.solidify import STICK_SPEED
 from .media import get_medium
@@ -519,6 +519,9 @@ class GranularTerrain:
         tm = with_regions(self.terrain_model, s, scale)
         if len(tm.region_list) != len(self.terrain_model.region_list):
             self.terrain_state.region[:] = 0
+        wake = uses_wake(tm.regions.law)
+        if tm.ground.on and wake != (self.terrain_state.g_wake.size > 0):  # the hybrid law's wake comes or goes
+            self.terrain_state = self.terrain_state._replace(g_wake=wake_array(tm.ground, wake))
         self.terrain_model = tm
         self._validity = ValidityWatch(tm.region_list, tm.constants.inertial, self._validity.warned, stacklevel=4)
 

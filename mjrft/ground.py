@@ -63,6 +63,11 @@ BLOCK_SHIFT = 2
 #: a slope's excess over the angle of repose (in cells' edge lengths) below which the relaxation leaves it: the
 #: excess decays geometrically, and a cell moving less than this drops off the sweeps' list
 RELAX_TOL = 1e-4
+#: the wake (the hybrid law's undisturbed-grain rule, :func:`in_wake`): the depth slabs per cell, each half a cell
+#: thick, of which the first WAKE_ABOVE lie above the undisturbed surface (ridges): 64 slabs of 5 mm cells reach
+#: 14 cm below the surface and 2 cm above it
+WAKE_SLABS = 64
+WAKE_ABOVE = 8
 
 # Li 2013, table S2: the ratio of the closely to the loosely packed scaling factor zeta per unit of volume fraction,
 # ln(zeta_CP / zeta_LP) / (phi_CP - phi_LP), of the two media measured in both states (poppy seeds 0.488 / 0.248,
@@ -567,6 +572,53 @@ def relax_sweep(base, cells, dirty, count, clock, blocks, step, cell, tan_lp, ta
     clock[1] = sweep
 
 
+@njit(cache=True, error_model="numpy", inline="always")
+def _wake_slab(base, z, cell):
+    """The wake's depth slab (half a cell thick, :data:`WAKE_ABOVE` of them above the undisturbed surface ``base``)
+    holding height ``z``; -1 outside the :data:`WAKE_SLABS`."""
+    f = (base - z) / (0.5 * cell) + WAKE_ABOVE
+    if not (f >= 0.0 and f < WAKE_SLABS):
+        return -1
+    return int(f)
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _wake_mark(wake, j, i, base, z, size, cell, now):
+    """A leading face of extent ``size`` (m) at height ``z`` passed through cell (j, i) at time ``now`` (s): each
+    slab it covers keeps the earliest time a face passed through it during the bodies' stay in the cell."""
+    inv = 2.0 / cell
+    lo = (base - z - 0.5 * size) * inv + WAKE_ABOVE
+    hi = (base - z + 0.5 * size) * inv + WAKE_ABOVE
+    if not (hi >= 0.0 and lo < WAKE_SLABS):
+        return
+    for k in range(int(max(lo, 0.0)), int(min(hi, WAKE_SLABS - 1.0)) + 1):
+        if now < wake[j, i, k]:
+            wake[j, i, k] = now
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def in_wake(px, py, pz, mx, my, mz, speed, frame, base, wake, now, period):
+    """Whether an element at ``(px, py, pz)`` moving along the unit ``(mx, my, mz)`` at ``speed`` moves into grains a
+    body still in the cell has already pushed away (the hybrid law's undisturbed-grain rule, docs/terrain.md,
+    "Ground memory"): the point half a cell ahead lies in a depth slab of its cell that a leading face passed through
+    earlier than the element itself could have, more than ``2 cell / speed + period`` (s) before ``now`` (the time the
+    element needs to cross its own cell and the one ahead, plus one update of the ground). Outside the grid: no."""
+    c = frame[2]
+    ax = px + 0.5 * c * mx
+    ay = py + 0.5 * c * my
+    az = pz + 0.5 * c * mz
+    fx = (ax - frame[0]) * frame[3]
+    fy = (ay - frame[1]) * frame[3]
+    if not (fx >= 0.0 and fy >= 0.0 and fx < wake.shape[1] and fy < wake.shape[0]):
+        return False
+    i = int(fx)
+    j = int(fy)
+    k = _wake_slab(base[j, i], az, c)
+    if k < 0:
+        return False
+    return now - wake[j, i, k] > 2.0 * c / speed + period
+
+
 @njit(cache=True, error_model="numpy", _nrt=False)
 def ground_step(gr, el, st, delta, v_eps, dt):
     """Advance the ground memory by ``dt`` (s, the time since its last update) from the element outputs the kernel has
@@ -590,6 +642,7 @@ def ground_step(gr, el, st, delta, v_eps, dt):
     sweep = clock[1] + 1
     slot = clock[1] % 2
     hold2 = (FLOWING * delta) * (FLOWING * delta)
+    wake, now = st.g_wake, st.g_since[1]
     # 1. the buried elements: the cells they are in, the bodies' volume below the surface there (the divergence
     # theorem: a closed body's volume below the surface is the sum of depth x area x -n_z over its buried faces) and
     # the volume the flowing elements' leading faces move through
@@ -622,6 +675,8 @@ def ground_step(gr, el, st, delta, v_eps, dt):
                 vn = vel[e, 0] * nrm[e, 0] + vel[e, 1] * nrm[e, 1] + vel[e, 2] * nrm[e, 2]
                 if vn > 0.0:
                     cells[j, i, C_SWEPT] += e_area[e] * vn * dt
+                    if wake.shape[0] > 0:  # the slabs its leading face passes through (the hybrid law's wake)
+                        _wake_mark(wake, j, i, base[j, i], pos[e, 2], math.sqrt(e_area[e]), cell, now)
     # 2. the cells a body is in: shear to the critical state, the footprint's displaced volume (compaction, ridge)
     for k in range(ntouch):
         c = held[1, k]
@@ -663,6 +718,8 @@ def ground_step(gr, el, st, delta, v_eps, dt):
         i = c - j * nx
         if cells[j, i, C_STAMP] != step:
             cells[j, i, C_PEND] = 0.0
+            if wake.shape[0] > 0:  # the grains close over the wake the body leaves
+                wake[j, i, :] = np.inf
             _raise_block(blocks, cells, j, i)
             _mark(dirty, count, cells, nx, j, i, sweep, slot)
     for k in range(ntouch):
@@ -675,16 +732,18 @@ def ground_step(gr, el, st, delta, v_eps, dt):
     _blocks(blocks, cells, step)
 
 
-def make_ground_state(gt: GroundTables, n_elements: int, n_groups: int) -> dict:
+def make_ground_state(gt: GroundTables, n_elements: int, n_groups: int, wake: bool = False) -> dict:
     """The ``g_*`` arrays of a :class:`~mjrft.types.TerrainState` for the ground tables ``gt`` (empty when off),
-    ``n_elements`` elements in ``n_groups`` cull groups, at the prepared state."""
+    ``n_elements`` elements in ``n_groups`` cull groups, at the prepared state; ``wake``: whether the terrain keeps
+    the wake of the hybrid law's undisturbed-grain rule (:func:`wake_array`)."""
     if not gt.on:
         cells = np.zeros((0, 0, N_FIELDS))
         return dict(g_cells=cells, g_height=cells[:, :, C_H], g_phi=cells[:, :, C_PHI], g_elem=np.zeros((0, 6)),
                     g_group=np.zeros((0, 3)),
                     g_held=np.zeros((2, 0), dtype=np.int64), g_dirty=np.zeros((2, 0), dtype=np.int64),
                     g_count=np.zeros(3, dtype=np.int64), g_clock=np.zeros(2, dtype=np.int64), g_since=np.zeros(1),
-                    g_blocks=_block_arrays(0, 0), g_rim=np.zeros(0, dtype=np.int64), g_rows=np.zeros((0, P_SIZE)))
+                    g_blocks=_block_arrays(0, 0), g_rim=np.zeros(0, dtype=np.int64), g_rows=np.zeros((0, P_SIZE)),
+                    g_wake=wake_array(gt, False))
     ny, nx = (int(v) for v in gt.shape)
     cells = np.zeros((ny, nx, N_FIELDS))
     cells[:, :, C_PHI] = gt.pack[3]
@@ -693,9 +752,26 @@ def make_ground_state(gt: GroundTables, n_elements: int, n_groups: int) -> dict:
                 g_group=np.full((n_groups, 3), -1.0),
                 g_held=np.zeros((2, max(1, n_elements)), dtype=np.int64),
                 g_dirty=np.zeros((2, nx * ny), dtype=np.int64), g_count=np.zeros(3, dtype=np.int64),
-                g_clock=np.zeros(2, dtype=np.int64), g_since=np.zeros(1),
+                g_clock=np.zeros(2, dtype=np.int64), g_since=np.zeros(2),
                 g_blocks=_block_arrays((ny >> BLOCK_SHIFT) + 1, (nx >> BLOCK_SHIFT) + 1), g_rim=np.zeros(8, dtype=np.int64),
-                g_rows=np.zeros((gt.dparams.shape[0], P_SIZE)))
+                g_rows=np.zeros((gt.dparams.shape[0], P_SIZE)), g_wake=wake_array(gt, wake))
+
+
+def wake_array(gt: GroundTables, wake: bool) -> np.ndarray:
+    """The wake of a ground memory whose scene uses the hybrid law (``wake``; docs/terrain.md, "Ground memory"): per
+    cell and depth slab the earliest time (s) a body's leading face passed through it during the bodies' stay in the
+    cell (inf: none); (0, 0, 0) without a ground memory or without the hybrid law (nothing of it runs)."""
+    if not (gt.on and wake):
+        return np.zeros((0, 0, 0))
+    ny, nx = (int(v) for v in gt.shape)
+    return np.full((ny, nx, WAKE_SLABS), np.inf)
+
+
+def uses_wake(region_law) -> bool:
+    """Whether a terrain whose regions have the law ids ``region_law`` keeps the wake (a region of the hybrid law)."""
+    from .laws.registry import LAW_IDS
+
+    return bool(np.any(np.asarray(region_law) == LAW_IDS["hybrid"]))
 
 
 def _block_arrays(nby: int, nbx: int) -> GroundBlocks:

@@ -22,7 +22,7 @@ from .laws.common import memory_motion, relax_memory
 from .laws.dispatch import element_stress
 from .laws.inertial import inertial_force
 from .laws.registry import LAW_IDS
-from .ground import ground_sample, ground_step, ground_top
+from .ground import ground_sample, ground_step, ground_top, in_wake
 from .laws.rft import rft_stress_batch, rft_stress_batch_packed, trails
 from .laws.solidify import solid_memory
 from .params import P_INERTIA, P_WATER_DEPTH
@@ -32,6 +32,7 @@ OK = 0
 BAD_FORCE = 1
 BAD_STATE = 2
 LAW_RFT = LAW_IDS["rft"]  # Li RFT: the law whose elements are gathered for one vectorised call
+LAW_HYBRID = LAW_IDS["hybrid"]  # the hybrid law: with a ground memory, its undisturbed-grain rule (mjrft.ground.in_wake)
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -421,6 +422,7 @@ def _kernel(tables, mjd, gravity, dt, st, gr_on):
     g_clock = st.g_clock[0]
     g_drift2 = 0.25 * gr.frame[2] * gr.frame[2]  # (half a cell)^2
     g_phi0, g_inv_range = gr.pack[3], gr.pack[4]
+    g_wake_on = gr_on and st.g_wake.shape[0] > 0  # the hybrid law's undisturbed-grain rule (mjrft.ground.in_wake)
     nreg = reg_law.shape[0]
     nb = reg_bounds.shape[0]
     has_hf = hf_z.shape[0] > 0
@@ -603,6 +605,13 @@ def _kernel(tables, mjd, gravity, dt, st, gr_on):
                 mx, my, mz, ml, mob = _rest_memory(u, i, vx, vy, vz, speed, relax, dt_d, inv_d, delta, tau, v_eps,
                                                    solid, stick)
             t_mem = _memory_time(speed, relax, dt, dt_d, delta, tau) if implicit else 0.0
+            if gr_on and g_wake_on and single and law == LAW_HYBRID and depth > 0.0 and speed > 0.0:
+                # the hybrid law's undisturbed-grain rule: an element moving into a body's wake feels nothing
+                isp = 1.0 / speed
+                if in_wake(px, py, pz, vx * isp, vy * isp, vz * isp, speed, g_frame, gr.base, st.g_wake,
+                           st.g_since[1] + dt, gr.period):
+                    out_force[i, 0], out_force[i, 1], out_force[i, 2] = 0.0, 0.0, 0.0
+                    continue
             if single and reg == breg:
                 # gathered; force, wrench and stiffness after the loop (_scatter_batch)
                 nbat = _gather(scr_f, scr_i, nbat, out_force, i, b, nx, ny, nz, mx, my, mz, ml, mob, depth,
@@ -677,6 +686,7 @@ def _kernel(tables, mjd, gravity, dt, st, gr_on):
             return status, body
     if gr_on and dt > 0.0:  # the ground memory, once per period of simulated time
         st.g_since[0] += dt
+        st.g_since[1] += dt
         if st.g_since[0] >= gr.period * (1.0 - 1e-9):
             ground_step(gr, el, st, delta, v_eps, st.g_since[0])
             st.g_since[0] = 0.0

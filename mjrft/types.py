@@ -243,10 +243,14 @@ class TerrainState(NamedTuple):
     the ground at (-1: never); lists of flat cell indices
     ``g_held`` (2, n: row 0 the cells a body was in at the last update, row 1 those of this one) and ``g_dirty`` (2,
     cells: the relaxation sweeps' two lists, alternating), their counts in ``g_count`` (held, dirty list 0, dirty
-    list 1); ``g_clock`` (updates, sweeps); ``g_since`` (1,) the time since the last update (s); ``g_blocks``
+    list 1); ``g_clock`` (updates, sweeps); ``g_since`` (2,) the time since the last update and since the prepared
+    bed (s); ``g_blocks``
     (:class:`GroundBlocks`) the highest surface read in each block of 4 x 4 cells, which the kernel's culling adds;
     ``g_rim`` (8,) scratch of the ridge; ``g_rows``
-    (nregion, P_SIZE) scratch: the regions' parameter rows at an element's packing (the general pass)."""
+    (nregion, P_SIZE) scratch: the regions' parameter rows at an element's packing (the general pass); ``g_wake``
+    (ny, nx, :data:`mjrft.ground.WAKE_SLABS`; (0, 0, 0) unless a region uses the hybrid law) the earliest time a
+    body's leading face passed through each depth slab of each cell during the bodies' stay there (inf: none), which
+    the hybrid law's undisturbed-grain rule reads (:func:`mjrft.ground.in_wake`)."""
 
     u: np.ndarray
     group_active: np.ndarray
@@ -289,6 +293,7 @@ class TerrainState(NamedTuple):
     g_blocks: GroundBlocks
     g_rim: np.ndarray
     g_rows: np.ndarray
+    g_wake: np.ndarray
 
     def forget(self, ground: GroundTables | None = None) -> None:
         """Zero the memory and the last step's outputs (a reset): what :meth:`mjrft.GranularTerrain.reset` does. A
@@ -310,6 +315,7 @@ class TerrainState(NamedTuple):
             self.g_count[:] = 0
             self.g_clock[:] = 0
             self.g_since[:] = 0.0
+            self.g_wake[:] = np.inf
             for a in self.g_blocks:
                 a[...] = 0
 

@@ -175,9 +175,9 @@ def _sweep(model, terrain, body: int, qpos: np.ndarray, qvel: np.ndarray, times:
     return wrench, com
 
 
-def _terrain(model, medium, law, resolution, surface, yield_displacement, body_name):
+def _terrain(model, medium, law, resolution, surface, yield_displacement, body_name, ground_memory=False):
     return GranularTerrain(model, medium, law, bodies=[body_name], surface=surface, resolution=resolution,
-                           yield_displacement=yield_displacement)
+                           yield_displacement=yield_displacement, ground_memory=ground_memory)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -265,7 +265,7 @@ def _leg_depths(corners: np.ndarray, angles: np.ndarray, z_axle: float, surface:
 def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float = LI_LEG_SWEEP[0],
                  stop: float = LI_LEG_SWEEP[1], dtheta: float = DEFAULT_DTHETA, axle_height: float | None = None,
                  medium="poppy_cp", law: str = "rft", resolution: float = DEFAULT_RESOLUTION, surface: float = 0.0,
-                 yield_displacement: float | None = None, **leg) -> LegProfile:
+                 yield_displacement: float | None = None, ground_memory=False, **leg) -> LegProfile:
     """Run the rotating-leg rig (module docstring); angles in radians, SI units.
 
     ``shape``: ``"flat"``, ``"c"``, ``"reversed_c"``, ``"semi_ellipse"``, ``"v_section"`` or
@@ -274,7 +274,8 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     (:func:`mjrft.models.rigs.leg_geometry`). ``omega`` (rad/s, non-zero; default 0.2, Li 2013)
     turns the leg from ``start`` to ``stop``, which must lie in the direction of ``omega``;
     ``dtheta`` is the angle between samples; ``axle_height`` defaults per shape (2 cm, or 5 cm for
-    ``semi_ellipse``).
+    ``semi_ellipse``). ``ground_memory``: as :class:`~mjrft.coupler.GranularTerrain`'s (the sand remembers the
+    leg's hole and the grains it has moved through during the sweep; default off).
     """
     from mjrft.models.rigs import default_axle_height, leg_geometry, leg_rig_xml
 
@@ -305,7 +306,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     model = mujoco.MjModel.from_xml_string(leg_rig_xml(shape, axle_height=h, medium=_xml_medium_name(med), law=law,
                                                        resolution=resolution, surface=surface, **leg))
     body = model.body("leg").id
-    terrain = _terrain(model, med, law, resolution, surface, yield_displacement, "leg")
+    terrain = _terrain(model, med, law, resolution, surface, yield_displacement, "leg", ground_memory)
     wrench, com = _sweep(model, terrain, body, angles[:, None], np.full((n, 1), omega), times)
 
     force = wrench[:, :3]
@@ -314,7 +315,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     settings = {"rig": "leg", "shape": shape, "omega": omega, "start": start, "stop": stop, "dtheta": dtheta,
                 "axle_height": h, "medium": med.name, "law": law, "resolution": resolution, "surface": surface,
                 "yield_displacement": terrain.yield_displacement, "elements": terrain.n_elements,
-                "max_depth": float(depth.max()), "stroke_depth": stroke, "width": geo["width"],
+                "ground_memory": terrain.ground_memory, "max_depth": float(depth.max()), "stroke_depth": stroke, "width": geo["width"],
                 "thickness": geo["thickness"],
                 "length": geo["length"]}
     for key in ("chord", "curvature", "a", "b", "bulge"):
