@@ -13,6 +13,7 @@ import pytest
 
 import mjrft
 from mjrft import GranularTerrain
+from mjrft import ground
 from mjrft.ground import C_H, C_PHI, GroundOptions, ground_volumes, packing_of
 
 FOOT = """<mujoco><option timestep="0.001"/><worldbody>
@@ -354,3 +355,47 @@ def test_deep_trench_relaxes_and_conserves():
     assert t.ground_height(0.025, 0.0) < -1e-3
     assert _packing_and_conservation(t, solid0)
     assert slopes(t) <= math.tan(math.radians(47.0)) * (1 + 1e-3) + 2e-4
+
+
+# ------------------------------------------------------------------------------------------------
+# the wake: the hybrid law's undisturbed-grain rule
+# ------------------------------------------------------------------------------------------------
+def test_wake_only_with_the_hybrid_law_and_a_memory():
+    """The wake is kept only when a region uses the hybrid law on a ground memory (every other scene has an empty one
+    and runs none of it); it comes and goes with the regions."""
+    m = mujoco.MjModel.from_xml_string(FOOT.format(hx=0.02, hy=0.02, hz=0.005))
+    opts = GroundOptions(cell=CELL, extent=EXTENT, repose_angle=35.0)
+    sizes = {(law, mem): GranularTerrain(m, "generic", law, resolution=0.005,
+                                         ground_memory=opts if mem else False).terrain_state.g_wake.shape
+             for law in ("rft", "hybrid") for mem in (False, True)}
+    assert sizes[("hybrid", True)] == (32, 48, ground.WAKE_SLABS)
+    assert all(s == (0, 0, 0) for k, s in sizes.items() if k != ("hybrid", True)), sizes
+    t = GranularTerrain(m, "generic", "rft", resolution=0.005, ground_memory=opts)
+    t.set_regions([mjrft.Region(-1.0, "generic", "hybrid")])
+    assert t.terrain_state.g_wake.shape == (32, 48, ground.WAKE_SLABS) and np.all(np.isinf(t.terrain_state.g_wake))
+    t.set_regions(None)
+    assert t.terrain_state.g_wake.size == 0
+
+
+def test_wake_marks_the_slabs_a_leading_face_passed_and_ages_them():
+    """A leading face 2 cm deep in a cell marks that cell's slabs around 2 cm; an element moving into them counts as in
+    the wake only once it could not have made them itself (2 cell / speed + one update later). Controls: the same
+    element 1 cm shallower (slabs not passed), too soon, moving away from the cell, and a cleared cell."""
+    cell = 0.01
+    frame = np.array([0.0, 0.0, cell, 1.0 / cell])
+    base = np.zeros((3, 3))
+    wake = np.full((3, 3, ground.WAKE_SLABS), np.inf)
+    ground._wake_mark(wake, 1, 1, 0.0, -0.02, 0.005, cell, 0.5)  # cell (j, i) = (1, 1): x, y in [0.01, 0.02)
+    marked = np.flatnonzero(np.isfinite(wake[1, 1]))
+    assert len(marked) == 2 and np.all(wake[1, 1, marked] == 0.5)  # 1.75-2.25 cm: the slabs 1.5-2 and 2-2.5 cm
+    assert np.isfinite(wake).sum() == 2  # no other cell
+    speed, period = 0.02, 0.004  # lag 2 x 0.01 / 0.02 + 0.004 = 1.004 s
+    at = (0.008, 0.015, -0.02)  # in cell (1, 0), half a cell short of (1, 1), moving +x into it
+    assert ground.in_wake(*at, 1.0, 0.0, 0.0, speed, frame, base, wake, 2.0, period)
+    assert not ground.in_wake(0.008, 0.015, -0.01, 1.0, 0.0, 0.0, speed, frame, base, wake, 2.0, period)
+    assert not ground.in_wake(*at, 1.0, 0.0, 0.0, speed, frame, base, wake, 1.4, period)
+    assert not ground.in_wake(*at, -1.0, 0.0, 0.0, speed, frame, base, wake, 2.0, period)
+    ground._wake_mark(wake, 1, 1, 0.0, -0.02, 0.005, cell, 1.9)  # a later pass keeps the earliest time
+    assert ground.in_wake(*at, 1.0, 0.0, 0.0, speed, frame, base, wake, 2.0, period)
+    wake[1, 1, :] = np.inf  # the body left the cell: the grains closed over the wake
+    assert not ground.in_wake(*at, 1.0, 0.0, 0.0, speed, frame, base, wake, 2.0, period)
