@@ -15,7 +15,10 @@ every element meets fresh grains at the medium's prepared packing and a level su
   first compacts loose grains beneath it (up to the closely packed state) and the rest heaps up as a ridge on the
   cells around the footprint; the grains the flowing elements' leading faces move through are left at the
   critical state (loose grains contract, close ones dilate); slopes between free cells steeper than the medium's
-  angle of repose avalanche (:func:`relax_sweep`).
+  angle of repose avalanche (:func:`relax_sweep`);
+* on a terrain whose regions use the hybrid law, each cell also keeps its wake: per depth slab the earliest time a
+  leading face passed through it while bodies are in the cell, from which the law's undisturbed-grain rule decides
+  per element whether it moves into grains a body has already pushed away (:func:`in_wake`).
 
 The model's equations, its constants and their sources, and the choices where the papers are silent are in
 docs/terrain.md ("Ground memory"). The records are :class:`~mjrft.types.GroundTables` (in the terrain model) and the
@@ -64,10 +67,14 @@ BLOCK_SHIFT = 2
 #: excess decays geometrically, and a cell moving less than this drops off the sweeps' list
 RELAX_TOL = 1e-4
 #: the wake (the hybrid law's undisturbed-grain rule, :func:`in_wake`): the depth slabs per cell, each half a cell
-#: thick, of which the first WAKE_ABOVE lie above the undisturbed surface (ridges): 64 slabs of 5 mm cells reach
-#: 14 cm below the surface and 2 cm above it
-WAKE_SLABS = 64
+#: thick, of which the first WAKE_ABOVE lie above the undisturbed surface (ridges): 48 slabs of 5 mm cells reach
+#: 10 cm below the surface and 2 cm above it (a time in float32 per slab: 192 bytes per cell)
+WAKE_SLABS = 48
 WAKE_ABOVE = 8
+#: an element is in the wake of slabs passed through more than this many cells' crossing times (cell / speed) and one
+#: update before: its own cell and the one ahead, which its own leading face and the parts of the body moving with it
+#: may have passed through themselves
+WAKE_LAG_CELLS = 2.0
 
 # Li 2013, table S2: the ratio of the closely to the loosely packed scaling factor zeta per unit of volume fraction,
 # ln(zeta_CP / zeta_LP) / (phi_CP - phi_LP), of the two media measured in both states (poppy seeds 0.488 / 0.248,
@@ -616,7 +623,7 @@ def in_wake(px, py, pz, mx, my, mz, speed, frame, base, wake, now, period):
     k = _wake_slab(base[j, i], az, c)
     if k < 0:
         return False
-    return now - wake[j, i, k] > 2.0 * c / speed + period
+    return now - wake[j, i, k] > WAKE_LAG_CELLS * c / speed + period
 
 
 @njit(cache=True, error_model="numpy", _nrt=False)
@@ -759,12 +766,13 @@ def make_ground_state(gt: GroundTables, n_elements: int, n_groups: int, wake: bo
 
 def wake_array(gt: GroundTables, wake: bool) -> np.ndarray:
     """The wake of a ground memory whose scene uses the hybrid law (``wake``; docs/terrain.md, "Ground memory"): per
-    cell and depth slab the earliest time (s) a body's leading face passed through it during the bodies' stay in the
-    cell (inf: none); (0, 0, 0) without a ground memory or without the hybrid law (nothing of it runs)."""
+    cell and depth slab the earliest time (s since the prepared bed, float32) a body's leading face passed through it
+    during the bodies' stay in the cell (inf: none); (0, 0, 0) without a ground memory or without the hybrid law
+    (nothing of it runs)."""
     if not (gt.on and wake):
-        return np.zeros((0, 0, 0))
+        return np.zeros((0, 0, 0), dtype=np.float32)
     ny, nx = (int(v) for v in gt.shape)
-    return np.full((ny, nx, WAKE_SLABS), np.inf)
+    return np.full((ny, nx, WAKE_SLABS), np.inf, dtype=np.float32)
 
 
 def uses_wake(region_law) -> bool:

@@ -32,7 +32,7 @@ OK = 0
 BAD_FORCE = 1
 BAD_STATE = 2
 LAW_RFT = LAW_IDS["rft"]  # Li RFT: the law whose elements are gathered for one vectorised call
-LAW_HYBRID = LAW_IDS["hybrid"]  # the hybrid law: with a ground memory, its undisturbed-grain rule (mjrft.ground.in_wake)
+LAW_HYBRID = LAW_IDS["hybrid"]  # with a ground memory: its undisturbed-grain rule (mjrft.ground.in_wake)
 
 
 @njit(cache=True, error_model="numpy", inline="always")

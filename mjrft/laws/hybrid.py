@@ -91,14 +91,18 @@ What is implemented, and every choice where the paper is ambiguous
    with the concave side leading the tip would enter first for every leg and the legs would leave
    at different moments, and the shadowed part would sit at the hip end instead of toward the tip.
 
-   *Not in the per-element law.* A law of the coupler sees one element's depth, unit normal, unit
-   motion and speed, and these do not decide the rule: a shadowed element of the very bent leg and
-   an element of the semicircle leg turning the other way about an axle mirrored through that
+   *Per element, from the ground memory.* A law of the coupler sees one element's depth, unit normal,
+   unit motion and speed, and these do not decide the rule: a shadowed element of the very bent leg
+   and an element of the semicircle leg turning the other way about an axle mirrored through that
    element have identical inputs (tested), and only the second counts. The rule needs the rest of
-   the leg, so it lives in the whole-leg functions (:func:`rotating_leg_profile`,
-   :func:`hybrid_leg_forces` with an ``axle``); through the coupler a bent leg's shadowed part
-   pushes (``mjrft.tools.rigs`` docstring). :func:`hybrid_leg_forces` without an axle applies only the
-   leading-surface rule.
+   the leg: here it lives in the whole-leg functions (:func:`rotating_leg_profile`,
+   :func:`hybrid_leg_forces` with an ``axle``; :func:`hybrid_leg_forces` without an axle applies only
+   the leading-surface rule). Through the coupler, a terrain with a ground memory applies it per
+   element from the memory's wake (:func:`mjrft.ground.in_wake`: an element moving into depth slabs
+   of a cell that a leading face passed through earlier than it could have itself feels nothing;
+   docs/terrain.md, "Ground memory"); without a memory a bent leg's shadowed part pushes
+   (``mjrft.tools.rigs`` docstring; ``mjrft validate --case hybrid_leg_family_memory`` compares both
+   with this model).
 
 4. **Density correction** k = lambda x (maximum penetration depth Delta d), lambda = 0.0325 (forward
    force) and 0.06 (support force). The unit of lambda is not stated; we read it as per millimetre
@@ -148,8 +152,9 @@ motion; horizontal components x k_f, vertical x k_s. Medium constants (``Medium.
 ``hybrid_unit_weight`` (N/m^3; default 9.81 x the medium's bulk density when known, else the river
 sand's), ``hybrid_c_par_ratio`` (0.37), ``hybrid_c_perp_h`` / ``hybrid_c_par_h`` (N/m^3, C^h per unit
 length = value x d x W; defaults 0 and, for C_par^h, the continuity value C_PAR_H_FRACTION x C_par of
-item 2), ``hybrid_max_depth`` (m, the stroke's Delta d; default none, k = 1; the rigs set it). Not
-available per element: the undisturbed-grain (shadow) rule (item 3) and the speed curve (item 5).
+item 2), ``hybrid_max_depth`` (m, the stroke's Delta d; default none, k = 1; the rigs set it). The
+undisturbed-grain (shadow) rule (item 3) only with a ground memory (its wake); the speed curve (item 5)
+not per element.
 Parameter slots 22..31: 22 W, 23-25 gamma_s g0, g1, g2, 26 C_par/C_perp, 27 C_perp^h coefficient,
 28 C_par^h coefficient, 29 k_f, 30 k_s, 31 C_par^h as a fraction of C_par (C_par^h = slot 31 x
 C_par + slot 28 x d x W).

@@ -56,10 +56,12 @@ maximum penetration depth Delta d (its density correction): unless the medium al
 ``hybrid_width`` / ``hybrid_max_depth``, the rigs add the leg's (plate's) width and, for the leg, the
 deepest any point of the leg reaches over a turn (``settings["stroke_depth"]``: its largest distance
 from the axle minus the axle height, whatever ``start``/``stop`` cover), for the plate the deepest
-point of its path. The undisturbed-grain (shadow) rule of the whole-leg model cannot be part of the
-per-element law (:mod:`mjrft.laws.hybrid`, item 3), so the part of a bent leg (b > sqrt(2) a) that
-moves into its own wake pushes here and not in :func:`~mjrft.laws.hybrid.rotating_leg_profile`;
-``mjrft validate --case hybrid_leg_family`` measures the difference.
+point of its path. The undisturbed-grain (shadow) rule of the whole-leg model is not a function of one
+element's inputs (:mod:`mjrft.laws.hybrid`, item 3): without a ground memory the part of a bent leg
+(b > sqrt(2) a) that moves into its own wake pushes here and not in
+:func:`~mjrft.laws.hybrid.rotating_leg_profile` (``mjrft validate --case hybrid_leg_family`` measures the
+difference); with ``ground_memory=True`` (``--ground-memory``) the memory's wake applies the rule per element
+(:func:`mjrft.ground.in_wake`; ``mjrft validate --case hybrid_leg_family_memory``).
 """
 
 from __future__ import annotations
@@ -175,7 +177,23 @@ def _sweep(model, terrain, body: int, qpos: np.ndarray, qvel: np.ndarray, times:
     return wrench, com
 
 
+def _ground_options(ground_memory, med: Medium, law: str):
+    """``ground_memory`` as given, except ``True`` under the hybrid law on a medium that carries no angle of repose
+    (:func:`mjrft.ground.packing_of`): the memory's defaults with the law's internal friction angle ``hybrid_phi`` as
+    the angle of repose (about equal for a cohesionless sand; the hybrid paper gives neither for its river sand)."""
+    if ground_memory is True and law == "hybrid":
+        from mjrft.ground import GroundOptions, packing_of
+        from mjrft.laws.hybrid import hybrid_constants
+
+        try:
+            packing_of(med)
+        except ValueError:
+            return GroundOptions(repose_angle=math.degrees(hybrid_constants(med)["hybrid_phi"]))
+    return ground_memory
+
+
 def _terrain(model, medium, law, resolution, surface, yield_displacement, body_name, ground_memory=False):
+    ground_memory = _ground_options(ground_memory, medium, law)
     return GranularTerrain(model, medium, law, bodies=[body_name], surface=surface, resolution=resolution,
                            yield_displacement=yield_displacement, ground_memory=ground_memory)
 
@@ -187,11 +205,12 @@ def plate_intrusion(*, beta: float = 0.0, gamma: float = math.pi / 2, speed: flo
                     distance: float | None = None, length: float | None = None, width: float | None = None,
                     thickness: float | None = None, medium="poppy_cp", law: str = "rft",
                     resolution: float = DEFAULT_RESOLUTION, step: float = DEFAULT_STEP, surface: float = 0.0,
-                    yield_displacement: float | None = None) -> PlateProfile:
+                    yield_displacement: float | None = None, ground_memory=False) -> PlateProfile:
     """Run the plate intruder along its straight path (module docstring); angles in radians, SI units.
 
     Defaults: Li 2013's plate (3.81 x 2.54 x 0.64 cm) pushed straight down at 1 cm/s to 7.6 cm.
-    ``step`` is the travel between samples (m); ``resolution`` the element size (m).
+    ``step`` is the travel between samples (m); ``resolution`` the element size (m); ``ground_memory`` as
+    :func:`rotating_leg`'s.
     """
     from mjrft.models.rigs import PLATE_LENGTH, PLATE_THICKNESS, PLATE_WIDTH, plate_rig_xml
 
@@ -238,7 +257,7 @@ def plate_intrusion(*, beta: float = 0.0, gamma: float = math.pi / 2, speed: flo
     x0, _, z0 = model.body_pos[body]
     qpos = np.column_stack([centre[:, 0] - x0, centre[:, 1] - z0, np.full(n, beta)])
     qvel = np.tile([speed * u[0], speed * u[1], 0.0], (n, 1))
-    terrain = _terrain(model, med, law, resolution, surface, yield_displacement, "plate")
+    terrain = _terrain(model, med, law, resolution, surface, yield_displacement, "plate", ground_memory)
     wrench, _ = _sweep(model, terrain, body, qpos, qvel, times)
 
     h = -1.0 if u[0] < -_HORIZONTAL else 1.0  # horizontal direction the drag opposes
@@ -246,7 +265,7 @@ def plate_intrusion(*, beta: float = 0.0, gamma: float = math.pi / 2, speed: flo
                 "distance": dist, "length": length, "width": width, "thickness": thickness,
                 "medium": med.name, "law": law, "resolution": resolution, "step": step, "surface": surface,
                 "yield_displacement": terrain.yield_displacement, "elements": terrain.n_elements,
-                "area": length * width}
+                "ground_memory": terrain.ground_memory, "area": length * width}
     label = f"beta {math.degrees(beta):g} deg, gamma {math.degrees(gamma):g} deg"
     return PlateProfile(time=times, travel=s, x=centre[:, 0], depth=surface - centre[:, 1], lift=wrench[:, 2].copy(),
                         drag=-h * wrench[:, 0], torque=wrench[:, 4].copy(), settings=settings, label=label)
@@ -275,7 +294,9 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     turns the leg from ``start`` to ``stop``, which must lie in the direction of ``omega``;
     ``dtheta`` is the angle between samples; ``axle_height`` defaults per shape (2 cm, or 5 cm for
     ``semi_ellipse``). ``ground_memory``: as :class:`~mjrft.coupler.GranularTerrain`'s (the sand remembers the
-    leg's hole and the grains it has moved through during the sweep; default off).
+    leg's hole, the ridges it heaps and, under the hybrid law, the wake its leading faces leave; default off).
+    ``True`` under the hybrid law on a medium without an angle of repose takes the law's friction angle
+    ``hybrid_phi`` for it.
     """
     from mjrft.models.rigs import default_axle_height, leg_geometry, leg_rig_xml
 
@@ -446,6 +467,8 @@ def add_arguments(parser) -> None:
         p.add_argument("--medium", default=common["medium"][0], help=common["medium"][1])
         p.add_argument("--law", default=common["law"][0], help=common["law"][1])
         p.add_argument("--resolution", type=float, default=DEFAULT_RESOLUTION, help=resolution_help)
+        p.add_argument("--ground-memory", action="store_true",
+                       help="the sand remembers the rig's footprint, ridges and (hybrid law) wake (default off)")
         p.add_argument("--out", default="rig_output", help="output folder for the CSV and PNG (created)")
 
     p = sub.add_parser("plate", help="plate intruder: lift, drag and torque against depth",
@@ -503,7 +526,7 @@ def main(args) -> int:
                 p = plate_intrusion(beta=math.radians(b), gamma=math.radians(g), speed=args.speed, depth=args.depth,
                                     distance=args.distance, length=args.length, width=args.width,
                                     thickness=args.thickness, medium=args.medium, law=args.law,
-                                    resolution=args.resolution, step=args.step)
+                                    resolution=args.resolution, step=args.step, ground_memory=args.ground_memory)
                 profs[p.label] = p
         stem = "plate" if len(profs) > 1 else f"plate_beta{args.beta[0]:g}_gamma{args.gamma[0]:g}"
         csv_path = write_csv(profs, os.path.join(args.out, stem + ".csv"))
@@ -517,7 +540,7 @@ def main(args) -> int:
     elif args.rig == "leg":
         kw = dict(omega=args.omega, start=math.radians(args.start), stop=math.radians(args.stop),
                   dtheta=math.radians(args.dtheta), axle_height=args.axle_height, medium=args.medium, law=args.law,
-                  resolution=args.resolution, **_leg_kwargs(args))
+                  resolution=args.resolution, ground_memory=args.ground_memory, **_leg_kwargs(args))
         if args.shape == "family":
             if args.b is not None:
                 raise ValueError("--b is set by the family (b = a / ratio); drop it or use --shape semi_ellipse")

@@ -384,7 +384,7 @@ def test_wake_marks_the_slabs_a_leading_face_passed_and_ages_them():
     cell = 0.01
     frame = np.array([0.0, 0.0, cell, 1.0 / cell])
     base = np.zeros((3, 3))
-    wake = np.full((3, 3, ground.WAKE_SLABS), np.inf)
+    wake = np.full((3, 3, ground.WAKE_SLABS), np.inf, dtype=np.float32)
     ground._wake_mark(wake, 1, 1, 0.0, -0.02, 0.005, cell, 0.5)  # cell (j, i) = (1, 1): x, y in [0.01, 0.02)
     marked = np.flatnonzero(np.isfinite(wake[1, 1]))
     assert len(marked) == 2 and np.all(wake[1, 1, marked] == 0.5)  # 1.75-2.25 cm: the slabs 1.5-2 and 2-2.5 cm

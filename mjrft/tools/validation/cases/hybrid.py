@@ -42,6 +42,16 @@ region boundary, the 4.5 deg psi grid, the leg family, h, omega) and its stated 
     with the rule off fails; the others follow from the family's geometry (they hold with the rule off
     and under the depth-only law through the rig) and are consistency checks.
 
+``hybrid_leg_family_memory``
+    The same five legs through the same rig (law ``hybrid``) with the ground memory, whose wake applies the
+    undisturbed-grain rule per element (:func:`mjrft.ground.in_wake`; its angle of repose the river sand's friction
+    angle, 35 deg; cells and update period its defaults), against fig. 10's stated outcomes (the checks of
+    ``hybrid_leg_family``) and, in the notes, against the whole-leg model. Validation checks: the three outcomes the
+    rule decides, which the control, the same rig without the memory, fails (the tests), and the two trends the
+    memory's ridges can change (the straight leg's small peak F_f, the torque growing with b; with the memory an
+    element's depth is read from the heaped surface, so the legs' reach is no longer a matter of their shapes alone);
+    the other trends hold with and without the memory and stay consistency checks, as in ``hybrid_leg_family``.
+
 ``hybrid_speed``
     Fig. 9: the semicircle leg (a = b = 4.5 cm, h = 5 cm) at omega = 1, 4, 7 and 10 rad/s, whole-leg
     model and rig. Checked: the paper's "negligible influence" of omega below 11 rad/s as a spread of
@@ -401,8 +411,9 @@ def run_leg_family(quick: bool, variant: str | None = None) -> CaseResult:
     failing = [c for c in checks if not c.passed]
     cause = ""
     if failing:
-        cause = ("Through the rig the per-element law cannot apply the undisturbed-grain rule (mjrft.laws.hybrid, "
-                 "item 3: the rule is not a function of an element's depth, normal, motion and speed; a shadowed "
+        cause = ("Through the rig without the ground memory the per-element law cannot apply the undisturbed-grain "
+                 "rule (mjrft.laws.hybrid, item 3: the rule is not a function of an element's depth, normal, motion "
+                 "and speed; a shadowed "
                  "very-bent element and a counting semicircle element get identical inputs, "
                  "tests/mjrft/laws/test_hybrid.py), "
                  "so the very bent leg's tip part, which moves into the wake of its own bulge, keeps pushing. "
@@ -440,8 +451,8 @@ def run_leg_family(quick: bool, variant: str | None = None) -> CaseResult:
           "peak F_f "
         + ", ".join(f"{ROMAN[n]} {sm_t[n]['F_f'] / sm_m[n]['F_f']:.2f}" for n in NAMES)
         + " (the rest for I-III is the thin mesh's own 0.5 mm and its side and end faces); (2) the per-element "
-          "law has no undisturbed-grain rule, so the bent and very bent legs' shadowed parts push (IV and V above; "
-          "see cause). Choices where "
+          "law without the ground memory has no undisturbed-grain rule, so the bent and very bent legs' shadowed "
+          "parts push (IV and V above; see cause; with the memory: hybrid_leg_family_memory). Choices where "
           "the paper is silent: the leg's width 2.54 cm and thickness 0.64 cm (not given), friction angles 35 / 20 "
           "deg, convex side leading (sec. 4: the legs leave together, which needs the tip to trail), lambda per mm, "
           "the leg angle measured from straight down (positive = swung backward). The measured curves of fig. 10 "
