@@ -534,8 +534,7 @@ def run_leg_family_memory(quick: bool) -> CaseResult:
                  f"{2000 * s['resolution']:g} mm: {st.forward.max():.2f} N. Failing: "
                  + "; ".join(c.name for c in failing) + ".")
     panels = []
-    for prof, tag in ((model, "whole-leg model"), (rig, "per-element law + ground memory, rig"),
-                      (off, "per-element law without memory, rig")):
+    for prof, tag in ((model, "whole-leg model"), (rig, "rig, ground memory"), (off, "rig, no memory")):
         for k, unit in (("F_f", "N"), ("F_s", "N")):
             panels.append(Panel(f"{k} vs leg angle, omega = 1 rad/s ({tag})", "leg angle from straight down (deg)",
                                 f"{k} ({unit})",

@@ -13,7 +13,8 @@ import pytest
 from mjrft.tools.validation import published
 
 from helpers import CaseTests, variant_run
-from mjrft.tools.validation.cases.hybrid import SHADOW_RULE_OUTCOMES, memory_family
+from mjrft.tools.validation.cases.hybrid import (MEMORY_DEPTH_OUTCOMES, SHADOW_RULE_OUTCOMES, _family_checks, _summary,
+                                                 memory_family)
 
 case_tests = CaseTests()
 outcome, disagreement, control = case_tests.outcome, case_tests.disagreement, case_tests.control
@@ -90,11 +91,18 @@ def hybrid_leg_family_memory(r):
 
 
 @control("hybrid_leg_family_memory", "the same rig without the ground memory fails the three outcomes of the "
-         "undisturbed-grain rule")
+         "undisturbed-grain rule; the ridge-sensitive outcomes reject a straight leg pushing hardest")
 def hybrid_leg_family_without_memory():
-    _, checks = memory_family(True, memory=False)
+    rig, checks = memory_family(True, memory=False)
     rule = [c for c in checks if any(k in c.name for k in SHADOW_RULE_OUTCOMES)]
     assert len(rule) == 3 and not any(c.passed for c in rule), [(c.name, c.simulated) for c in rule]
+    depth = [c for c in checks if any(k in c.name for k in MEMORY_DEPTH_OUTCOMES)]
+    assert len(depth) == 2 and all(c.passed and c.is_validation for c in depth)
+    # the straight leg with three times its forces (what the memory's ridges do at 5 mm cells, 1.80 -> 3.92 N)
+    strong = {n: (dict(p, F_f=3 * p["F_f"], torque=3 * p["torque"]) if n == "straight" else p) for n, p in rig.items()}
+    wrong = [c for c in _family_checks(_summary(strong), "x3 straight", 2.3) if any(k in c.name
+                                                                                   for k in MEMORY_DEPTH_OUTCOMES)]
+    assert len(wrong) == 2 and not any(c.passed for c in wrong), [(c.name, c.simulated) for c in wrong]
 
 
 @outcome("hybrid_speed")
