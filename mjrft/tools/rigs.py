@@ -156,8 +156,9 @@ def _samples(length: float, step: float, what: str) -> int:
     return max(n, 2)
 
 
-def _sweep(model, terrain, body: int, qpos: np.ndarray, qvel: np.ndarray, times: np.ndarray):
-    """Prescribe (qpos, qvel) at each time, evaluate the terrain; returns wrench rows (n, 6) and CoMs (n, 3)."""
+def _sweep(model, terrain, body: int, qpos: np.ndarray, qvel: np.ndarray, times: np.ndarray, observer=None):
+    """Prescribe (qpos, qvel) at each time, evaluate the terrain (then ``observer(terrain, data)``, if given); returns
+    wrench rows (n, 6) and CoMs (n, 3)."""
     data = mujoco.MjData(model)
     n = len(times)
     wrench = np.empty((n, 6))
@@ -174,6 +175,8 @@ def _sweep(model, terrain, body: int, qpos: np.ndarray, qvel: np.ndarray, times:
             terrain.compute(data, times[i] - times[i - 1] if i else dt0)
             wrench[i] = terrain.wrench[body]
             com[i] = data.xipos[body]
+            if observer is not None:
+                observer(terrain, data)
     return wrench, com
 
 
@@ -284,7 +287,7 @@ def _leg_depths(corners: np.ndarray, angles: np.ndarray, z_axle: float, surface:
 def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float = LI_LEG_SWEEP[0],
                  stop: float = LI_LEG_SWEEP[1], dtheta: float = DEFAULT_DTHETA, axle_height: float | None = None,
                  medium="poppy_cp", law: str = "rft", resolution: float = DEFAULT_RESOLUTION, surface: float = 0.0,
-                 yield_displacement: float | None = None, ground_memory=False, **leg) -> LegProfile:
+                 yield_displacement: float | None = None, ground_memory=False, observer=None, **leg) -> LegProfile:
     """Run the rotating-leg rig (module docstring); angles in radians, SI units.
 
     ``shape``: ``"flat"``, ``"c"``, ``"reversed_c"``, ``"semi_ellipse"``, ``"v_section"`` or
@@ -296,7 +299,8 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
     ``semi_ellipse``). ``ground_memory``: as :class:`~mjrft.coupler.GranularTerrain`'s (the sand remembers the
     leg's hole, the ridges it heaps and, under the hybrid law, the wake its leading faces leave; default off).
     ``True`` under the hybrid law on a medium without an angle of repose takes the law's friction angle
-    ``hybrid_phi`` for it.
+    ``hybrid_phi`` for it. ``observer(terrain, data)``: called after each sample's evaluation (the terrain's
+    per-element outputs and state are then the sample's).
     """
     from mjrft.models.rigs import default_axle_height, leg_geometry, leg_rig_xml
 
@@ -328,7 +332,7 @@ def rotating_leg(shape: str = "c", *, omega: float | None = None, start: float =
                                                        resolution=resolution, surface=surface, **leg))
     body = model.body("leg").id
     terrain = _terrain(model, med, law, resolution, surface, yield_displacement, "leg", ground_memory)
-    wrench, com = _sweep(model, terrain, body, angles[:, None], np.full((n, 1), omega), times)
+    wrench, com = _sweep(model, terrain, body, angles[:, None], np.full((n, 1), omega), times, observer)
 
     force = wrench[:, :3]
     r = com - np.array([0.0, 0.0, z_axle])[None, :]

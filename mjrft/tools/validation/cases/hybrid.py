@@ -46,8 +46,12 @@ region boundary, the 4.5 deg psi grid, the leg family, h, omega) and its stated 
     The same five legs through the same rig (law ``hybrid``) with the ground memory, whose wake applies the
     undisturbed-grain rule per element (:func:`mjrft.ground.in_wake`; its angle of repose the river sand's friction
     angle, 35 deg; cells and update period its defaults), against fig. 10's stated outcomes (the checks of
-    ``hybrid_leg_family``) and, in the notes, against the whole-leg model. Validation checks: the three outcomes the
-    rule decides, which the control, the same rig without the memory, fails (the tests), and the two trends the
+    ``hybrid_leg_family``), fig. 12 (the sign of psi keeps along legs I-III and changes toward the tip of IV and V,
+    read on the share of each leg's buried leading elements that the wake leaves without force at its peak F_f:
+    below 5 % for I-III, above for IV and V; :class:`WakeShare`) and the whole-leg model (that share against the
+    model's share of buried elements in the shadow, within 10 points: a consistency check, the model being mjrft's
+    own; the rest in the notes). Validation checks: the three outcomes the rule decides and fig. 12's, which the
+    control, the same rig without the memory, fails (the tests), and the two trends the
     memory's ridges can change (the straight leg's small peak F_f, the torque growing with b; with the memory an
     element's depth is read from the heaped surface, so the legs' reach is no longer a matter of their shapes alone);
     the other trends hold with and without the memory and stay consistency checks, as in ``hybrid_leg_family``.
@@ -74,7 +78,8 @@ import numpy as np
 from ... import rigs
 from mjrft.laws.hybrid import (AXLE_HEIGHT, LEG_FAMILY, LEG_WIDTH, PHI, PSI_BREAK, HybridModel,
                             active_angle, c_perp, hybrid_leg_forces, hybrid_stress, leg_family, leg_family_profiles,
-                            leg_pose, rotating_leg_profile, semi_ellipse_leg, stroke_depth, wedge_force)
+                            leg_pose, rotating_leg_profile, semi_ellipse_leg, shadowed_elements, stroke_depth,
+                            wedge_force)
 from mjrft.laws.registry import parameter_vector
 from mjrft.media import G, get_medium
 from ..case import CONSISTENCY, VALIDATION, CaseResult, Line, Panel, case, check_band, check_close, check_outcome, published, wrong_physics
@@ -489,14 +494,90 @@ def memory_options():
     return GroundOptions(repose_angle=math.degrees(hybrid_constants(_sand())["hybrid_phi"]))
 
 
-def memory_family(quick: bool, memory: bool = True) -> tuple[dict, list]:
+#: fig. 12's "psi keeps one sign" / "changes sign" read on the buried leading elements left without force: below /
+#: above this share at the leg's peak forward force (a choice: no paper number; one threshold for both statements)
+SHADOW_SHARE = 0.05
+SHARE_CHECK = "fig. 12: at the peak F_f no part of legs I-III, a part of legs IV and V moves into the wake"
+
+
+class WakeShare:
+    """A rig observer (``rotating_leg(..., observer=)``): per leg, in the order the rig runs them, and per sample the
+    share of its buried elements with a leading face (motion along the outward normal) that feel no force, the
+    elements the undisturbed-grain rule leaves out (without the rule a buried leading element always has a force)."""
+
+    def __init__(self):
+        self.runs: list[list[float]] = []
+        self._terrain = None
+
+    def __call__(self, terrain, data):
+        if terrain is not self._terrain:
+            self._terrain = terrain
+            self.runs.append([])
+        st = terrain.terrain_state
+        b = np.flatnonzero(st.depth > 0.0)
+        lead = b[np.einsum("ij,ij->i", st.vel[b], st.normal[b]) > 0.0]
+        self.runs[-1].append(float(np.mean(np.all(st.force[lead] == 0.0, axis=1))) if lead.size else 0.0)
+
+
+def _model_share(angle: float, name: str) -> float:
+    """The whole-leg model's share of a leg's buried elements that the rule drops, at leg angle ``angle`` (rad)."""
+    h = published(PAPER, "axle_height").value / 100
+    leg = leg_family(published(PAPER, "leg_a").value / 100)[name]
+    pts, _ = leg_pose(leg, angle, h)
+    shadow = shadowed_elements(leg_pose(leg, 0.0, h)[0], np.array([0.0, h]), 1.0)
+    buried = pts[:, 1] < 0.0
+    return float(np.count_nonzero(shadow & buried) / max(1, np.count_nonzero(buried)))
+
+
+def _pushing_share(p: dict) -> float:
+    """The largest share of a leg's buried leading elements in the wake while its F_f exceeds half its peak."""
+    on = p["F_f"] > 0.5 * p["F_f"].max()
+    return float(p["wake_share"][on].max())
+
+
+#: the share of the bent and very bent legs' leading elements in the wake against the whole-leg model's share in the
+#: shadow: within this many percentage points (a choice: the wake's resolution, half a cell in depth and a cell across,
+#: is 1-2 of the 20-60 elements a leg has buried)
+SHARE_TOLERANCE = 0.10
+SHARE_MODEL = "share of IV and V in the wake at the peak F_f, against the whole-leg model's"
+
+
+def _share_checks(rig: dict, shares: dict, model: dict, label: str) -> list:
+    at_peak = {n: shares[n][int(np.argmax(rig[n]["F_f"]))] for n in NAMES}
+    ok = all(at_peak[n] < SHADOW_SHARE for n in NAMES[:3]) and all(at_peak[n] > SHADOW_SHARE for n in NAMES[3:])
+    ref = {n: _model_share(model[n]["angle"][int(np.argmax(model[n]["F_f"]))], n) for n in NAMES}
+    worst = max(abs(at_peak[n] - ref[n]) for n in NAMES[3:])
+    close = check_outcome(f"{label}: {SHARE_MODEL}", worst <= SHARE_TOLERANCE,
+                          published="the whole-leg model (the rule applied exactly, mjrft.laws.hybrid item 3): "
+                          + ", ".join(f"{ROMAN[n]} {100 * ref[n]:.0f} %" for n in NAMES[3:]),
+                          simulated=", ".join(f"{ROMAN[n]} {100 * at_peak[n]:.0f} %" for n in NAMES[3:]),
+                          source=_src("family_shadow"), metric=f"largest difference {100 * worst:.0f} points",
+                          tolerance=f"<= {100 * SHARE_TOLERANCE:g} points",
+                          consistency="agreement with mjrft's own whole-leg model of the same paper, not with a "
+                                      "measurement (the paper's fig. 12 gives no numbers)")
+    return [close, check_outcome(f"{label}: {SHARE_CHECK}", ok, published=published(PAPER, "family_shadow").value,
+                         simulated="buried leading elements without force at the peak F_f: "
+                                   + ", ".join(f"{ROMAN[n]} {100 * at_peak[n]:.0f} %" for n in NAMES)
+                                   + " (whole-leg model, buried elements the rule drops: "
+                                   + ", ".join(f"{ROMAN[n]} {100 * ref[n]:.0f} %" for n in NAMES) + ")",
+                         source=_src("family_shadow"),
+                         tolerance=f"I-III < {100 * SHADOW_SHARE:g} %, IV and V > {100 * SHADOW_SHARE:g} %")][::-1]
+
+
+def memory_family(quick: bool, memory: bool = True, model: dict | None = None) -> tuple[dict, list]:
     """The five legs through the rig (law ``hybrid``) with the ground memory (``memory``; False: the control, the
     same rig without it) and their fig. 10 checks (:func:`_family_checks`, classified as in
-    hybrid_leg_family_memory)."""
+    hybrid_leg_family_memory) and fig. 12's (the share of the legs' leading elements in the wake; ``model``: the
+    whole-leg model's family, for its reference shares; default computed)."""
     s = _family_settings(quick)
-    rig = _rig_family(quick, ground_memory=memory_options() if memory else False)
-    chk = _family_checks(_summary(rig), MEMORY_LABEL if memory else "per-element law, no memory (rig)",
-                         math.degrees(s["dtheta"]))
+    share = WakeShare()
+    rig = _rig_family(quick, ground_memory=memory_options() if memory else False, observer=share)
+    shares = {n: np.array(v) for n, v in zip(NAMES, share.runs)}
+    for n in NAMES:
+        rig[n]["wake_share"] = shares[n]
+    label = MEMORY_LABEL if memory else "per-element law, no memory (rig)"
+    chk = _family_checks(_summary(rig), label, math.degrees(s["dtheta"]))
+    chk += _share_checks(rig, shares, model if model is not None else _model_family(quick)[1], label)
     for i, c in enumerate(chk):  # _family_checks classifies as hybrid_leg_family; with the memory the legs' depth
         # changes, and the outcomes its ridges can fail (measured: at the full settings) are validation checks here
         if any(k in c.name for k in MEMORY_DEPTH_OUTCOMES):
@@ -509,12 +590,13 @@ def memory_family(quick: bool, memory: bool = True) -> tuple[dict, list]:
 def run_leg_family_memory(quick: bool) -> CaseResult:
     s = _family_settings(quick)
     _, model = _model_family(quick)
-    rig, checks = memory_family(quick, True)
-    off, off_checks = memory_family(quick, False)
+    rig, checks = memory_family(quick, True, model)
+    off, off_checks = memory_family(quick, False, model)
     sm_m, sm_r, sm_o = _summary(model), _summary(rig), _summary(off)
     off_by = {c.name.split(": ", 1)[1]: c for c in off_checks}
     failing = [c for c in checks if not c.passed]
-    decided = [c.name.split(": ", 1)[1] for c in checks if any(k in c.name for k in SHADOW_RULE_OUTCOMES)]
+    decided = [c.name.split(": ", 1)[1] for c in checks
+               if any(k in c.name for k in SHADOW_RULE_OUTCOMES + (SHARE_CHECK,))]
     cause = ""
     if failing:
         coarse = dataclasses.replace(memory_options(), cell=4 * s["resolution"])
@@ -540,12 +622,19 @@ def run_leg_family_memory(quick: bool) -> CaseResult:
                                 f"{k} ({unit})",
                                 [Line(np.degrees(prof[n]["angle"]), prof[n][k], f"{ROMAN[n]} {n} (a/b = {LEG_FAMILY[n]:g})")
                                  for n in NAMES]))
+    panels.append(Panel("Buried leading elements in the wake (no force) vs leg angle (rig, ground memory)",
+                        "leg angle from straight down (deg)", "share of buried leading elements",
+                        [Line(np.degrees(rig[n]["angle"]), rig[n]["wake_share"], f"{ROMAN[n]} {n}") for n in NAMES]))
     notes = (
         "The undisturbed-grain rule (sec. 2.2, sec. 4 and fig. 12) per element from the ground memory's wake "
         "(mjrft.ground.in_wake, docs/terrain.md \"Ground memory\"). The outcomes it decides, with the memory / without "
         "it (the control: the same rig, the same law): "
         + "; ".join(f"{n} {'pass' if c.passed else 'FAIL'} / {'pass' if off_by[n].passed else 'FAIL'}"
                     for n, c in ((d, next(c for c in checks if c.name.endswith(d))) for d in decided))
+        + ". While the leg pushes (F_f above half its peak) the largest share of its buried leading elements in the "
+          "wake: " + ", ".join(f"{ROMAN[n]} {100 * _pushing_share(rig[n]):.0f} %" for n in NAMES)
+        + " (the semicircle's tip, which moves nearly along itself, reads its own wake late in the stroke: the "
+          "memory resolves a cell across and half a cell in depth)"
         + ". Against the whole-leg model (which applies the rule exactly): very bent leg's F_f tail gap "
         f"{sm_r['very_bent']['tail_gap']:.1f} deg with the memory, {sm_o['very_bent']['tail_gap']:.1f} without, "
         f"{sm_m['very_bent']['tail_gap']:.1f} in the model; bent / semicircle peak F_f {sm_r['bent']['F_f'] / sm_r['semicircle']['F_f']:.2f} / "
