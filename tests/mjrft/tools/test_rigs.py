@@ -253,6 +253,31 @@ def test_hybrid_rig_matches_the_whole_leg_model():
             assert np.sqrt(np.mean((mine - theirs) ** 2)) < 0.05 * peak
 
 
+def test_ground_memory_in_the_rig_gives_the_hybrid_law_its_undisturbed_grain_rule(tmp_path):
+    """With ``ground_memory=True`` the very bent leg's parts in its own wake feel nothing (the memory's wake); a medium
+    without an angle of repose takes the hybrid law's friction angle for it, under that law only. Control: the same
+    rig without the memory, where every buried leading element pushes."""
+    from mjrft.ground import GroundOptions
+    from mjrft.tools.validation.cases.hybrid import WakeShare
+
+    generic = mjrft.get_medium("generic")
+    opts = rigs._ground_options(True, generic, "hybrid")
+    assert isinstance(opts, GroundOptions) and opts.repose_angle == pytest.approx(35.0)
+    assert rigs._ground_options(True, mjrft.get_medium("poppy_cp"), "hybrid") is True  # its own angle of repose
+    assert rigs._ground_options(True, generic, "rft") is True
+    with pytest.raises(ValueError, match="angle of repose"):
+        rigs.rotating_leg("semi_ellipse", a=LEG_A, b=2 * LEG_A, medium="generic", ground_memory=True, **LEG_FAST)
+    shares = {}
+    for memory in (True, False):
+        share = WakeShare()
+        p = rigs.rotating_leg("semi_ellipse", a=LEG_A, b=2 * LEG_A, law="hybrid", medium="generic", omega=1.0,
+                              start=-2.36, stop=1.06, resolution=0.006, dtheta=0.05, ground_memory=memory,
+                              observer=share)
+        assert p.settings["ground_memory"] is memory and len(share.runs) == 1 and len(share.runs[0]) == len(p.angle)
+        shares[memory] = share.runs[0][int(np.argmax(p.forward))]
+    assert shares[True] > 0.3 and shares[False] == 0.0  # measured 0.48: the part beyond the leg's widest reach
+
+
 # ----------------------------------------------------------------- output and command line
 def test_plots_and_csv(tmp_path):
     p1 = rigs.plate_intrusion(depth=0.02, step=0.002, **COARSE)
@@ -281,7 +306,7 @@ def test_cli_writes_csv_and_png(tmp_path, capsys):
     assert cli_main(["rig", "plate", "--beta", "0", "30", "--depth", "0.02", "--step", "0.002",
                      "--resolution", "0.006", "--out", str(out)]) == 0
     assert cli_main(["rig", "leg", "--shape", "semi_ellipse", "--b", "0.03", "--law", "hybrid", "--dtheta", "3",
-                     "--resolution", "0.006", "--out", str(out)]) == 0
+                     "--resolution", "0.006", "--ground-memory", "--out", str(out)]) == 0
     text = capsys.readouterr().out
     for name in ("plate.csv", "plate.png", "leg_semi_ellipse.csv", "leg_semi_ellipse.png"):
         assert (out / name).stat().st_size > 1000 and str(out / name) in text
