@@ -633,8 +633,8 @@ def run_leg_family_memory(quick: bool) -> CaseResult:
                     for n, c in ((d, next(c for c in checks if c.name.endswith(d))) for d in decided))
         + ". While the leg pushes (F_f above half its peak) the largest share of its buried leading elements in the "
           "wake: " + ", ".join(f"{ROMAN[n]} {100 * _pushing_share(rig[n]):.0f} %" for n in NAMES)
-        + " (the semicircle's tip, which moves nearly along itself, reads its own wake late in the stroke: the "
-          "memory resolves a cell across and half a cell in depth)"
+        + " (the outer face of the semicircle's tip, which moves nearly along its own circle, reads the wake of the "
+          "tip's parts ahead of it: the memory resolves a cell across and half a cell in depth)"
         + ". Against the whole-leg model (which applies the rule exactly): very bent leg's F_f tail gap "
         f"{sm_r['very_bent']['tail_gap']:.1f} deg with the memory, {sm_o['very_bent']['tail_gap']:.1f} without, "
         f"{sm_m['very_bent']['tail_gap']:.1f} in the model; bent / semicircle peak F_f {sm_r['bent']['F_f'] / sm_r['semicircle']['F_f']:.2f} / "
