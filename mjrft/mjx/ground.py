@@ -7,7 +7,8 @@ relaxation sweeps' two lists, the clocks and each block's last change. :class:`G
 numba kernel does (:func:`mjrft.kernel.terrain_kernel_ground` and :func:`mjrft.ground.ground_step`):
 
 * each step (:meth:`Ground.read`): the cull groups within reach of the surface (their box's lowest corner below the
-  highest surface of the blocks around it), and for each group that came within reach, moved half a cell or whose
+  highest sand surface plus the highest rise of the blocks around it, and the deepest water unless the group lies in
+  the dry Li-RFT strip, as the kernel culls), and for each group that came within reach, moved half a cell or whose
   blocks changed since it last read the ground, its elements' surface, gradient and packing afresh (bilinear between
   cell centres, :func:`mjrft.ground.ground_sample`); every element's depth is then that reading carried along the
   gradient to where it is (so the elements read exactly what the CPU kernel's read);

@@ -44,11 +44,12 @@ region), the surface (``state.surface``: a height, or the height field's samples
 construction.
 
 Ground memory (a terrain built with ``ground_memory``; :mod:`mjrft.ground`, docs/terrain.md "Ground memory"): on the
-direct pass, ``state.ground`` (:class:`mjrft.mjx.ground.GroundState`) holds each world's height map and packing, which
-the elements read (their depth and parameter row) and every step updates as the numba kernel does
-(:mod:`mjrft.mjx.ground`; ``tests/mjrft/mjx/test_mjx_ground.py`` compares them); :meth:`Sand.ground_height` and
-:meth:`Sand.ground_packing` read it; :meth:`Sand.reset` restores the prepared bed. A terrain without it traces none of
-it.
+direct and the general pass, ``state.ground`` (:class:`mjrft.mjx.ground.GroundState`) holds each world's height map
+and packing, which the elements read (their depth from the undisturbed surface, flat or the height field, plus the
+remembered one; their parameter row, on the general pass each region's, at the local packing) and every step updates
+as the numba kernel does (:mod:`mjrft.mjx.ground`; ``tests/mjrft/mjx/test_mjx_ground.py`` compares them);
+:meth:`Sand.ground_height` and :meth:`Sand.ground_packing` read it; :meth:`Sand.reset` restores the prepared bed. Not
+with ``cull``, nor a world's own height field (``init(surface=)``). A terrain without it traces none of it.
 
 Culling: the CPU kernel skips elements above the surface in groups; here every element's position is
 computed each step (a few multiply-adds), and the rest (velocity, memory, law) runs on all elements
