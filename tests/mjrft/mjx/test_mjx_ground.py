@@ -237,9 +237,11 @@ elevation="0.8 0.9 1.0 0.0  0.4 0.5 0.6 0.7  0 0.1 0.2 0.3"/></asset><worldbody>
 # with its own closely minus loosely packed row, with the inertial regime
 SCENE = {"medium": "poppy_cp", "law": "rft", "surface": "ground", "inertial": True, "transition": 0.02,
          "regions": [Region(0.0, "glass03_lp", "rft", water_depth=0.01)]}
-# the foot's centre (x, height above the undisturbed surface), m: pressed in, dragged deeper across the strips' edge,
-# lifted into the water, moved back over its ridges, pressed in on its own track and dragged out rising (every
-# segment moves in z too: a footprint neither deepening nor filling is a tie at rounding)
+# the foot's centre (x, height above the undisturbed surface), m: above fresh grains in the water (within reach of the
+# water only: culled at the sand, it would miss the water's drag, 7e-4 of the largest wrench), on into the dry strip,
+# pressed in, dragged deeper across the strips' edge, lifted into the water, moved back over its ridges, pressed in on
+# its own track and dragged out rising (every segment moves in z too: a footprint neither deepening nor filling is a
+# tie at rounding, where the kernel's and JAX's sums may take different branches)
 PATH = ((0.04, 0.011), (-0.045, 0.01), (-0.045, -0.006), (0.05, -0.012), (0.055, 0.009), (-0.03, 0.006),
         (-0.025, -0.008), (0.02, -0.004))
 SPEED = 0.2  # m/s; at the rig's 5 ms step a sample every 1 mm, an update of the ground at every step
