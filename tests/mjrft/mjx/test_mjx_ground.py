@@ -238,7 +238,7 @@ elevation="0.8 0.9 1.0 0.0  0.4 0.5 0.6 0.7  0 0.1 0.2 0.3"/></asset><worldbody>
 SCENE = {"medium": "poppy_cp", "law": "rft", "surface": "ground", "inertial": True, "transition": 0.02,
          "regions": [Region(0.0, "glass03_lp", "rft", water_depth=0.01)]}
 # the foot's centre (x, height above the undisturbed surface), m: above fresh grains in the water (within reach of the
-# water only: culled at the sand, it would miss the water's drag, 7e-4 of the largest wrench), on into the dry strip,
+# water only: culled at the sand, it would miss the water's drag), on into the dry strip,
 # pressed in, dragged deeper across the strips' edge, lifted into the water, moved back over its ridges, pressed in on
 # its own track and dragged out rising (every segment moves in z too: a footprint neither deepening nor filling is a
 # tie at rounding, where the kernel's and JAX's sums may take different branches)
