@@ -338,6 +338,39 @@ def _saved_setting(saved: dict, name: str):
     return value
 
 
+def resumed_config(out_dir, env_id: str | None = None, algo: str | None = None, env_kwargs: dict | None = None,
+                   normalize: bool | None = None, seed: int | None = None, hyperparams: dict | None = None,
+                   n_envs: int | None = None) -> dict | None:
+    """The ``config.json`` of the run in ``out_dir`` that :func:`train` with these settings resumes (its path as
+    ``"_path"``), or None when the folder holds no checkpoint.
+
+    A setting given (not None) that differs from the saved run's (env id, algorithm, env kwargs, normalize, seed, a
+    hyper-parameter; ``n_envs`` of a SAC run, whose replay buffer is laid out per environment) raises a
+    ``ValueError`` naming the difference, as does a folder with checkpoints but no ``config.json``.
+    """
+    out_dir = Path(out_dir)
+    if not list_checkpoints(out_dir):
+        return None
+    config_path = out_dir / CONFIG_NAME
+    if not config_path.is_file():
+        raise ValueError(f"{out_dir} has checkpoints but no {CONFIG_NAME}; cannot resume (use another --out)")
+    saved = load_config(config_path)
+    saved["_path"] = str(config_path)
+    _check_same(saved, "env id", env_id, saved["env_id"])
+    _check_same(saved, "algorithm", None if algo is None else algo.lower(), saved["algo"])
+    _check_same(saved, "env kwargs", env_kwargs or None, saved["env_kwargs"])
+    _check_same(saved, "normalize", normalize, saved["normalize"])
+    _check_same(saved, "seed", seed, saved.get("seed", DEFAULTS["seed"]))
+    if hyperparams:
+        for k, v in hyperparams.items():
+            _check_same(saved, f"hyper-parameter {k}", v, saved["hyperparams"].get(k))
+    before = _saved_setting(saved, "n_envs")
+    if saved["algo"] == "sac" and n_envs is not None and _jsonable(n_envs) != _jsonable(before):
+        raise ValueError(f"n_envs {n_envs} differs from the SAC run being resumed ({before} in {saved['_path']}): its "
+                         f"replay buffer is laid out per environment; omit --n-envs")
+    return saved
+
+
 def train(env_id: str | None = None, algo: str | None = None, timesteps: int | None = None,
           n_envs: int | None = None, seed: int | None = None, out_dir="runs/mjrft", env_kwargs: dict | None = None,
           checkpoint_every: int | None = None, resume: bool = True, *, hyperparams: dict | None = None,
@@ -407,20 +440,10 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int | N
     saved = None
     changes = {}  # setting -> (saved value, value of this run): what a resume changes on purpose
     if checkpoints:
-        if not config_path.is_file():
-            raise ValueError(f"{out_dir} has checkpoints but no {CONFIG_NAME}; cannot resume (use another --out)")
-        saved = load_config(config_path)
-        saved["_path"] = str(config_path)
-        _check_same(saved, "env id", env_id, saved["env_id"])
-        _check_same(saved, "algorithm", None if algo is None else algo.lower(), saved["algo"])
-        _check_same(saved, "env kwargs", env_kwargs or None, saved["env_kwargs"])
-        _check_same(saved, "normalize", normalize, saved["normalize"])
-        _check_same(saved, "seed", given["seed"], saved.get("seed", DEFAULTS["seed"]))
+        saved = resumed_config(out_dir, env_id, algo, env_kwargs, normalize, given["seed"], hyperparams,
+                               given["n_envs"])
         env_id, algo, env_kwargs = saved["env_id"], saved["algo"], saved["env_kwargs"]
         normalize = saved["normalize"]
-        if hyperparams:
-            for k, v in hyperparams.items():
-                _check_same(saved, f"hyper-parameter {k}", v, saved["hyperparams"].get(k))
         ctor_kwargs = dict(saved.get("hyperparams_given", {}))
         effective = saved["hyperparams"]
         settings = {k: _saved_setting(saved, k) if v is None else v for k, v in given.items()}
@@ -444,10 +467,6 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int | N
         for name in CHANGEABLE:
             if _jsonable(settings[name]) != _jsonable(_saved_setting(saved, name)):
                 changes[name] = (_saved_setting(saved, name), settings[name])
-        if algo == "sac" and "n_envs" in changes:
-            raise ValueError(f"n_envs {settings['n_envs']} differs from the SAC run being resumed "
-                             f"({changes['n_envs'][0]} in {saved['_path']}): its replay buffer is laid out per "
-                             f"environment; omit --n-envs")
     timesteps, n_envs, seed, kind = (settings[k] for k in ("timesteps", "n_envs", "seed", "vec_env"))
     checkpoint_every, device, torch_threads = (settings[k] for k in ("checkpoint_every", "device", "torch_threads"))
     cls = algo_class(algo)
