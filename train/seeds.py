@@ -61,7 +61,6 @@ def seeds_table(rows: list[dict], columns: list[tuple[str, str, int]]) -> str:
     return "\n".join(lines)
 
 
-# ---------------------------------------------------------------------- MJX recipes over several seeds
 def check_seeds(seeds) -> list[int]:
     """``--seeds``: integers >= 0, each once."""
     seeds = list(seeds)
@@ -77,6 +76,52 @@ def seed_folder(out, seed: int) -> Path:
     return Path(out) / f"seed-{int(seed)}"
 
 
+def run_seeds(out, seeds, done: dict, train_one, evaluate_one, evaluation: dict, summarize, describe, lines, *,
+              report=print, writer: bool = True) -> dict:
+    """The several-seed run of either trainer (``mjrft train --seeds``, ``mjrft train-mjx --seeds``): for each seed
+    in turn, ``train_one(seed, folder)`` trains its :func:`seed_folder` unless ``done[seed]`` (a complete run of
+    the same recipe and seed), then ``evaluate_one(folder)`` gives its row of results, kept in the folder's
+    ``evaluation.json`` with the ``evaluation`` settings (the episode counts; a later invocation with the same
+    settings reuses it, a seed trained again drops it), and ``summarize(rows)`` / ``describe(summary)`` give
+    ``out/seeds.json`` and the text of ``out/seeds.txt``, both rewritten after every seed. ``lines(row)``: the
+    lines that report a seed's row. ``writer`` False (a host of a multi-host run other than the first): train
+    only. Returns the summary over the seeds that finished."""
+    out = Path(out)
+    rows, summary = [], {}
+    for s in seeds:
+        folder = seed_folder(out, s)
+        saved = folder / EVALUATION_FILE
+        if done[s]:
+            report(f"seed {s}: {folder} holds the complete run of this recipe; not trained again")
+        else:
+            if writer and saved.exists():
+                saved.unlink()
+            train_one(s, folder)
+        if not writer:
+            continue
+        row = None
+        if saved.is_file():  # an earlier invocation's evaluation of this complete run, with the same episodes
+            kept = json.loads(saved.read_text())
+            if all(kept.get(k) == v for k, v in evaluation.items()):
+                row = kept["row"]
+        if row is None:
+            row = evaluate_one(folder)
+            _write_json(saved, {**evaluation, "row": row})
+        rows.append({"seed": s, **row})
+        for line in lines(row):
+            report(f"seed {s}: {line}")
+        summary = summarize(rows)
+        _write_json(out / SEEDS_FILE, summary)
+        tmp = out / (SEEDS_TABLE + ".tmp")
+        tmp.write_text(describe(summary) + "\n")
+        os.replace(tmp, out / SEEDS_TABLE)
+    if writer:
+        report(describe(summary))
+        report(f"wrote {out / SEEDS_TABLE} and {out / SEEDS_FILE}")
+    return summary
+
+
+# ---------------------------------------------------------------------- MJX recipes over several seeds
 def _same_recipe(meta: dict, cfg: dict) -> bool:
     """Whether a run's recipe (its ``policy.json``) is ``cfg``, the description aside."""
     def settings(recipe):
@@ -171,43 +216,17 @@ def train_seeds(cfg: dict, out, seeds, *, eval_episodes: int = 8, cpu_episodes: 
 
         flags = multihost_utils.broadcast_one_to_all(np.array([done[s] for s in seeds]))
         done = {s: bool(f) for s, f in zip(seeds, np.asarray(flags))}
-    rows = []
-    summary = {}
-    for s in seeds:
-        folder = seed_folder(out, s)
-        saved = folder / EVALUATION_FILE
-        if done[s]:
-            report(f"seed {s}: {folder} holds the complete run of this recipe; not trained again")
-        else:
-            if writer and saved.exists():
-                saved.unlink()
-            report(f"seed {s}: Brax PPO on {cfg['env']} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
-                   f"{jax.device_count()} device(s) ({jax.devices()[0].platform}); run folder {folder}")
-            train_recipe(runs[s], folder, report=report)
-        if not writer:
-            continue
-        row = None
-        if saved.is_file():  # an earlier invocation's evaluation of this complete run, with the same episodes
-            kept = json.loads(saved.read_text())
-            if (kept.get("eval_episodes"), kept.get("cpu_episodes")) == (eval_episodes, cpu_episodes):
-                row = kept["row"]
-        if row is None:
-            row = evaluate_run(folder, eval_episodes, cpu_episodes)
-            _write_json(saved, {"eval_episodes": eval_episodes, "cpu_episodes": cpu_episodes, "row": row})
-        rows.append({"seed": s, **row})
-        for line in evaluation_lines(row):
-            report(f"seed {s}: {line}")
-        summary = _seed_summary(cfg, name, command or f"mjrft train-mjx --config {name}", out, seeds, rows,
-                                eval_episodes, cpu_episodes)
-        _write_json(out / SEEDS_FILE, summary)
-        text = _seed_report(summary)
-        tmp = out / (SEEDS_TABLE + ".tmp")
-        tmp.write_text(text + "\n")
-        os.replace(tmp, out / SEEDS_TABLE)
-    if writer:
-        report(_seed_report(summary))
-        report(f"wrote {out / SEEDS_TABLE} and {out / SEEDS_FILE}")
-    return summary
+
+    def train_one(s, folder):
+        report(f"seed {s}: Brax PPO on {cfg['env']} ({cfg['num_envs']} worlds, {cfg['num_timesteps']:,} steps) on "
+               f"{jax.device_count()} device(s) ({jax.devices()[0].platform}); run folder {folder}")
+        train_recipe(runs[s], folder, report=report)
+
+    command = command or f"mjrft train-mjx --config {name}"
+    return run_seeds(out, seeds, done, train_one, lambda folder: evaluate_run(folder, eval_episodes, cpu_episodes),
+                     {"eval_episodes": eval_episodes, "cpu_episodes": cpu_episodes},
+                     lambda rows: _seed_summary(cfg, name, command, out, seeds, rows, eval_episodes, cpu_episodes),
+                     _seed_report, evaluation_lines, report=report, writer=writer)
 
 
 def _strict(value):
@@ -267,3 +286,4 @@ def _seed_report(summary: dict) -> str:
             if summary["cpu_episodes"]:
                 lines.append(f"$ mjrft eval --policy {folder} --episodes {summary['cpu_episodes']}")
     return "\n".join(lines)
+
