@@ -633,6 +633,14 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int | N
                 pass
 
 
+def train_settings(cfg: dict, out_dir, **options) -> TrainResult:
+    """:func:`train` with the settings ``cfg`` of a training configuration with the command line's overrides
+    (:func:`mjrft.train.train_command.run_settings`); ``options``: its other keywords (resume, device, report, ...)."""
+    return train(cfg["env_id"], cfg["algo"], cfg["timesteps"], cfg["n_envs"], cfg["seed"], out_dir,
+                 cfg["env_kwargs"] or None, cfg["checkpoint_every"], hyperparams=cfg["hyperparams"] or None,
+                 normalize=cfg["normalize"], vec_env=cfg["vec_env"], **options)
+
+
 def _sigterm(signum, frame):
     raise KeyboardInterrupt(f"signal {signum}")
 

@@ -1,7 +1,10 @@
-"""``mjrft train``: the command line of stable-baselines3 training (:func:`mjrft.train.train.train`, resumable).
+"""``mjrft train``: the command line of stable-baselines3 training, one run (:func:`mjrft.train.train.train`,
+resumable) or one run per seed with the mean and spread over the seeds (``--seeds``,
+:func:`mjrft.train.seeds.train_sb3_seeds`).
 
     mjrft train --env mjrft/HexapodSand-v0 --algo ppo --timesteps 200000 --out runs/hex resolution=0.02
     mjrft train --config hexapod-sand --out runs/hexapod-sand
+    mjrft train --config hexapod-sand --out runs/hexapod-sand-seeds --seeds 0 1 2
 """
 
 from __future__ import annotations
@@ -11,9 +14,10 @@ from pathlib import Path
 
 from mjrft.tools.outputs import output_dir
 
-from .common import int_arg, parse_kwargs
+from .common import check_int, int_arg, parse_kwargs
 from .config import DEFAULTS, load_training_config, named_configs
-from .train import CHECKPOINT_DIR, load_config, train
+from .seeds import check_seeds, train_sb3_seeds
+from .train import CHECKPOINT_DIR, load_config, train_settings
 from .vecenv import KINDS
 
 
@@ -32,9 +36,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--n-envs", type=int_arg, default=None,
                         help="parallel environments (default 1; on resume the saved number, a different one is "
                              "recorded as a change)")
-    parser.add_argument("--seed", type=int_arg, default=None,
-                        help="random seed (default 0; on resume the saved one, a different one is refused)")
-    parser.add_argument("--out", default="runs/mjrft", help="run folder (default runs/mjrft)")
+    seeds = parser.add_mutually_exclusive_group()
+    seeds.add_argument("--seed", type=int_arg, default=None,
+                       help="random seed (default 0; on resume the saved one, a different one is refused)")
+    seeds.add_argument("--seeds", type=int_arg, nargs="+", default=None, metavar="SEED",
+                       help="train one run per seed, each in OUT/seed-<SEED>/ (the run of --seed SEED --out "
+                            "OUT/seed-<SEED>: an interrupted one resumes, a complete one is not trained again), "
+                            "evaluate each final policy (mjrft eval), and write the mean and spread over the seeds "
+                            "to OUT/seeds.txt and OUT/seeds.json")
+    parser.add_argument("--eval-episodes", type=int_arg, default=None,
+                        help="with --seeds: deterministic episodes of each final policy on its env (default 10; 0: "
+                             "none)")
+    parser.add_argument("--out", default="runs/mjrft", help="run folder (default runs/mjrft; with --seeds the folder "
+                                                            "of the seeds' run folders)")
     parser.add_argument("--checkpoint-every", type=int_arg, default=None,
                         help="steps between checkpoints (default 10000; on resume the saved one, a different one is "
                              "recorded as a change)")
@@ -67,7 +81,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 def run_settings(args) -> dict:
     """The run's settings from ``--config`` (if given) overridden by the options given on the command line.
 
-    Without a file a setting not given is None: :func:`~mjrft.train.train.train` takes it from the run it resumes (else its default).
+    Without a file a setting not given is None: :func:`~mjrft.train.train.train` takes it from the run it resumes
+    (else its default).
     """
     cfg = load_training_config(args.config) if args.config else {**{k: None for k in DEFAULTS}, "hyperparams": {},
                                                                    "env_kwargs": {}, "env_id": None}
@@ -80,14 +95,40 @@ def run_settings(args) -> dict:
     return cfg
 
 
+def recipe_command(args) -> str:
+    """The ``mjrft train`` command line of ``args``'s settings without ``--seed(s)`` and ``--out``: what each seed of
+    ``--seeds`` runs, which ``seeds.txt`` repeats."""
+    import shlex
+
+    parts = ["mjrft train"]
+    for flag, value in (("--config", args.config), ("--env", args.env_id), ("--algo", args.algo),
+                        ("--timesteps", args.timesteps), ("--n-envs", args.n_envs),
+                        ("--checkpoint-every", args.checkpoint_every), ("--vec-env", args.vec_env),
+                        ("--device", args.device), ("--torch-threads", args.torch_threads)):
+        if value is not None:
+            parts.append(f"{flag} {shlex.quote(str(value))}")
+    parts += [f"--hp {shlex.quote(hp)}" for hp in args.hp]
+    parts += [flag for flag, on in (("--normalize", args.normalize), ("--no-resume", not args.resume),
+                                    ("--trust", args.trust)) if on]
+    return " ".join(parts + [shlex.quote(kv) for kv in args.env_kwargs])
+
+
 def main(args) -> int:
     cfg = run_settings(args)
+    episodes = args.eval_episodes
+    if args.seeds is None and episodes is not None:
+        raise ValueError("--eval-episodes applies to --seeds (evaluate one run with mjrft eval --episodes N)")
+    options = dict(resume=args.resume, device=args.device, torch_threads=args.torch_threads,
+                   progress_bar=args.progress, verbose=args.verbose, config_name=args.config, trust=args.trust)
+    if args.seeds is not None:
+        check_seeds(args.seeds)
+        episodes = 10 if episodes is None else check_int("--eval-episodes", episodes, 0)
+        name = Path(args.config).stem if args.config else (cfg["env_id"] or "")
+        train_sb3_seeds(cfg, output_dir(args.out), args.seeds, episodes=episodes, name=name,
+                        command=recipe_command(args), report=print, **options)
+        return 0
     out = Path(output_dir(args.out))
-    result = train(cfg["env_id"], cfg["algo"], cfg["timesteps"], cfg["n_envs"], cfg["seed"], out,
-                   cfg["env_kwargs"] or None, cfg["checkpoint_every"], args.resume,
-                   hyperparams=cfg["hyperparams"] or None, normalize=cfg["normalize"], device=args.device,
-                   torch_threads=args.torch_threads, progress_bar=args.progress, verbose=args.verbose,
-                   config_name=args.config, vec_env=cfg["vec_env"], trust=args.trust, report=print)
+    result = train_settings(cfg, out, report=print, **options)
     cfg = load_config(result.config_path)
     if result.interrupted:
         saved = f"saved {result.model_path} and a checkpoint" if result.saved else "nothing new was saved"
