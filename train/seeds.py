@@ -39,9 +39,10 @@ SEEDS_FILE, SEEDS_TABLE, EVALUATION_FILE = "seeds.json", "seeds.txt", "evaluatio
 
 def spread(values) -> dict:
     """Mean, sample standard deviation (``ddof=1``; NaN for fewer than two values), minimum and maximum of the
-    finite ``values``, and their count ``n`` (a seed whose measure is NaN, e.g. every episode diverged, is left
-    out and counted out of ``n``); NaN everywhere when none is finite."""
-    v = np.asarray([float(x) for x in values], dtype=float)
+    finite ``values``, and their count ``n`` (a seed whose measure is NaN or None, e.g. every episode diverged, as
+    an ``evaluation.json`` read back holds it, is left out and counted out of ``n``); NaN everywhere when none is
+    finite."""
+    v = np.asarray([math.nan if x is None else float(x) for x in values], dtype=float)
     v = v[np.isfinite(v)]
     if not v.size:
         return {"n": 0, "mean": math.nan, "sd": math.nan, "min": math.nan, "max": math.nan}
@@ -416,7 +417,7 @@ def _sb3_summary(name, command, out, seeds, rows, episodes) -> dict:
             "env_kwargs": cfg.get("env_kwargs") or {}, "algo": cfg["algo"], "seeds": list(seeds),
             "finished": [r["seed"] for r in rows], "timesteps": cfg["timesteps"], "n_envs": cfg["n_envs"],
             "episodes": episodes, "rows": rows,
-            "spread": {k: spread([math.nan if r.get(k) is None else r[k] for r in rows]) for k in keys}}
+            "spread": {k: spread([r.get(k) for r in rows]) for k in keys}}
 
 
 def _sb3_report(summary: dict) -> str:

@@ -19,6 +19,7 @@ pytest.importorskip("imageio")  # gymnasium.envs.mujoco needs it
 from mjrft.tools.cli import main as cli  # noqa: E402
 from mjrft.train.config import save_training_config  # noqa: E402
 from mjrft.train.evaluate import evaluate  # noqa: E402
+from mjrft.train.seeds import spread  # noqa: E402
 from mjrft.train.train import load_config  # noqa: E402
 
 ENV = "InvertedPendulum-v5"
@@ -117,3 +118,10 @@ def test_an_interrupted_seed_stops_the_run(tmp_path, monkeypatch, capsys):
     assert _cli("--env", ENV, "--out", out, "--seeds", 4, 5) == 130
     assert started == [4] and not (out / "seeds.txt").exists()
     assert "seed 4: interrupted at 16 steps; run the same command to resume" in capsys.readouterr().out
+
+
+def test_a_measure_saved_as_null_is_left_out_of_the_spread():
+    """A seed whose measure is NaN (every episode diverged) keeps it as null in evaluation.json; read back, it is
+    left out of the spread like the NaN, not an error."""
+    assert spread([0.3, None, 0.5]) == spread([0.3, math.nan, 0.5]) == {
+        "n": 2, "mean": pytest.approx(0.4), "sd": pytest.approx(0.1 * math.sqrt(2)), "min": 0.3, "max": 0.5}
