@@ -15,11 +15,12 @@ Common keyword arguments (all environments):
 ``resolution``             surface element size (m, > 0); default from the model.
 ``frame_skip``             physics steps per ``step()`` (int >= 1); default 10 (or the preset's).
 ``timestep``               physics step (s, > 0); default the model's 1 ms (or the preset's).
-``preset``                 ``"fast"``, ``"default"`` or ``"accurate"`` (:mod:`mjrft.tools.presets`, chosen by the
-                           speed/accuracy study ``mjrft bench``): fills ``law``, ``resolution`` (as a
-                           multiple of the model's own: x4, x1, x0.5), ``timestep`` and ``frame_skip``
-                           (1 ms x 10, 1 ms x 10, 0.5 ms x 20: always a 10 ms control period) where
-                           they are left as None; explicit keyword arguments win.
+``preset``                 ``"fast"``, ``"default"`` or ``"accurate"`` (:mod:`mjrft.tools.presets`): fills
+                           ``law``, ``resolution`` (as a multiple of the model's own: x4, x1, x0.5, from the
+                           speed/accuracy study ``mjrft bench``), ``timestep`` and ``frame_skip`` (the robot's
+                           own step for ``default``, its measured ``fast_step`` and ``accurate_step``
+                           for the others: always a 10 ms control period) where they are left as None;
+                           explicit keyword arguments win.
 ``forward_reward_weight``  weight of the forward speed ``dx/dt`` (m/s) of the torso.
 ``energy_cost_weight``     weight of the dimensionless power ``P / (m g)`` in m/s; ``P`` (W) the actuators'
                            power ``sum_a |actuator_force_a x actuator_velocity_a|`` averaged over every
@@ -90,7 +91,7 @@ from mjrft.divergence import mujoco_reset_error, mujoco_resets
 from mjrft.errors import NonFiniteError, check_positive
 from mjrft.stepping import actuator_power
 from mjrft.models import model_path
-from mjrft.tools.presets import resolve as resolve_preset
+from mjrft.tools.presets import FRAME_SKIP, resolve as resolve_preset
 
 from .randomization import TerrainRandomization, TerrainRandomizer, upload_surface
 
@@ -137,6 +138,23 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
     sand_step: tuple[float, int] | None = None
     #: the robot's own granular coupling on sand when ``implicit`` is not given (True: the implicit step)
     sand_implicit: bool = False
+    #: the ``"accurate"`` preset's (timestep, frame_skip) on sand and on the rigid floor: the largest step within the
+    #: 2 % gait budget of ``python benchmarks/env_timestep.py``, no coarser than the robot's own step (None: the own
+    #: step, which is within it); the ``"default"`` preset takes the own step (:meth:`preset_steps`)
+    accurate_step: tuple[float, int] | None = None
+    rigid_accurate_step: tuple[float, int] | None = None
+    #: the ``"fast"`` preset's (timestep, frame_skip) on sand: the own step, halved while the preset's coarse elements
+    #: warn more than the default under ``python benchmarks/env_presets.py``'s controllers (None: the own step)
+    fast_step: tuple[float, int] | None = None
+
+    @classmethod
+    def preset_steps(cls, sand: bool) -> dict[str, tuple[float | None, int]]:
+        """The robot's physics step per preset (:func:`mjrft.tools.presets.resolve`'s ``preset_steps``): ``default`` at
+        its own step (a timestep of None: the model's), ``fast`` and ``accurate`` at their measured ones."""
+        own = (cls.sand_step if sand and cls.sand_step is not None else (None, FRAME_SKIP))
+        fast = cls.fast_step if sand else None
+        accurate = cls.accurate_step if sand else cls.rigid_accurate_step
+        return {"fast": fast or own, "default": own, "accurate": accurate or own}
 
     def __init__(self, xml: str, *, sand: bool = True, healthy_z_range=(0.0, 1.0), max_tilt: float = 1.0,
                  medium=None, law=None, resolution=None,
@@ -162,7 +180,8 @@ class GranularMujocoEnv(MujocoEnv, utils.EzPickle):
         # the simulation settings, each checked once (rigid envs too): a preset fills what was left as None
         # (mjrft.tools.presets); explicit keyword arguments win
         sim = resolve_preset(preset, medium=medium, law=law, resolution=resolution, timestep=timestep,
-                             frame_skip=frame_skip, own_step=self.sand_step if sand else None)
+                             frame_skip=frame_skip, own_step=self.sand_step if sand else None,
+                             preset_steps=self.preset_steps(sand))
         self._timestep, frame_skip = sim.timestep, sim.frame_skip
         for name, val in (("forward_reward_weight", forward_reward_weight),
                           ("energy_cost_weight", energy_cost_weight), ("ctrl_cost_weight", ctrl_cost_weight),

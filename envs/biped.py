@@ -7,13 +7,17 @@ from mjrft.models.biped import biped_xml
 from .base import GranularMujocoEnv, split_env_kwargs
 from .tasks import BipedTask
 
-#: the sand biped's physics step (s), steps per env step and granular coupling when neither ``preset``, ``timestep``
-#: nor ``frame_skip`` (nor ``implicit``) is given: the implicit step at 2 ms x 5 = the 10 ms control period, the
+#: the sand biped's physics step (s), steps per env step and granular coupling when neither ``timestep`` nor
+#: ``frame_skip`` (nor ``implicit``) is given (under the ``default`` and ``accurate`` presets too: it is within the 2 %
+#: budget): the implicit step at 2 ms x 5 = the 10 ms control period, the
 #: largest step whose gait speed and sinkage stay within 2 % of a 0.05 ms reference and that stays stable under random
 #: actions (``python benchmarks/env_timestep.py``; docs/numerics.md, "Each env's physics step"). The explicit step
 #: passes the feet's stability limit there under random actions (``tests/envs/test_biped_timestep.py``).
 SAND_TIMESTEP = 0.002
 SAND_FRAME_SKIP = 5
+#: the ``"fast"`` preset's step on sand: its 4x coarser elements (36 per foot) chatter at 2 ms under the 30 deg ``rect``
+#: gait (one warning in 6 s) and not at 1 ms (``python benchmarks/env_presets.py``)
+FAST_STEP = (0.001, 10)
 
 
 class BipedSand(GranularMujocoEnv):
@@ -21,9 +25,11 @@ class BipedSand(GranularMujocoEnv):
 
     Model: :func:`mjrft.models.biped_xml` (``foot``, ``foot_size``, ``foot_width``, ``sand``, ...);
     granular bodies ``left_foot right_foot``. On sand the implicit granular step at 2 ms, ``frame_skip = 5``
-    (``dt = 0.01`` s; ``SAND_TIMESTEP``, ``SAND_FRAME_SKIP``) when neither ``preset``, ``timestep`` nor
-    ``frame_skip`` is given (``implicit=False``: the explicit step, which needs <= 0.5 ms);
-    on the rigid floor 1 ms and ``frame_skip = 10``.
+    (``dt = 0.01`` s; ``SAND_TIMESTEP``, ``SAND_FRAME_SKIP``) when neither ``timestep`` nor ``frame_skip`` is
+    given, under the ``default`` and ``accurate`` presets too, 1 ms x 10 under ``fast`` (``FAST_STEP``)
+    (``implicit=False``: the explicit step, which needs <= 0.5 ms);
+    on the rigid floor 1 ms and ``frame_skip = 10``, under every preset too (both within the 2 % gait budget of
+    ``python benchmarks/env_timestep.py``).
     Feet (``foot``): ``"cone"`` (default; the thesis robot's conical foot, circular sole 8.5 cm across),
     ``"wedge"`` (the thesis simulation's 8.5 x 8.5 x 7.5 cm wedge) or ``"roller"`` (a cylinder lying
     across); ``foot_size`` is the sole's diameter or length (m). The planarised robot of the thesis'
@@ -82,6 +88,7 @@ class BipedSand(GranularMujocoEnv):
     defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.5, "healthy_z_range": (0.05, 0.6), "max_tilt": 1.0}
     sand_step = (SAND_TIMESTEP, SAND_FRAME_SKIP)
     sand_implicit = True
+    fast_step = FAST_STEP
 
     def __init__(self, sand: bool = True, *, foot: str = "cone", foot_size: float = 0.085,
                  pitch_free: bool = True, **kwargs):

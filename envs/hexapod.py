@@ -14,12 +14,17 @@ from .randomization import DEFAULT_SURFACE_GRID, TerrainRandomization
 from .tasks import HexapodTask
 
 
-#: the sand envs' physics step (s) and steps per env step when neither ``preset``, ``timestep`` nor
-#: ``frame_skip`` is given: 0.5 ms x 20 = the 10 ms control period. The legs' explicit granular-stiffness
+#: the sand envs' physics step (s) and steps per env step when neither ``timestep`` nor ``frame_skip`` is given
+#: (without a preset, and under the ``fast`` and ``default`` presets): 0.5 ms x 20 = the 10 ms control period. The legs' explicit granular-stiffness
 #: limit (:mod:`mjrft.stability`) falls to 0.93 ms under 40 s of the initial PPO policy's random actions on
 #: poppy seeds, below the models' 1 ms step; at 0.5 ms no step passes it (``tests/envs/test_hexapod_timestep.py``).
 SAND_TIMESTEP = 0.0005
 SAND_FRAME_SKIP = 20
+#: the ``"accurate"`` preset's steps (``python benchmarks/env_timestep.py``): on sand the explicit 0.25 ms step is the
+#: largest within the 2 % gait budget (the own 0.5 ms is 2.6 % on sinkage); on the rigid floor no step is within it
+#: (the C-legs' impacts: 3.7 % at 0.1 ms on the 3 Hz tripod), so it takes the finest step the study measures
+ACCURATE_STEP = (0.00025, 40)
+RIGID_ACCURATE_STEP = (0.0001, 100)
 
 
 class HexapodSand(GranularMujocoEnv):
@@ -29,8 +34,10 @@ class HexapodSand(GranularMujocoEnv):
     signed leg curvature 1/r in 1/m, default 1/R': positive = Li 2013's C-leg, convex side leading in
     stance, negative = reversed C-leg, convention in :mod:`mjrft.geometry.curved_leg`); granular bodies
     torso + six legs. Physics step 0.5 ms, ``frame_skip = 20`` (``dt = 0.01`` s; ``SAND_TIMESTEP``,
-    ``SAND_FRAME_SKIP``: the legs' granular-stiffness limit falls below 1 ms in training) unless ``preset``,
-    ``timestep`` or ``frame_skip`` is given; on the rigid floor 1 ms and ``frame_skip = 10``. With
+    ``SAND_FRAME_SKIP``: the legs' granular-stiffness limit falls below 1 ms in training) unless ``timestep`` or
+    ``frame_skip`` is given; on the rigid floor 1 ms and ``frame_skip = 10``. The presets ``fast`` and ``default``
+    keep these steps; ``accurate`` steps 0.25 ms x 40 on sand, 0.1 ms x 100 on the rigid floor (``ACCURATE_STEP``,
+    ``RIGID_ACCURATE_STEP``). With
     ``variant="small"`` (25 g, DynaRoACH-sized) the sand scene turns on the dry laws' inertial regime
     (:mod:`mjrft.laws.inertial`; ``inertial=False`` turns it off), the RHex-class robot leaves it off.
 
@@ -115,6 +122,8 @@ class HexapodSand(GranularMujocoEnv):
 
     defaults = {"energy_cost_weight": 0.05, "healthy_reward": 0.1, "healthy_z_range": (-0.05, 0.5), "max_tilt": 1.2}
     sand_step = (SAND_TIMESTEP, SAND_FRAME_SKIP)
+    accurate_step = ACCURATE_STEP
+    rigid_accurate_step = RIGID_ACCURATE_STEP
 
     def __init__(self, sand: bool = True, *, variant: str = "rhex", curvature: float | None = None,
                  max_hip_speed: float = 6 * np.pi, max_lag: float = 1.0, planar: bool = False, **kwargs):

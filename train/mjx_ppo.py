@@ -337,6 +337,47 @@ def _replicated_put(jax_module=None):
         del jax_module.device_put_replicated
 
 
+def committed_inputs(tree, device):
+    """``tree`` with every array strongly typed (its own dtype) and placed on ``device``: the form that keys one
+    compiled function the same way whatever made its inputs (a Python float, an uncommitted array, another jit)."""
+    import jax
+    import jax.numpy as jnp
+
+    def put(x):
+        x = jnp.asarray(x)
+        if not jax.dtypes.issubdtype(x.dtype, jax.dtypes.prng_key):  # typed keys have no weak form
+            x = jnp.asarray(x, dtype=x.dtype)
+        return jax.device_put(x, device)
+
+    return jax.tree_util.tree_map(put, tree)
+
+
+@contextlib.contextmanager
+def _evaluations_compile_once():
+    """Compile Brax's evaluation unroll once per run while its PPO trains. Brax 0.14.2's ``acting.Evaluator`` calls
+    one jitted unroll (the whole evaluation episode of ``num_eval_envs`` worlds: the run's largest compile after the
+    training step) first on the reset state and the initial parameters, then on its own output and the trained
+    parameters; the two differ in what jit's cache keys on (the first call's arrays are uncommitted and its
+    normaliser's ``std_eps`` is a weakly typed Python float, the later ones committed and strongly typed), so it
+    compiled twice. Here every call's inputs go through :func:`committed_inputs` on the first local device (where
+    Brax's unpmapped parameters and the unroll's output live), so every evaluation has the first one's key."""
+    import jax
+    from brax.training import acting
+
+    own_init = acting.Evaluator.__init__
+
+    def init(self, *args, **kwargs):
+        own_init(self, *args, **kwargs)
+        unroll, device = self._generate_eval_unroll, jax.local_devices()[0]
+        self._generate_eval_unroll = lambda *inputs: unroll(*committed_inputs(inputs, device))
+
+    acting.Evaluator.__init__ = init
+    try:
+        yield
+    finally:
+        acting.Evaluator.__init__ = own_init
+
+
 def train_recipe(cfg: dict, out, *, report=print) -> dict:
     """Train with the checked recipe ``cfg`` (:func:`check_recipe`) into the run folder ``out``; returns the
     summary written into ``policy.json``."""
@@ -404,7 +445,7 @@ def train_recipe(cfg: dict, out, *, report=print) -> dict:
             save_policy(out / CHECKPOINTS / f"{int(step):011d}", params, now)
 
         ppo_kw = {"num_evals": 2, **cfg["ppo"]}
-        with _replicated_put():
+        with _replicated_put(), _evaluations_compile_once():
             make_policy, params, metrics = ppo.train(
                 environment=env, num_timesteps=cfg["num_timesteps"], num_envs=cfg["num_envs"],
                 episode_length=cfg["episode_length"], seed=cfg["seed"], network_factory=factory,

@@ -1,4 +1,5 @@
-"""``mjrft train``: stable-baselines3 (PPO or SAC) on the mjrft environments, resumable.
+"""``mjrft train``: stable-baselines3 (PPO or SAC) on the mjrft environments, resumable (the command line:
+:mod:`mjrft.train.train_command`).
 
 >>> from mjrft.train.train import train
 >>> result = train("mjrft/HexapodSand-v0", "ppo", timesteps=200_000, n_envs=4, seed=0, out_dir="runs/hex",
@@ -66,7 +67,6 @@ Choices:
 
 from __future__ import annotations
 
-import argparse
 import datetime
 import inspect
 import json
@@ -81,14 +81,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from mjrft.errors import unknown
-from mjrft.tools.outputs import output_dir
 
 from .common import (ALGOS, FORKSERVER_PRELOAD, NOT_HYPERPARAMS, MujocoWarning, _jsonable,  # noqa: F401
                      algo_class, check_env_id, check_int, check_mujoco_env, default_hyperparams, int_arg, make_env,
                      make_training_env, parse_kwargs, parse_value, route_mujoco_warnings, start_method,
                      valid_env_kwargs)
-from .config import DEFAULTS, load_training_config, named_configs
-from .vecenv import KINDS, check_kind, make_vec_env, resolve_kind
+from .config import DEFAULTS
+from .vecenv import check_kind, make_vec_env, resolve_kind
 
 _check_int, _int_arg = check_int, int_arg  # the names the commands' modules used
 
@@ -338,6 +337,39 @@ def _saved_setting(saved: dict, name: str):
     return value
 
 
+def resumed_config(out_dir, env_id: str | None = None, algo: str | None = None, env_kwargs: dict | None = None,
+                   normalize: bool | None = None, seed: int | None = None, hyperparams: dict | None = None,
+                   n_envs: int | None = None) -> dict | None:
+    """The ``config.json`` of the run in ``out_dir`` that :func:`train` with these settings resumes (its path as
+    ``"_path"``), or None when the folder holds no checkpoint.
+
+    A setting given (not None) that differs from the saved run's (env id, algorithm, env kwargs, normalize, seed, a
+    hyper-parameter; ``n_envs`` of a SAC run, whose replay buffer is laid out per environment) raises a
+    ``ValueError`` naming the difference, as does a folder with checkpoints but no ``config.json``.
+    """
+    out_dir = Path(out_dir)
+    if not list_checkpoints(out_dir):
+        return None
+    config_path = out_dir / CONFIG_NAME
+    if not config_path.is_file():
+        raise ValueError(f"{out_dir} has checkpoints but no {CONFIG_NAME}; cannot resume (use another --out)")
+    saved = load_config(config_path)
+    saved["_path"] = str(config_path)
+    _check_same(saved, "env id", env_id, saved["env_id"])
+    _check_same(saved, "algorithm", None if algo is None else algo.lower(), saved["algo"])
+    _check_same(saved, "env kwargs", env_kwargs or None, saved["env_kwargs"])
+    _check_same(saved, "normalize", normalize, saved["normalize"])
+    _check_same(saved, "seed", seed, saved.get("seed", DEFAULTS["seed"]))
+    if hyperparams:
+        for k, v in hyperparams.items():
+            _check_same(saved, f"hyper-parameter {k}", v, saved["hyperparams"].get(k))
+    before = _saved_setting(saved, "n_envs")
+    if saved["algo"] == "sac" and n_envs is not None and _jsonable(n_envs) != _jsonable(before):
+        raise ValueError(f"n_envs {n_envs} differs from the SAC run being resumed ({before} in {saved['_path']}): its "
+                         f"replay buffer is laid out per environment; omit --n-envs")
+    return saved
+
+
 def train(env_id: str | None = None, algo: str | None = None, timesteps: int | None = None,
           n_envs: int | None = None, seed: int | None = None, out_dir="runs/mjrft", env_kwargs: dict | None = None,
           checkpoint_every: int | None = None, resume: bool = True, *, hyperparams: dict | None = None,
@@ -407,20 +439,10 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int | N
     saved = None
     changes = {}  # setting -> (saved value, value of this run): what a resume changes on purpose
     if checkpoints:
-        if not config_path.is_file():
-            raise ValueError(f"{out_dir} has checkpoints but no {CONFIG_NAME}; cannot resume (use another --out)")
-        saved = load_config(config_path)
-        saved["_path"] = str(config_path)
-        _check_same(saved, "env id", env_id, saved["env_id"])
-        _check_same(saved, "algorithm", None if algo is None else algo.lower(), saved["algo"])
-        _check_same(saved, "env kwargs", env_kwargs or None, saved["env_kwargs"])
-        _check_same(saved, "normalize", normalize, saved["normalize"])
-        _check_same(saved, "seed", given["seed"], saved.get("seed", DEFAULTS["seed"]))
+        saved = resumed_config(out_dir, env_id, algo, env_kwargs, normalize, given["seed"], hyperparams,
+                               given["n_envs"])
         env_id, algo, env_kwargs = saved["env_id"], saved["algo"], saved["env_kwargs"]
         normalize = saved["normalize"]
-        if hyperparams:
-            for k, v in hyperparams.items():
-                _check_same(saved, f"hyper-parameter {k}", v, saved["hyperparams"].get(k))
         ctor_kwargs = dict(saved.get("hyperparams_given", {}))
         effective = saved["hyperparams"]
         settings = {k: _saved_setting(saved, k) if v is None else v for k, v in given.items()}
@@ -444,10 +466,6 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int | N
         for name in CHANGEABLE:
             if _jsonable(settings[name]) != _jsonable(_saved_setting(saved, name)):
                 changes[name] = (_saved_setting(saved, name), settings[name])
-        if algo == "sac" and "n_envs" in changes:
-            raise ValueError(f"n_envs {settings['n_envs']} differs from the SAC run being resumed "
-                             f"({changes['n_envs'][0]} in {saved['_path']}): its replay buffer is laid out per "
-                             f"environment; omit --n-envs")
     timesteps, n_envs, seed, kind = (settings[k] for k in ("timesteps", "n_envs", "seed", "vec_env"))
     checkpoint_every, device, torch_threads = (settings[k] for k in ("checkpoint_every", "device", "torch_threads"))
     cls = algo_class(algo)
@@ -613,6 +631,14 @@ def train(env_id: str | None = None, algo: str | None = None, timesteps: int | N
                 venv.close()
             except (EOFError, BrokenPipeError, ConnectionResetError):  # a worker already gone
                 pass
+
+
+def train_settings(cfg: dict, out_dir, **options) -> TrainResult:
+    """:func:`train` with the settings ``cfg`` of a training configuration with the command line's overrides
+    (:func:`mjrft.train.train_command.run_settings`); ``options``: its other keywords (resume, device, report, ...)."""
+    return train(cfg["env_id"], cfg["algo"], cfg["timesteps"], cfg["n_envs"], cfg["seed"], out_dir,
+                 cfg["env_kwargs"] or None, cfg["checkpoint_every"], hyperparams=cfg["hyperparams"] or None,
+                 normalize=cfg["normalize"], vec_env=cfg["vec_env"], **options)
 
 
 def _sigterm(signum, frame):
@@ -800,86 +826,3 @@ def _mjrft_env_ids() -> list[str]:
     from mjrft.envs import ENV_IDS, GYM_SAND_IDS
 
     return sorted([*ENV_IDS, *GYM_SAND_IDS])
-
-
-# ---------------------------------------------------------------------------------------------- CLI
-def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--config", default=None, metavar="NAME_OR_FILE",
-                        help="training configuration: a named recipe shipped with mjrft "
-                             f"({', '.join(named_configs())}), a .yaml/.json file, or a run's config.json; "
-                             "the options below override its values")
-    parser.add_argument("--env", dest="env_id", default=None,
-                        help="environment id, e.g. mjrft/HexapodSand-v0: a MuJoCo env with continuous actions "
-                             "(required for a new run without --config)")
-    parser.add_argument("--algo", default=None, help="ppo or sac (default ppo; on resume the saved one)")
-    parser.add_argument("--timesteps", type=_int_arg, default=None,
-                        help="total environment steps of the run (resuming continues up to this; default 1e5, on "
-                             "resume the saved budget)")
-    parser.add_argument("--n-envs", type=_int_arg, default=None,
-                        help="parallel environments (default 1; on resume the saved number, a different one is "
-                             "recorded as a change)")
-    parser.add_argument("--seed", type=_int_arg, default=None,
-                        help="random seed (default 0; on resume the saved one, a different one is refused)")
-    parser.add_argument("--out", default="runs/mjrft", help="run folder (default runs/mjrft)")
-    parser.add_argument("--checkpoint-every", type=_int_arg, default=None,
-                        help="steps between checkpoints (default 10000; on resume the saved one, a different one is "
-                             "recorded as a change)")
-    parser.add_argument("--hp", action="append", default=[], metavar="KEY=VALUE",
-                        help="SB3 hyper-parameter, repeatable: --hp n_steps=512 --hp learning_rate=1e-4 "
-                             "--hp 'policy_kwargs={\"net_arch\": [64, 64]}'")
-    parser.add_argument("--normalize", action="store_true", default=None,
-                        help="VecNormalize observations and rewards (statistics saved with the model)")
-    parser.add_argument("--vec-env", default=None, choices=KINDS,
-                        help="how the environments are stepped: subproc, dummy, batched or auto (default; "
-                             "mjrft.train.vecenv; on resume the saved kind, another is recorded as a change)")
-    parser.add_argument("--device", default=None,
-                        help="torch device: cpu (default), cuda, auto (on resume the saved one, another is recorded "
-                             "as a change)")
-    parser.add_argument("--torch-threads", type=_int_arg, default=None,
-                        help="torch CPU threads (default 1: fastest for these small MLP policies; 0: torch's own "
-                             "setting; on resume the saved number, another is recorded as a change)")
-    parser.add_argument("--no-resume", dest="resume", action="store_false",
-                        help="start over even if the folder has checkpoints")
-    parser.add_argument("--trust", action="store_true",
-                        help="on resume, also load checkpoint files that can only be unpickled (SB3's .pkl "
-                             "side files): they can run code, so only for files from a trusted source")
-    parser.add_argument("--no-progress", dest="progress", action="store_false", help="no progress bar")
-    parser.add_argument("--verbose", type=int, default=0, help="SB3 verbosity (1: training log)")
-    parser.add_argument("env_kwargs", nargs="*", metavar="KEY=VALUE",
-                        help="environment keyword arguments, e.g. resolution=0.02 medium=poppy_lp "
-                             "max_episode_steps=500")
-
-
-def run_settings(args) -> dict:
-    """The run's settings from ``--config`` (if given) overridden by the options given on the command line.
-
-    Without a file a setting not given is None: :func:`train` takes it from the run it resumes (else its default).
-    """
-    cfg = load_training_config(args.config) if args.config else {**{k: None for k in DEFAULTS}, "hyperparams": {},
-                                                                   "env_kwargs": {}, "env_id": None}
-    given = {"env_id": args.env_id, "algo": args.algo, "timesteps": args.timesteps, "n_envs": args.n_envs,
-             "seed": args.seed, "checkpoint_every": args.checkpoint_every, "normalize": args.normalize,
-             "vec_env": args.vec_env}
-    cfg.update({k: v for k, v in given.items() if v is not None})
-    cfg["hyperparams"] = {**cfg["hyperparams"], **parse_kwargs(args.hp, "--hp")}
-    cfg["env_kwargs"] = {**cfg["env_kwargs"], **parse_kwargs(args.env_kwargs, "env kwarg")}
-    return cfg
-
-
-def main(args) -> int:
-    cfg = run_settings(args)
-    out = Path(output_dir(args.out))
-    result = train(cfg["env_id"], cfg["algo"], cfg["timesteps"], cfg["n_envs"], cfg["seed"], out,
-                   cfg["env_kwargs"] or None, cfg["checkpoint_every"], args.resume,
-                   hyperparams=cfg["hyperparams"] or None, normalize=cfg["normalize"], device=args.device,
-                   torch_threads=args.torch_threads, progress_bar=args.progress, verbose=args.verbose,
-                   config_name=args.config, vec_env=cfg["vec_env"], trust=args.trust, report=print)
-    cfg = load_config(result.config_path)
-    if result.interrupted:
-        saved = f"saved {result.model_path} and a checkpoint" if result.saved else "nothing new was saved"
-        print(f"interrupted at {result.num_timesteps} steps; {saved}. Run the same command to resume.")
-        return 130
-    print(f"{cfg['algo'].upper()} on {cfg['env_id']}: {result.num_timesteps} steps; model {result.model_path}, "
-          f"config {result.config_path}, {len(result.checkpoints)} checkpoint(s) in {out / CHECKPOINT_DIR}")
-    print(f"evaluate: mjrft eval --policy {result.model_path} --episodes 10")
-    return 0

@@ -11,7 +11,8 @@ or float64:
 * :func:`blended_force`: :func:`element_force` summed over each element's regions with their weights
   (:func:`mjrft.forces.blended_force`);
 * :func:`region_force`: the general pass of one world's elements from their positions: the regions and weights
-  at each (x, y) (:func:`mjrft.mjx.surface.region_weights`), their blended force and the region each reports.
+  at each (x, y) (:func:`mjrft.mjx.surface.region_weights`), their blended force and the region each reports;
+  with a ground memory each region's parameter row at the element's packing (:func:`packed`).
 
 Each returns what its numba twin returns: the force (k, 3) in N, the sand part's linearised stiffness ``|F| /
 max(|m|, delta)`` (its damping ``|F| / max(|v|, v_eps)`` in the viscous mode; docs/numerics.md), the water drag's
@@ -175,11 +176,23 @@ def element_force(features: Features, law, p, rho_w, gravity, area, depth, n, m,
     return f, kk, cw, ci, ok
 
 
+def packed(reg_params, reg_dparams, r, pack):
+    """The parameter rows of regions ``r`` (k,; or one region for all) at the elements' packing ``pack`` (k,; the
+    ground memory's change of the loose-to-close weight from the prepared state, :mod:`mjrft.ground`):
+    ``reg_params[r] + pack reg_dparams[r]`` (the kernel's ``_packed_rows``); ``reg_params[r]`` itself when ``pack``
+    is None (no ground memory: nothing traced)."""
+    if pack is None:
+        return reg_params[r]
+    return reg_params[r] + pack[:, None] * reg_dparams[r]  # (one region r: its row broadcast over the elements)
+
+
 def blended_force(features: Features, regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth, n, m, ml, mob,
-                  vel, speed, delta, v_eps):
+                  vel, speed, delta, v_eps, pack=None, reg_dparams=None):
     """:func:`element_force` summed over each element's regions ``regs`` (k, S) with weights ``wts`` (k, S)
     (:func:`mjrft.mjx.surface.region_weights`; a slot of weight 0 adds nothing), the region tables ``reg_law``
-    (R,), ``reg_params`` (R, P_SIZE), ``reg_rho`` (R,) (:func:`mjrft.forces.blended_force`; same returns).
+    (R,), ``reg_params`` (R, P_SIZE), ``reg_rho`` (R,) (:func:`mjrft.forces.blended_force`; same returns). With a
+    ground memory each region's row is taken at the element's packing ``pack`` (k,) with the regions' closely minus
+    loosely packed rows ``reg_dparams`` (R, P_SIZE) (:func:`packed`).
 
     The S slots are evaluated as one batch of S k elements (each law traced once, whatever S) and summed slot by
     slot in the kernel's order."""
@@ -190,7 +203,8 @@ def blended_force(features: Features, regs, wts, reg_law, reg_params, reg_rho, g
     def rep(x):
         return jnp.concatenate([x] * slots, axis=0)
 
-    out = element_force(features, reg_law[r], reg_params[r], reg_rho[r], gravity, rep(area) * w, rep(depth), rep(n),
+    rows = packed(reg_params, reg_dparams, r, None if pack is None else rep(pack))
+    out = element_force(features, reg_law[r], rows, reg_rho[r], gravity, rep(area) * w, rep(depth), rep(n),
                         rep(m), rep(ml), rep(mob), rep(vel), rep(speed), delta, v_eps)
     use = (w > 0.0).reshape(slots, k)
     f, kk, cw, ci = (jnp.where(use.reshape(slots, k, *([1] * (x.ndim - 1))), x.reshape(slots, k, *x.shape[1:]), 0.0)
@@ -203,27 +217,32 @@ def blended_force(features: Features, regs, wts, reg_law, reg_params, reg_rho, g
 
 
 def region_force(features: Features, px, py, depth, n, m, ml, mob, vel, speed, area, *, reg_law, reg_params, reg_rho,
-                 reg_bounds, reg_map, reg_map_frame, blend, gravity, delta, v_eps):
+                 reg_bounds, reg_map, reg_map_frame, blend, gravity, delta, v_eps, pack=None, reg_dparams=None):
     """The general pass of the numba kernel on elements at ``(px, py)`` (k,): their regions and weights
     (:func:`mjrft.mjx.surface.region_weights`: strips or a map with transitions of width ``blend``) and the
     weighted sum of each region's :func:`element_force` (:func:`blended_force`). The region tables are the
     kernel's (:class:`mjrft.regions.RegionTables`: ``law``, ``params``, ``rho``, ``bounds``, ``map``,
     ``map_frame``); with one region there is no region work at all. Element arguments as :func:`element_force`
-    (``area`` the elements' own). Returns ``(force, stiffness, water damping, inertial damping, finite, region)``,
-    ``region`` (k,) the region of each element's largest weight (the kernel's ``out_region``)."""
+    (``area`` the elements' own). With a ground memory (:mod:`mjrft.ground`) ``pack`` (k,) is each element's packing
+    as it read it and ``reg_dparams`` (R, P_SIZE) the regions' closely minus loosely packed rows: every region's row
+    is taken at the element's packing (:func:`packed`, the kernel's ``_packed_rows``). Returns ``(force, stiffness,
+    water damping, inertial damping, finite, region)``, ``region`` (k,) the region of each element's largest weight
+    (the kernel's ``out_region``)."""
     dtype = depth.dtype
     reg_law = jnp.asarray(reg_law, jnp.int32)
     reg_params = jnp.asarray(reg_params, dtype)
     reg_rho = jnp.asarray(reg_rho, dtype)
+    if pack is not None:
+        reg_dparams = jnp.asarray(reg_dparams, dtype)
     if reg_law.shape[0] == 1:
-        f, kk, cw, ci, ok = element_force(features, reg_law[0], reg_params[0], reg_rho[0], gravity, area, depth, n, m,
-                                          ml, mob, vel, speed, delta, v_eps)
+        f, kk, cw, ci, ok = element_force(features, reg_law[0], packed(reg_params, reg_dparams, 0, pack), reg_rho[0],
+                                          gravity, area, depth, n, m, ml, mob, vel, speed, delta, v_eps)
         return f, kk, cw, ci, ok, jnp.zeros(depth.shape, jnp.int32)
     regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
     f, kk, cw, ci, ok = blended_force(features, regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth, n, m,
-                                      ml, mob, vel, speed, delta, v_eps)
+                                      ml, mob, vel, speed, delta, v_eps, pack, reg_dparams)
     return f, kk, cw, ci, ok, heaviest_region(regs, wts)
 
 
 __all__ = ["Features", "LAW_WATER", "TWINS", "blended_force", "buoyancy", "element_force", "inertial_force",
-           "region_force", "stiffness_of", "water_damping"]
+           "packed", "region_force", "stiffness_of", "water_damping"]

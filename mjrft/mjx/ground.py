@@ -7,7 +7,8 @@ relaxation sweeps' two lists, the clocks and each block's last change. :class:`G
 numba kernel does (:func:`mjrft.kernel.terrain_kernel_ground` and :func:`mjrft.ground.ground_step`):
 
 * each step (:meth:`Ground.read`): the cull groups within reach of the surface (their box's lowest corner below the
-  highest surface of the blocks around it), and for each group that came within reach, moved half a cell or whose
+  highest sand surface plus the highest rise of the blocks around it, and the deepest water unless the group lies in
+  the dry Li-RFT strip, as the kernel culls), and for each group that came within reach, moved half a cell or whose
   blocks changed since it last read the ground, its elements' surface, gradient and packing afresh (bilinear between
   cell centres, :func:`mjrft.ground.ground_sample`); every element's depth is then that reading carried along the
   gradient to where it is (so the elements read exactly what the CPU kernel's read);
@@ -37,7 +38,11 @@ import numpy as np
 
 from ..ground import (BLOCK_SHIFT, C_COL, C_H, C_MARK, C_PEND, C_PHI, C_STAMP, C_SUB, C_SWEPT, FLOWING, N_FIELDS,
                       RELAX, RELAX_TOL)
+from ..laws.registry import LAW_IDS
+from ..params import P_WATER_DEPTH
 from ..types import TerrainModel
+
+LAW_RFT = LAW_IDS["rft"]  # the law of the kernel's batched (dry) region
 
 _DIRS8 = ((1, 0), (1, 1), (0, 1), (-1, 1), (-1, 0), (-1, -1), (0, -1), (1, -1))  # (di, dj), mjrft.ground._ridge
 _DIRS4 = ((1, 0), (-1, 0), (0, 1), (0, -1))  # mjrft.ground.relax_sweep
@@ -149,8 +154,22 @@ class Ground:
         self.n_groups = int(self.g_geom.shape[0])
         self.n = int(start[-1])
         self.elem_group = np.repeat(np.arange(self.n_groups), np.diff(start)).astype(np.int32)
-        self.top = float(tm.surface.top)
         self.delta, self.v_eps = float(cs.delta), float(cs.v_eps)
+        # the scene as the kernel's cull sees it (mjrft.kernel._scene): the deepest water, the batched region (the
+        # first dry Li-RFT one, -1: none) and whether every group is a dry one (one dry Li-RFT region) or a group may
+        # be one by lying inside the batched region's strip
+        rg = tm.regions
+        law, params, rho = np.asarray(rg.law), np.asarray(rg.params), np.asarray(rg.rho)
+        self.wmax = max(0.0, float(params[:, P_WATER_DEPTH].max()))
+        dry = [r for r in range(law.shape[0]) if law[r] == LAW_RFT and not (params[r, P_WATER_DEPTH] > 0.0
+                                                                              or rho[r] > 0.0)]
+        self.breg = dry[0] if dry else -1
+        self.dry_all = law.shape[0] == 1 and self.breg == 0
+        self.strips = self.breg >= 0 and np.asarray(rg.bounds).shape[0] > 0 and np.asarray(rg.map).shape[0] == 0
+        self.blend = float(rg.transition)
+        #: the depth (m) an element of a group out of reach gets: none of its force, memory or footprint counts
+        #: (0, as the CPU kernel leaves it, without water; below the deepest water's reach with it)
+        self.outside = 0.0 if self.wmax == 0.0 else -(self.wmax + 1.0)
         # the blocks a group's box (grown by a cell on each side) can span along an axis, at any rotation
         cell = self.frame[2]
         reach = 2.0 * float(np.max(np.sum(self.g_aabb[:, 3:6], axis=1))) + 2.0 * cell if self.n_groups else 0.0
@@ -225,11 +244,15 @@ class Ground:
         b = jnp.minimum(jnp.clip(f, 0.0, 4.0 * n + 8.0).astype(jnp.int32) >> BLOCK_SHIFT, n - 1)
         return jnp.where(f > 0.0, b, 0)
 
-    def read(self, g: GroundState, geom_xpos, geom_xmat, pos, surface):
-        """What the elements read this step (the CPU kernel's cull and pass 1 with the ground): returns (each
-        element's depth below the grains' surface (0 for an element of a group out of reach, as the CPU kernel leaves
-        it), its packing weight ``t`` (the change of its loose-to-close weight from the prepared state), ``g`` with
-        the groups' readings and reach updated)."""
+    def read(self, g: GroundState, geom_xpos, geom_xmat, pos, surface, top=None, bounds=None):
+        """What the elements read this step (the CPU kernel's cull and pass 1 with the ground): ``surface`` the
+        undisturbed surface's height (m; one, or one per element: a height field's under each), ``top`` the highest
+        sand surface anywhere (m; default ``surface``), ``bounds`` the strips' x_min (a group inside the batched
+        region's strip is a dry one, culled at the sand). A group is within reach while its box's lowest corner is
+        below ``top`` plus the ground's highest rise around it, less the deepest water unless it is a dry group
+        (the kernel's ``gtop - wmax + reach``). Returns (each element's depth below the grains' surface
+        (:attr:`outside` for an element of a group out of reach), its packing weight ``t`` (the change of its
+        loose-to-close weight from the prepared state), ``g`` with the groups' readings and reach updated)."""
         dtype = pos.dtype
         cells = g.cells
         c = self.frame[2]
@@ -255,7 +278,19 @@ class Ground:
         jc, ic = jnp.minimum(jj, self.nby - 1), jnp.minimum(ii, self.nbx - 1)
         bump = jnp.max(jnp.where(inside, btop[jc[:, :, None], ic[:, None, :]], 0.0), axis=(1, 2))
         newest = jnp.max(jnp.where(inside, g.stamp[jc[:, :, None], ic[:, None, :]], 0), axis=(1, 2))
-        active = lowest < surface + bump
+        gtop = (surface if top is None else top) + bump
+        if self.wmax == 0.0:  # no water: every group is culled at the sand (gtop - 0 + 0)
+            active = lowest < gtop
+        else:
+            dry = jnp.bool_(self.dry_all)
+            if self.strips and not self.dry_all:  # mjrft.kernel._inside_strip
+                b = jnp.asarray(bounds, dtype)
+                xlo, xhi = cx - ex - 0.5 * self.blend, cx + ex + 0.5 * self.blend
+                greg = jnp.sum(xlo[:, None] >= b[None, :], axis=1)
+                inside = (greg == self.breg) & ((greg == b.shape[0])
+                                                | (xhi < b[jnp.minimum(greg, b.shape[0] - 1)]))
+                dry = (lowest < gtop) & inside
+            active = lowest < gtop - self.wmax + jnp.where(dry, 0.0, self.wmax)
         # the groups that read the ground afresh (kernel pass 1 with gr_on)
         gg = g.group
         moved = (cx - gg[:, 1]) * (cx - gg[:, 1]) + (cy - gg[:, 2]) * (cy - gg[:, 2]) > 0.25 * c * c
@@ -267,7 +302,7 @@ class Ground:
         read = jnp.stack([h, hx, hy, px, py, (phi - self.phi0) * self.inv_range], axis=1)
         elem = jnp.where(fresh[self.elem_group][:, None], read, g.elem)
         gh = elem[:, 0] + elem[:, 1] * (px - elem[:, 3]) + elem[:, 2] * (py - elem[:, 4])
-        depth = jnp.where(active[self.elem_group], surface + gh - pz, 0.0)
+        depth = jnp.where(active[self.elem_group], surface + gh - pz, self.outside)
         return depth, elem[:, 5], g._replace(elem=elem, group=group, active=active)
 
     # ------------------------------------------------------------------ the update

@@ -44,11 +44,12 @@ region), the surface (``state.surface``: a height, or the height field's samples
 construction.
 
 Ground memory (a terrain built with ``ground_memory``; :mod:`mjrft.ground`, docs/terrain.md "Ground memory"): on the
-direct pass, ``state.ground`` (:class:`mjrft.mjx.ground.GroundState`) holds each world's height map and packing, which
-the elements read (their depth and parameter row) and every step updates as the numba kernel does
-(:mod:`mjrft.mjx.ground`; ``tests/mjrft/mjx/test_mjx_ground.py`` compares them); :meth:`Sand.ground_height` and
-:meth:`Sand.ground_packing` read it; :meth:`Sand.reset` restores the prepared bed. A terrain without it traces none of
-it.
+direct and the general pass, ``state.ground`` (:class:`mjrft.mjx.ground.GroundState`) holds each world's height map
+and packing, which the elements read (their depth from the undisturbed surface, flat or the height field, plus the
+remembered one; their parameter row, on the general pass each region's, at the local packing) and every step updates
+as the numba kernel does (:mod:`mjrft.mjx.ground`; ``tests/mjrft/mjx/test_mjx_ground.py`` compares them);
+:meth:`Sand.ground_height` and :meth:`Sand.ground_packing` read it; :meth:`Sand.reset` restores the prepared bed. Not
+with ``cull``, nor a world's own height field (``init(surface=)``). A terrain without it traces none of it.
 
 Culling: the CPU kernel skips elements above the surface in groups; here every element's position is
 computed each step (a few multiply-adds), and the rest (velocity, memory, law) runs on all elements
@@ -233,12 +234,6 @@ class Sand:
         #: the ground memory (:class:`mjrft.mjx.ground.Ground`; None without ``ground_memory``)
         self.ground = None
         if tm.ground.on:
-            if self.general:
-                raise NotImplementedError(
-                    "mjrft.mjx models the ground memory (ground_memory=True) on a terrain of one dry region of rft, "
-                    "rft3d or depth_only on a flat surface (the direct pass); this terrain takes the general pass "
-                    "(regions, water, buoyancy, the inertial regime, solidify or a height field): step it on the CPU "
-                    "path (mjrft.GranularTerrain)")
             if cull is not None:
                 raise NotImplementedError("cull is not available with the ground memory (ground_memory=True): "
                                           "pass cull=None")
@@ -325,6 +320,11 @@ class Sand:
                              f"{jnp.shape(b)}")
         extra = {} if self.guards is None else self.guards.init_fields()
         if self.ground is not None:
+            if surface is not None and self.hfield:
+                raise ValueError("a height-field surface with a ground memory keeps the height field it was built on "
+                                 "(the ground's undisturbed surface under its cells, mjrft.ground): init(surface=...) "
+                                 "is not available with ground_memory on a height field; build the Sand on the "
+                                 "height field")
             if params is not None:
                 raise ValueError("a terrain with a ground memory keeps its medium's packing rows (mjrft.ground): "
                                  "init(params=...) is not available with ground_memory; build the Sand on the medium")
@@ -371,8 +371,8 @@ class Sand:
         dtype = jnp.asarray(state.u).dtype
         x, y = jnp.broadcast_arrays(jnp.asarray(x, dtype), jnp.asarray(y, dtype))
         if state.ground is not None:
-            return self.ground.sample(state.ground.cells, x, y, C_H, True) + (
-                jnp.asarray(state.surface, dtype) - self.surface)
+            h = self.ground.sample(state.ground.cells, x, y, C_H, True)
+            return h if self.hfield else h + (jnp.asarray(state.surface, dtype) - self.surface)
         if self.hfield:
             return surface_height(x, y, 0.0, jnp.asarray(state.surface, dtype), self.hf_frame)
         return jnp.broadcast_to(jnp.asarray(state.surface, dtype), x.shape)
@@ -416,15 +416,16 @@ class Sand:
         mob = jnp.minimum(1.0, speed / self.v_eps) if self.v_eps > 0.0 else jnp.ones_like(speed)
         return jnp.zeros_like(u), vel, speed, mob
 
-    def _forces(self, depth, nrm, vel, u, area, params, dt, implicit=False, px=None, py=None, bounds=None):
+    def _forces(self, depth, nrm, vel, u, area, params, dt, implicit=False, px=None, py=None, bounds=None,
+                pack=None):
         """Element forces (k, 3), new memory (k, 3) and each element's ``|m|`` (k,; its regularised motion, the
         speed in the viscous mode; 0 where it does not move) of elements at ``depth`` (> 0: buried); with ``implicit``
         also each element's ``T k`` (k,) for the implicit step (:meth:`_spring_tk`), else None; and the inertial
         regime's damping (k,) for the implicit step and whether each element's parts were finite (k,) in the
-        general pass (:meth:`_general_forces`, which takes the elements' ``px``, ``py`` and the strips' ``bounds``),
-        else None, None."""
+        general pass (:meth:`_general_forces`, which takes the elements' ``px``, ``py``, the strips' ``bounds`` and
+        with a ground memory the elements' packing ``pack``), else None, None."""
         if self.general:
-            return self._general_forces(depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds)
+            return self._general_forces(depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds, pack)
         buried = (depth > 0.0) & (area > 0.0)
         u, m, ml, mob = self._memory(u, vel, buried, dt)
         moving = buried & (ml > 0.0)
@@ -436,11 +437,11 @@ class Sand:
             tk = self._spring_tk(jnp.where(moving[:, None], stress * area[:, None], 0.0), ml, vel, dt, u)
         return f, u, jnp.where(moving, ml, 0.0), tk, None, None
 
-    def _general_forces(self, depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds):
+    def _general_forces(self, depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds, pack=None):
         """:meth:`_forces` by the kernel's general pass: the rest memory (:func:`mjrft.mjx.memory.rest_memory`, the
         solidify option included), then each element's regions and their laws, water drag, buoyancy and inertial
-        regime (:func:`mjrft.mjx.forces.region_force`); elements above the sand and its deepest water get nothing
-        and keep no memory."""
+        regime (:func:`mjrft.mjx.forces.region_force`; with a ground memory each region's row at the element's
+        packing ``pack``); elements above the sand and its deepest water get nothing and keep no memory."""
         speed = jnp.sqrt(jnp.sum(vel * vel, axis=-1))
         buried = (depth > 0.0) & (area > 0.0)
         u, m, ml, mob = rest_memory(u, vel, speed, buried, dt, self.delta, self.tau, self.v_eps, self.solid,
@@ -450,7 +451,8 @@ class Sand:
                                            reg_law=self.reg_law, reg_params=table, reg_rho=self.reg_rho,
                                            reg_bounds=bounds, reg_map=self.reg_map, reg_map_frame=self.reg_map_frame,
                                            blend=self.transition, gravity=self.gravity, delta=self.delta,
-                                           v_eps=self.v_eps)
+                                           v_eps=self.v_eps, pack=pack,
+                                           reg_dparams=None if pack is None else self.ground.dparams)
         within = (area > 0.0) & (depth > -self.reach) if self.reach > 0.0 else buried
         f = jnp.where(within[:, None], f, 0.0)
         tk = self._holding_tk(kk, ml, speed, dt, u) if implicit else None
@@ -510,11 +512,20 @@ class Sand:
         area = jnp.asarray(self.area, dtype)
         onehot = jnp.asarray(self.onehot, dtype)
         params = state.params.astype(dtype)
-        ground = None
+        ground = pack = None
         if self.ground is not None:  # the grains' surface and packing as the ground memory holds them
-            depth, t, ground = self.ground.read(state.ground, d.geom_xpos, d.geom_xmat, pos,
-                                                state.surface.astype(dtype))
-            params = params[None, :] + t[:, None] * jnp.asarray(self.ground.dparams[0], dtype)[None, :]
+            surface = state.surface.astype(dtype)
+            if self.hfield:  # the height field under each element, its highest sample the top
+                under = surface_height(pos[:, 0], pos[:, 1], 0.0, surface, self.hf_frame)
+                top = jnp.max(surface) + self.reach
+            else:
+                under, top = surface, (surface + self.reach if self.reach > 0.0 else surface)
+            depth, t, ground = self.ground.read(state.ground, d.geom_xpos, d.geom_xmat, pos, under, top,
+                                                state.bounds.astype(dtype))
+            if self.general:  # each region's row at the element's packing (region_force)
+                pack = t
+            else:
+                params = params[None, :] + t[:, None] * jnp.asarray(self.ground.dparams[0], dtype)[None, :]
         elif self.hfield:
             depth = surface_height(pos[:, 0], pos[:, 1], 0.0, state.surface.astype(dtype), self.hf_frame) - pos[:, 2]
         else:
@@ -523,7 +534,7 @@ class Sand:
         within = depth > -self.reach if self.reach > 0.0 else depth > 0.0  # of the grains or the water above them
         if self.cull is None:
             f, u, ml, tk, ci, ok = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit, pos[:, 0],
-                                                pos[:, 1], bounds)
+                                                pos[:, 1], bounds, pack)
             over = jnp.array(False)
         else:
             idx = jnp.nonzero(within, size=self.cull, fill_value=self.n_elements)[0]

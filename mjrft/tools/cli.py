@@ -10,7 +10,7 @@ command   module                             what it does
 demo      ``mjrft.train.demo``               hexapod tripod gait on poppy seeds, logged to rerun
 settle    ``mjrft.tools.settle``             drop a box foot and a legged body; sinkage vs analytic
 rig       ``mjrft.tools.rigs``               plate-intruder and rotating-leg rigs; arrays + plots
-train     ``mjrft.train.train``              stable-baselines3 training (PPO/SAC), resumable
+train     ``mjrft.train.train_command``      stable-baselines3 training (PPO/SAC), resumable
 train-mjx ``mjrft.train.train_mjx``          Brax PPO on an MJX env (thousands of worlds per GPU)
 eval      ``mjrft.train.evaluate``           deterministic evaluation of a policy or gait
 plot      ``mjrft.train.plot``               learning curves of training runs (return, speed)
@@ -31,7 +31,7 @@ COMMANDS = {
     "demo": ("mjrft.train.demo", "hexapod tripod gait on poppy seeds, headless, logged to a rerun file"),
     "settle": ("mjrft.tools.settle", "drop a box foot and a legged body onto sand; print sinkage vs analytic"),
     "rig": ("mjrft.tools.rigs", "run the plate-intruder or rotating-leg rig; save force profiles and plots"),
-    "train": ("mjrft.train.train", "train a policy with stable-baselines3 (PPO or SAC), resumable"),
+    "train": ("mjrft.train.train_command", "train a policy with stable-baselines3 (PPO or SAC), resumable"),
     "train-mjx": ("mjrft.train.train_mjx", "train an MJX env (mjrft.mjx.envs) with Brax's PPO (GPU; needs mjrft[mjx])"),
     "eval": ("mjrft.train.evaluate", "evaluate a trained policy or an open-loop gait; print a table"),
     "plot": ("mjrft.train.plot", "plot learning curves (episode return, forward speed) of training runs"),

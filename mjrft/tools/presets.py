@@ -9,24 +9,31 @@ Each preset sets:
   ``<custom>`` ``mjrft:resolution``: hexapod 5 mm, humanoid 2 cm, biped 2 cm; ``"auto"``'s size for a model
   without one), so one preset fits robots of every size (:class:`mjrft.GranularTerrain`'s ``resolution_scale``);
 * ``law``: the force law (``rft``, Li 2013 with the medium's own fit, in all three);
-* ``timestep`` (s) and ``frame_skip``: the physics step and the steps per env step. All three presets
-  keep the control period ``timestep x frame_skip`` at 10 ms, so a policy sees the same task under
-  every preset.
+* ``timestep`` (s) and ``frame_skip``: the physics step and the steps per env step, always a 10 ms control period,
+  so a policy sees the same task under every preset. An environment steps each preset at its robot's own measured
+  step (``preset_steps`` of :func:`resolve`; :class:`mjrft.envs.base.GranularMujocoEnv`'s ``fast_step`` and
+  ``accurate_step``): ``default`` at the robot's own step (the one it takes without a preset); ``fast`` at the own
+  step too, halved while the preset's coarse elements warn more than the default (no preset is less stable than
+  the default: the biped's 1 ms); ``accurate`` at the largest step within the 2 % gait budget of ``python
+  benchmarks/env_timestep.py`` (gait speed and sinkage against a 0.05 ms reference), no coarser than the robot's
+  own step (the finest step that study measures where none is within budget). The values in :data:`PRESETS` are
+  the step of a scene without its own (the trade study's scenarios).
 
-How they were chosen: by the trade study (``mjrft bench`` / ``python benchmarks/trade_study.py``,
-:mod:`mjrft.tools.tradeoff`), which measures the cost (wall time per simulated second relative to the rigid-ground
-twin with the same controller) and the error (RMS and peak of the net granular force, final torso / pelvis
-position, against the reference: 1/4 of the model's resolution, 0.5 ms, the medium's own fit) of configurations
-around the default. Its committed run is ``benchmarks/results/trade_study.md``; the measured numbers of each preset
-are in docs/speed-accuracy.md, their one page.
+How the element size and the law were chosen: by the trade study (``mjrft bench`` / ``python
+benchmarks/trade_study.py``, :mod:`mjrft.tools.tradeoff`), which measures the cost (wall time per simulated second
+relative to the rigid-ground twin with the same controller) and the error (RMS and peak of the net granular force,
+final torso / pelvis position, against the reference: 1/4 of the model's resolution, 0.5 ms, the medium's own fit)
+of configurations around the default. Its committed run is ``benchmarks/results/trade_study.md``; each
+environment's presets are measured by ``python benchmarks/env_presets.py`` (``benchmarks/results/env_presets.txt``);
+docs/speed-accuracy.md is their one page.
 
-========  =====  ======  ===========
-preset    scale  law     dt x skip
-========  =====  ======  ===========
-fast      4      rft     1 ms x 10
-default   1      rft     1 ms x 10
-accurate  0.5    rft     0.5 ms x 20
-========  =====  ======  ===========
+========  =====  ======  ====================  ===============================================
+preset    scale  law     dt x skip (a scene)   dt x skip (an environment)
+========  =====  ======  ====================  ===============================================
+fast      4      rft     1 ms x 10             the robot's own step, halved until stable
+default   1      rft     1 ms x 10             the robot's own step
+accurate  0.5    rft     0.5 ms x 20           the largest step within the 2 % gait budget
+========  =====  ======  ====================  ===============================================
 
 The rules (:func:`mjrft.tools.tradeoff.recommend_presets`; candidates use ``rft``, a 10 ms control period and
 warn no more than the default; cost is the geometric mean over the scenarios that choose presets, errors
@@ -86,12 +93,14 @@ def check_frame_skip(frame_skip) -> int:
 
 
 def resolve(preset: str | None, *, medium=None, law=None, resolution=None, timestep=None,
-            frame_skip=None, own_step: tuple[float, int] | None = None) -> EnvSettings:
+            frame_skip=None, own_step: tuple[float, int] | None = None,
+            preset_steps: dict[str, tuple[float | None, int]] | None = None) -> EnvSettings:
     """The :class:`EnvSettings` of keyword arguments where those left as None come from ``preset`` (None: nothing
     filled; ``frame_skip`` then defaults to :data:`FRAME_SKIP`); explicit values win. ``own_step``: the robot's own
-    ``(timestep, frame_skip)``, used when neither ``preset``, ``timestep`` nor ``frame_skip`` is given. Each value
-    is checked here, naming the bad value and the valid choices (rigid environments too, where medium and law go
-    unused).
+    ``(timestep, frame_skip)``, used when neither ``preset``, ``timestep`` nor ``frame_skip`` is given.
+    ``preset_steps``: the robot's own ``(timestep, frame_skip)`` per preset name (a timestep of None: the model's),
+    which replaces the preset's generic step. Each value is checked here, naming the bad value and the valid choices
+    (rigid environments too, where medium and law go unused).
 
     The preset's ``resolution_scale`` applies only when ``resolution`` is None
     (:func:`mjrft.settings.element_size_scale`, the rule the terrain's own ``resolution_scale`` follows).
@@ -99,6 +108,8 @@ def resolve(preset: str | None, *, medium=None, law=None, resolution=None, times
     if own_step is not None and preset is None and timestep is None and frame_skip is None:
         timestep, frame_skip = own_step
     p = get_preset(preset) if preset is not None else {}
+    if p and preset_steps is not None and preset in preset_steps:
+        p["timestep"], p["frame_skip"] = preset_steps[preset]
     law = law if law is not None else p.get("law")
     timestep = timestep if timestep is not None else p.get("timestep")
     frame_skip = frame_skip if frame_skip is not None else p.get("frame_skip", FRAME_SKIP)

@@ -19,9 +19,9 @@ def test_sand_hexapod_default_step_keeps_the_10_ms_control_period():
     assert (rigid.model.opt.timestep, rigid.frame_skip) == (0.001, 10)
 
 
-def test_a_preset_or_an_explicit_step_wins():
+def test_a_preset_keeps_the_own_step_and_an_explicit_step_wins():
     u = gymnasium.make("mjrft/HexapodSand-v0", preset="fast").unwrapped
-    assert (u.model.opt.timestep, u.frame_skip) == (0.001, 10)
+    assert (u.model.opt.timestep, u.frame_skip) == (SAND_TIMESTEP, SAND_FRAME_SKIP)
     u = gymnasium.make("mjrft/HexapodSand-v0", timestep=0.00025, frame_skip=40).unwrapped
     assert (u.model.opt.timestep, u.frame_skip) == (0.00025, 40)
 

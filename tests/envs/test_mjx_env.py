@@ -6,6 +6,8 @@ env."""
 
 from __future__ import annotations
 
+import contextlib
+
 import json
 import math
 import warnings
@@ -379,3 +381,39 @@ def test_replicated_put_stands_in_only_where_jax_lacks_it():
     own = types.SimpleNamespace(device_put_replicated="jax's own")
     with mjx_ppo._replicated_put(own):
         assert own.device_put_replicated == "jax's own"
+
+
+def test_brax_evaluations_compile_their_unroll_once():
+    """Brax's Evaluator calls one jitted unroll on a reset state and initial parameters (uncommitted, a weakly typed
+    scalar), then on committed, strongly typed ones; train-mjx's wrapper gives every call the same compile key.
+    Control: Brax's own Evaluator compiles again for each new form of its inputs. Brax's 'fast' env keeps it small."""
+    import logging
+
+    from brax import envs as brax_envs
+    from brax.training import acting
+
+    env = brax_envs.training.wrap(brax_envs.get_environment("fast"), episode_length=2)
+
+    def policy_fn(params):
+        return lambda obs, key: (jnp.zeros(obs.shape[:-1] + (env.action_size,)) * params["w"], {})
+
+    def compiles(wrapped: bool) -> int:
+        messages = []
+        handler = logging.Handler()
+        handler.emit = lambda record: messages.append(record.getMessage())
+        logger = logging.getLogger("jax")
+        logger.addHandler(handler)
+        try:
+            with jax.log_compiles(True):
+                with mjx_ppo._evaluations_compile_once() if wrapped else contextlib.nullcontext():
+                    ev = acting.Evaluator(env, policy_fn, num_eval_envs=2, episode_length=2, action_repeat=1,
+                                          key=jax.random.PRNGKey(int(wrapped)))
+                committed = jax.device_put(jnp.zeros((), jnp.float32), jax.local_devices()[0])
+                for params in ({"w": jnp.asarray(0.0)}, {"w": committed}, {"w": committed}):
+                    ev.run_evaluation(params, {})
+        finally:
+            logger.removeHandler(handler)
+        return sum("Compiling jit(generate_eval_unroll)" in m for m in messages)
+
+    assert compiles(wrapped=True) == 1
+    assert compiles(wrapped=False) > 1

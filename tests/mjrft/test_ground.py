@@ -19,6 +19,10 @@ from mjrft.ground import C_H, C_PHI, GroundOptions, ground_volumes, packing_of
 FOOT = """<mujoco><option timestep="0.001"/><worldbody>
 <body name="foot"><joint name="x" type="slide" axis="1 0 0"/><joint name="z" type="slide" axis="0 0 1"/>
 <geom type="box" size="{hx} {hy} {hz}" mass="0.1"/></body></worldbody></mujoco>"""
+HFIELD_FOOT = """<mujoco><asset><hfield name="hf" nrow="2" ncol="2" size="0.3 0.2 0.01 0.1" elevation="0 1 0 1"/>
+</asset><worldbody><geom name="ground" type="hfield" hfield="hf" contype="0" conaffinity="0"/>
+<body name="foot" pos="0 0 0.02"><freejoint/><geom type="box" size="0.02 0.02 0.005" mass="0.1"/></body>
+</worldbody></mujoco>"""
 CELL = 0.005
 EXTENT = (-0.12, 0.12, -0.08, 0.08)
 
@@ -248,17 +252,24 @@ def test_packing_pairs_and_bad_settings():
 
 
 
-def test_the_jax_path_takes_the_ground_memory_on_the_direct_pass_only():
+def test_the_jax_path_takes_the_ground_memory_on_either_pass():
+    """The direct pass and the general pass (here the inertial regime) carry the memory; ``cull`` is refused with it,
+    and so is a world's own height field (the memory keeps the undisturbed surface under its cells)."""
     pytest.importorskip("jax")
     from mjrft.mjx import Sand
 
     m = mujoco.MjModel.from_xml_string(FOOT.format(hx=0.02, hy=0.02, hz=0.005))
     assert Sand.from_model(m, GranularTerrain(m, "poppy_cp", ground_memory=True).terrain_model).ground is not None
     assert Sand.from_model(m, GranularTerrain(m, "poppy_cp").terrain_model).ground is None
-    with pytest.raises(NotImplementedError, match="ground memory"):  # the general pass (here the inertial regime)
-        Sand.from_model(m, GranularTerrain(m, "poppy_cp", inertial=True, ground_memory=True).terrain_model)
+    general = Sand.from_model(m, GranularTerrain(m, "poppy_cp", inertial=True, ground_memory=True).terrain_model)
+    assert general.general and general.ground is not None
     with pytest.raises(NotImplementedError, match="cull"):
         Sand.from_model(m, GranularTerrain(m, "poppy_cp", ground_memory=True).terrain_model, cull=10)
+    hf = mujoco.MjModel.from_xml_string(HFIELD_FOOT)
+    sand = Sand.from_model(hf, GranularTerrain(hf, "poppy_cp", surface="ground", ground_memory=True).terrain_model)
+    assert sand.hfield and sand.ground is not None and sand.init().ground is not None
+    with pytest.raises(ValueError, match="height field"):
+        sand.init(surface=sand.surface_init + 0.01)
 
 
 def test_envs_pass_the_keyword_through():

@@ -4,11 +4,15 @@ gives the numba kernel's wrench at every step and its ground cells (footprints, 
 lists) at the end, float64 to rounding and float32 within 1e-4; the grains' solid volume is conserved; the same
 comparison rejects the terrain without the memory and a ground with a doubled footprint; the readers equal the CPU
 terrain's; a terrain without the memory traces no ground at all; the MJX env's auto-reset restores the prepared
-bed."""
+bed. On the kernel's general pass (a height field of two strips of media, each with its own packing rows, one under
+water, with the inertial regime) a foot dragged through the grains, lifted and pressed in again on its own track gives
+the numba kernel's wrench at every step and its cells at the end under ``vmap`` over two worlds, and the same
+comparison rejects the forces of the terrain without the memory and of the memory without its packing rows."""
 
 from __future__ import annotations
 
 import copy
+import dataclasses
 import warnings
 
 import numpy as np
@@ -24,8 +28,10 @@ from mujoco import mjx  # noqa: E402
 import mjrft  # noqa: E402
 import mjrft.mjx as rmjx  # noqa: E402
 from mjrft.ground import C_COL, C_H, C_MARK, C_PEND, C_PHI, C_STAMP, C_SUB, ground_volumes  # noqa: E402
+from mjrft.ground import GroundOptions  # noqa: E402
 from mjrft.models import hexapod_model  # noqa: E402
 from mjrft.mjx.ground import Ground  # noqa: E402
+from mjrft.regions import Region  # noqa: E402
 
 pytestmark = pytest.mark.slow  # every test compiles MJX programs (10-40 s each on 2 cores)
 
@@ -174,22 +180,25 @@ def test_float32_follows_and_the_wrong_physics_is_rejected(runs, replayed):
 
 
 def test_a_terrain_without_the_memory_traces_no_ground():
+    """On the direct pass and on the general pass (the inertial regime)."""
     m = hexapod_model()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        plain = rmjx.Sand(m, guards=False)
-        ground = rmjx.Sand(hexapod_model(), guards=False, ground_memory=True)
-    assert plain.ground is None and plain.init().ground is None
     d = mjx.make_data(mjx.put_model(m))
-    text = str(jax.make_jaxpr(plain.wrench)(d, plain.init(), 0.001))
-    assert "while" not in text and "scatter" not in text
-    assert "while" in str(jax.make_jaxpr(ground.wrench)(d, ground.init(), 0.001))  # control: the memory's loops
+    for kw in ({}, {"inertial": True}):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            plain = rmjx.Sand(hexapod_model(), guards=False, **kw)
+            ground = rmjx.Sand(hexapod_model(), guards=False, ground_memory=True, **kw)
+        assert plain.ground is None and plain.init().ground is None and plain.general == bool(kw)
+        text = str(jax.make_jaxpr(plain.wrench)(d, plain.init(), 0.001))
+        assert "while" not in text and "scatter" not in text
+        assert "while" in str(jax.make_jaxpr(ground.wrench)(d, ground.init(), 0.001))  # control: the memory's loops
 
 
 def test_the_mjx_env_resets_the_ground_with_the_episode():
     """The MJX hexapod with ``terrain.ground_memory``: an auto-reset (the first state's data with the ended episode's
     sand) starts on the prepared bed, its first step's ground the first episode's bit for bit; control: the same
-    step with the time nudged off 0 keeps the ended episode's footprints."""
+    step with the time nudged off 0 keeps the ended episode's footprints. The env builds with a law of the general
+    pass."""
     import mjrft.mjx.envs as envs
 
     with warnings.catch_warnings():
@@ -208,3 +217,97 @@ def test_the_mjx_env_resets_the_ground_with_the_episode():
     np.testing.assert_array_equal(np.asarray(s3.info["sand"].ground.cells), np.asarray(s1.info["sand"].ground.cells))
     kept = step(restarted.replace(data=first.data.replace(time=jnp.float32(1e-7))), action)
     assert float(jnp.abs(kept.info["sand"].ground.cells - s1.info["sand"].ground.cells).max()) > 1e-4
+    # a law of the general pass takes the memory too (its step is Sand.step, as above)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        hybrid = envs.load("HexapodSand", config_overrides={"terrain.ground_memory": True, "terrain.law": "hybrid"})
+    assert hybrid.sand.general and hybrid.sand.ground is not None
+
+
+# ------------------------------------------------------------------------------------------------
+# the general pass: regions with their own packing rows, water, a height field, the inertial regime
+# ------------------------------------------------------------------------------------------------
+RIG = """<mujoco><option timestep="0.005"/><asset><hfield name="hf" nrow="3" ncol="4" size="0.3 0.2 0.003 0.1"
+elevation="0.8 0.9 1.0 0.0  0.4 0.5 0.6 0.7  0 0.1 0.2 0.3"/></asset><worldbody>
+<geom name="ground" type="hfield" hfield="hf" euler="0 0 0.4" contype="0" conaffinity="0"/>
+<body name="foot"><joint name="x" type="slide" axis="1 0 0"/><joint name="z" type="slide" axis="0 0 1"/>
+<geom type="box" size="0.0185 0.0135 0.005" mass="0.1"/></body></worldbody></mujoco>"""
+# a scene of the general pass with every part the ground memory meets there (one compiled program): a tilted height
+# field of poppy seeds (x < 0, the kernel's batched dry strip) beside loose 0.3 mm glass under 1 cm of water, each
+# with its own closely minus loosely packed row, with the inertial regime
+SCENE = {"medium": "poppy_cp", "law": "rft", "surface": "ground", "inertial": True, "transition": 0.02,
+         "regions": [Region(0.0, "glass03_lp", "rft", water_depth=0.01)]}
+# the foot's centre (x, height above the undisturbed surface), m: above fresh grains in the water (within reach of the
+# water only: culled at the sand, it would miss the water's drag), on into the dry strip,
+# pressed in, dragged deeper across the strips' edge, lifted into the water, moved back over its ridges, pressed in on
+# its own track and dragged out rising (every segment moves in z too: a footprint neither deepening nor filling is a
+# tie at rounding, where the kernel's and JAX's sums may take different branches)
+PATH = ((0.04, 0.011), (-0.045, 0.01), (-0.045, -0.006), (0.05, -0.012), (0.055, 0.009), (-0.03, 0.006),
+        (-0.025, -0.008), (0.02, -0.004))
+SPEED = 0.2  # m/s; at the rig's 5 ms step a sample every 1 mm, an update of the ground at every step
+
+
+def rig(memory=True, **changes):
+    """(model, terrain) of a box foot on slide joints in x and z over :data:`SCENE` (with ``changes``) with a ground
+    memory on a small grid of 6 mm cells (the foot's 5 mm elements fall on no cell edge)."""
+    m = mujoco.MjModel.from_xml_string(RIG)
+    options = GroundOptions(cell=0.006, extent=(-0.1, 0.1, -0.05, 0.05), period=0.002) if memory else False
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return m, mjrft.GranularTerrain(m, resolution=0.005, ground_memory=options, **{**SCENE, **changes})
+
+
+def drag(m, t, shift=0.0):
+    """The foot moved kinematically along :data:`PATH` (shifted by ``shift`` in x) on terrain ``t``: (model,
+    terrain, the MjData of each step, the wrench of each step), as :func:`walk`."""
+    step = SPEED * m.opt.timestep
+    pts = [np.array(PATH[0])]
+    for a, b in zip(PATH[:-1], PATH[1:]):
+        a, b = np.array(a), np.array(b)
+        n = int(np.ceil(np.linalg.norm(b - a) / step))
+        pts += [a + (b - a) * (k + 1) / n for k in range(n)]
+    d = mujoco.MjData(m)
+    datas, wrenches = [], []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a kinematic rig: the stability checks do not apply
+        for k, (x, z) in enumerate(pts):
+            v = pts[min(k + 1, len(pts) - 1)] - pts[max(k - 1, 0)]
+            d.qpos[:] = (x + shift, z + float(t.surface_height(x + shift, 0.0)))
+            d.qvel[:] = v / np.linalg.norm(v) * SPEED
+            mujoco.mj_fwdPosition(m, d)
+            mujoco.mj_fwdVelocity(m, d)
+            d.time += m.opt.timestep
+            wrenches.append(t.compute(d).copy())
+            datas.append(copy.copy(d))
+    return m, t, datas, np.array(wrenches)
+
+
+def test_the_general_pass_reads_and_updates_the_ground_as_the_kernel():
+    """Two worlds under ``vmap``, the second's track 13 mm further along x (so it crosses the strips' edge
+    elsewhere)."""
+    runs = [drag(*rig(), shift) for shift in (0.0, 0.013)]
+    m, t = runs[0][0], runs[0][1]
+    sand = rmjx.Sand.from_terrain(t, guards=False)
+    assert sand.general and sand.hfield and sand.features.water and sand.features.inertia
+    state, w = replay(sand, m, runs, x64=True)
+    for k, (_, tk, _, wrench) in enumerate(runs):
+        cpu = tk.terrain_state
+        assert cpu.g_clock[1] > 10 and cpu.g_height.min() < -3e-3 and cpu.g_height.max() > 3e-3  # prints, ridges
+        assert np.ptp(cpu.g_phi) > 5e-3  # the packing changed (and the elements read it: the control below)
+        assert relative(w[k], wrench) <= 1e-9, (k, relative(w[k], wrench))
+        assert cell_errors(state.ground.cells[k], cpu.g_cells) <= 1e-9, k
+        assert np.array_equal(state.ground.clock[k], cpu.g_clock) and np.array_equal(state.ground.count[k], cpu.g_count)
+    assert np.abs(runs[0][1].terrain_state.g_height - runs[1][1].terrain_state.g_height).max() > 1e-3
+    # the readers equal the CPU terrain's on the height field
+    x, y = np.meshgrid(np.linspace(-0.12, 0.12, 25), np.linspace(-0.06, 0.06, 13))
+    with jax.enable_x64(True):
+        one = jax.tree_util.tree_map(lambda a: jnp.asarray(a[0]), state)
+        assert np.abs(np.asarray(sand.ground_height(one, x, y)) - t.ground_height(x, y)).max() <= 1e-12
+        assert np.abs(np.asarray(sand.ground_packing(one, x, y)) - t.ground_packing(x, y)).max() <= 1e-12
+    # controls, which the comparison's 1e-9 rejects by orders of magnitude: the same drag on the terrain without the
+    # memory, and on the memory without its packing rows (every element with its region's prepared row)
+    m0, plain = rig(memory=False)
+    assert relative(drag(m0, plain)[3], runs[0][3]) > 1e-2
+    tm = t.terrain_model
+    unpacked = dataclasses.replace(tm, ground=tm.ground._replace(dparams=np.zeros_like(tm.ground.dparams)))
+    assert relative(drag(m0, mjrft.GranularTerrain.from_model(m0, unpacked))[3], runs[0][3]) > 1e-3

@@ -240,6 +240,13 @@ def test_get_preset_and_resolve():
     assert presets.resolve(None) == presets.EnvSettings(medium=None, law=None, resolution=None, resolution_scale=1.0,
                                                         timestep=None, frame_skip=presets.FRAME_SKIP)
     assert presets.resolve("fast", resolution=0.01).resolution_scale == 1.0
+    # a robot's own step per preset replaces the preset's generic one; an explicit argument still wins
+    steps = {"accurate": (0.00025, 40), "fast": (None, 10)}
+    got = presets.resolve("accurate", preset_steps=steps)
+    assert (got.timestep, got.frame_skip, got.resolution_scale) == (0.00025, 40, 0.5)
+    assert presets.resolve("fast", preset_steps=steps).timestep is None  # the model's own
+    assert presets.resolve("default", preset_steps=steps).timestep == 0.001  # no own step: the generic one
+    assert presets.resolve("accurate", timestep=0.001, preset_steps=steps).timestep == 0.001
     # a robot's own step only when neither preset, timestep nor frame_skip is given (then each is checked)
     own = (0.0005, 20)
     assert (presets.resolve(None, own_step=own).timestep, presets.resolve(None, own_step=own).frame_skip) == own
@@ -279,23 +286,28 @@ def test_one_rule_scales_the_element_size_only_when_no_resolution_is_given():
 
 
 def test_env_presets(gymnasium):
+    """An env's presets take its robot's own steps (fast, default: the own step; accurate: the measured one)."""
     env = gymnasium.make("mjrft/HexapodSand-v0", preset="fast", max_episode_steps=5)
     u = env.unwrapped
     assert u.terrain.resolution == 4 * resolve_settings(u.model).resolution == pytest.approx(0.02)
-    assert u.model.opt.timestep == 0.001 and u.frame_skip == 10 and u.dt == pytest.approx(0.01)
+    assert (u.model.opt.timestep, u.frame_skip) == (0.0005, 20) and u.dt == pytest.approx(0.01)
     env.reset(seed=0)
     obs, reward, *_ = env.step(np.zeros(6, np.float32))
     assert np.all(np.isfinite(obs)) and np.isfinite(reward)
     env.close()
-    env = gymnasium.make("mjrft/HumanoidSand-v0", preset="accurate", max_episode_steps=5)
-    u = env.unwrapped
-    assert u.model.opt.timestep == 0.0005 and u.frame_skip == 20 and u.dt == pytest.approx(0.01)
-    assert u.terrain.resolution == pytest.approx(0.01) and u.terrain.law == "rft"
-    assert u.metadata["render_fps"] == 100
-    env.close()
-    env = gymnasium.make("mjrft/HexapodRigid-v0", preset="accurate", max_episode_steps=5)
-    assert env.unwrapped.model.opt.timestep == 0.0005 and env.unwrapped.terrain is None
-    env.close()
+    u = gymnasium.make("mjrft/HexapodSand-v0", preset="accurate").unwrapped
+    assert (u.model.opt.timestep, u.frame_skip) == (0.00025, 40) and u.metadata["render_fps"] == 100
+    assert u.terrain.resolution == pytest.approx(0.0025) and u.terrain.law == "rft"
+    # "default" is the env without a preset
+    plain, default = (gymnasium.make("mjrft/BipedSand-v0", **kw).unwrapped for kw in ({}, {"preset": "default"}))
+    assert (default.model.opt.timestep, default.frame_skip, default.terrain.implicit, default.terrain.resolution) == (
+        plain.model.opt.timestep, plain.frame_skip, plain.terrain.implicit, plain.terrain.resolution)
+    u = gymnasium.make("mjrft/HumanoidSand-v0", preset="accurate").unwrapped
+    assert (u.model.opt.timestep, u.frame_skip) == (0.001, 10) and u.terrain.resolution == pytest.approx(0.01)
+    assert gymnasium.make("mjrft/HexapodRigid-v0", preset="accurate").unwrapped.model.opt.timestep == 0.0001
+    # explicit keyword arguments win over the robot's preset step
+    u = gymnasium.make("mjrft/HexapodSand-v0", preset="accurate", timestep=0.0005, frame_skip=20).unwrapped
+    assert (u.model.opt.timestep, u.frame_skip) == (0.0005, 20)
 
 
 def test_env_explicit_kwargs_override_preset(gymnasium):
@@ -325,3 +337,23 @@ def test_scenarios_registered_without_presets_do_not_choose_them():
     rows = [_synthetic(sc, "x4", 4, 1e-3, 10, 1.5, rms) for sc, rms in (("a", 0.15), ("hexapod_small", 0.5))]
     assert T.recommend_presets(rows)["fast"]["config"].label == "x4"  # the small hexapod's 50 % is not counted
     assert "hexapod_small reported but not used" in T.recommendation_text(rows)
+
+
+def test_the_biped_fast_preset_halves_its_step_where_its_coarse_feet_chatter(gymnasium):
+    """benchmarks/env_presets.py: the fast preset's 4x coarser feet chatter under the 30 deg rect gait at the biped's
+    own 2 ms implicit step; its fast step (1 ms) does not (no preset warns more than the default)."""
+    import warnings
+
+    from mjrft import TerrainStabilityWarning
+    from mjrft.train.evaluate import evaluate
+
+    def warned(**kw):
+        with warnings.catch_warnings(record=True) as rec:
+            warnings.simplefilter("always", TerrainStabilityWarning)
+            evaluate("rect:angle=30", "mjrft/BipedSand-v0", episodes=1, seed=0,
+                     env_kwargs=dict(pitch_free=False, preset="fast", episode_seconds=4.0, **kw))
+        return sum(issubclass(w.category, TerrainStabilityWarning) for w in rec)
+
+    assert gymnasium.make("mjrft/BipedSand-v0", preset="fast").unwrapped.model.opt.timestep == 0.001
+    assert warned() == 0
+    assert warned(timestep=0.002, frame_skip=5) > 0  # control: the own step

@@ -64,7 +64,7 @@ import mujoco
 import numpy as np
 
 from ...gaits import make_gait, tripod_angles
-from mjrft.envs.hexapod import SAND_TIMESTEP
+from mjrft.envs.hexapod import SAND_FRAME_SKIP, SAND_TIMESTEP
 from mjrft.media import MEDIA, generic
 from ..case import (MUCH_LESS, SIMILAR, UPRIGHT_TILT, Check, CaseResult, Line, Panel, case, check_band, check_close,
                     check_outcome, published, similar)
@@ -462,7 +462,8 @@ def free_body_cause(F: dict, seeds, numerics: bool) -> str:
                          + f" for {kk:+g}/R' at {ff:g} Hz on {MEDIUM_LABEL[md]})")
         if numerics:
             half = free_trial(k, f, medium, law, seeds[0], timestep=SAND_TIMESTEP / 2, frame_skip=40)
-            fine = free_trial(k, f, medium, law, seeds[0], preset="accurate")
+            fine = free_trial(k, f, medium, law, seeds[0], preset="accurate", timestep=SAND_TIMESTEP,
+                              frame_skip=SAND_FRAME_SKIP)  # the elements alone: the own step
             parts.append(f". Not numerical: at half the timestep it turns at {math.degrees(half['yaw_rate']):+.1f} "
                          f"deg/s and with the accurate preset's 4x elements at {math.degrees(fine['yaw_rate']):+.1f} "
                          f"deg/s (against {math.degrees(worst['yaw_rate']):+.1f})")
