@@ -92,7 +92,7 @@ from ..laws.registry import parameter_vector
 from ..media import get_medium
 from ..types import TerrainModel
 from .forces import Features, region_force
-from ..ground import C_H, C_PHI
+from ..ground import C_H, C_PHI, uses_wake
 from .ground import Ground, GroundState
 from .ground import reset as reset_ground
 from . import guards as _guards
@@ -237,6 +237,11 @@ class Sand:
             if cull is not None:
                 raise NotImplementedError("cull is not available with the ground memory (ground_memory=True): "
                                           "pass cull=None")
+            if uses_wake(rg.law):
+                raise NotImplementedError(
+                    "mjrft.mjx has no wake in its ground memory, the hybrid law's undisturbed-grain rule "
+                    "(mjrft.ground.in_wake): a terrain of the hybrid law with ground_memory=True steps on the CPU path "
+                    "(mjrft.GranularTerrain), or in JAX without the memory")
             self.ground = Ground(tm)
         self.reg_law = np.asarray(rg.law, dtype=np.int32)
         self.reg_rho = np.array(rg.rho, dtype=np.float64)
