@@ -384,6 +384,10 @@ def test_wake_only_with_the_hybrid_law_and_a_memory():
     t = GranularTerrain(m, "generic", "rft", resolution=0.005, ground_memory=opts)
     t.set_regions([mjrft.Region(-1.0, "generic", "hybrid")])
     assert t.terrain_state.g_wake.shape == (32, 48, ground.WAKE_SLABS) and np.all(np.isinf(t.terrain_state.g_wake))
+    t.terrain_state.g_wake[3, 4, 5] = 0.25
+    t.terrain_state.g_since[1] = 0.5
+    t.reset()  # the prepared bed: no wake, the clock at 0
+    assert np.all(np.isinf(t.terrain_state.g_wake)) and t.terrain_state.g_since[1] == 0.0
     t.set_regions(None)
     assert t.terrain_state.g_wake.size == 0
 
