@@ -7,8 +7,8 @@
 :mod:`mjrft.mjx.terrain` (:class:`Sand`, :class:`SandState`), :mod:`mjrft.mjx.laws` (the JAX force laws),
 :mod:`mjrft.mjx.forces` (an element's whole force: the inertial regime, water drag, buoyancy, regions and their
 blending), :mod:`mjrft.mjx.surface` (the height field's surface, the regions' weights), :mod:`mjrft.mjx.memory`
-(the rest memory and the solidify option), :mod:`mjrft.mjx.ground` (the ground memory: footprints, ridges and
-packing per world), :mod:`mjrft.mjx.guards` (the stability, chatter and range checks every
+(the rest memory and the solidify option), :mod:`mjrft.mjx.ground` (the ground memory: footprints, ridges,
+packing and the hybrid law's wake per world), :mod:`mjrft.mjx.guards` (the stability, chatter and range checks every
 step runs, :func:`~mjrft.mjx.guards.flags`), :mod:`mjrft.mjx.compare` (checking a JAX terrain against the CPU path on
 recorded states) and :mod:`mjrft.mjx.integrator` (:func:`step`: MJX's step as MuJoCo's C library integrates clamped
 servos, the rigid twin of ``Sand.step``), and :mod:`mjrft.mjx.sand_env` (:func:`on_sand`: a MuJoCo Playground

@@ -41,6 +41,7 @@ from . import laws as _laws
 from .surface import heaviest_region, region_weights
 
 LAW_WATER = LAW_IDS["water"]  # a region of open water: no sand law below it
+LAW_HYBRID = LAW_IDS["hybrid"]  # with a ground memory: its undisturbed-grain rule (mjrft.ground.in_wake)
 #: law id -> its JAX stress function (the laws of the table that name a twin)
 TWINS = {law.id: getattr(_laws, law.jax) for law in _TABLE if law.jax is not None}
 
@@ -217,7 +218,8 @@ def blended_force(features: Features, regs, wts, reg_law, reg_params, reg_rho, g
 
 
 def region_force(features: Features, px, py, depth, n, m, ml, mob, vel, speed, area, *, reg_law, reg_params, reg_rho,
-                 reg_bounds, reg_map, reg_map_frame, blend, gravity, delta, v_eps, pack=None, reg_dparams=None):
+                 reg_bounds, reg_map, reg_map_frame, blend, gravity, delta, v_eps, pack=None, reg_dparams=None,
+                 wake=None):
     """The general pass of the numba kernel on elements at ``(px, py)`` (k,): their regions and weights
     (:func:`mjrft.mjx.surface.region_weights`: strips or a map with transitions of width ``blend``) and the
     weighted sum of each region's :func:`element_force` (:func:`blended_force`). The region tables are the
@@ -225,9 +227,12 @@ def region_force(features: Features, px, py, depth, n, m, ml, mob, vel, speed, a
     ``map_frame``); with one region there is no region work at all. Element arguments as :func:`element_force`
     (``area`` the elements' own). With a ground memory (:mod:`mjrft.ground`) ``pack`` (k,) is each element's packing
     as it read it and ``reg_dparams`` (R, P_SIZE) the regions' closely minus loosely packed rows: every region's row
-    is taken at the element's packing (:func:`packed`, the kernel's ``_packed_rows``). Returns ``(force, stiffness,
-    water damping, inertial damping, finite, region)``, ``region`` (k,) the region of each element's largest weight
-    (the kernel's ``out_region``)."""
+    is taken at the element's packing (:func:`packed`, the kernel's ``_packed_rows``). With the ground memory's wake
+    ``wake`` (k,) bool is whether each element moves into a body's wake (:meth:`mjrft.mjx.ground.Ground.in_wake`):
+    a buried, moving element that lies in one region of the hybrid law and in the wake gets nothing (the hybrid law's
+    undisturbed-grain rule as the kernel applies it: no force, stiffness or damping; None: no wake, nothing traced).
+    Returns ``(force, stiffness, water damping, inertial damping, finite, region)``, ``region`` (k,) the region of
+    each element's largest weight (the kernel's ``out_region``)."""
     dtype = depth.dtype
     reg_law = jnp.asarray(reg_law, jnp.int32)
     reg_params = jnp.asarray(reg_params, dtype)
@@ -237,11 +242,25 @@ def region_force(features: Features, px, py, depth, n, m, ml, mob, vel, speed, a
     if reg_law.shape[0] == 1:
         f, kk, cw, ci, ok = element_force(features, reg_law[0], packed(reg_params, reg_dparams, 0, pack), reg_rho[0],
                                           gravity, area, depth, n, m, ml, mob, vel, speed, delta, v_eps)
-        return f, kk, cw, ci, ok, jnp.zeros(depth.shape, jnp.int32)
+        out = (f, kk, cw, ci, ok)
+        if wake is not None:
+            out = _without_wake(out, wake & (reg_law[0] == LAW_HYBRID), depth, speed)
+        return (*out, jnp.zeros(depth.shape, jnp.int32))
     regs, wts = region_weights(px, py, reg_bounds, reg_map, reg_map_frame, blend)
-    f, kk, cw, ci, ok = blended_force(features, regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth, n, m,
-                                      ml, mob, vel, speed, delta, v_eps, pack, reg_dparams)
-    return f, kk, cw, ci, ok, heaviest_region(regs, wts)
+    out = blended_force(features, regs, wts, reg_law, reg_params, reg_rho, gravity, area, depth, n, m, ml, mob, vel,
+                        speed, delta, v_eps, pack, reg_dparams)
+    if wake is not None:  # an element in one region (weight 1 in its first slot) of the hybrid law
+        out = _without_wake(out, wake & (wts[:, 0] >= 1.0) & (reg_law[regs[:, 0]] == LAW_HYBRID), depth, speed)
+    return (*out, heaviest_region(regs, wts))
+
+
+def _without_wake(out, hybrid_wake, depth, speed):
+    """``(force, stiffness, water damping, inertial damping, finite)`` with nothing for the buried, moving elements
+    in the wake of a hybrid region ``hybrid_wake`` (the kernel skips the rest of such an element: finite)."""
+    skip = hybrid_wake & (depth > 0.0) & (speed > 0.0)
+    f, kk, cw, ci, ok = out
+    return (jnp.where(skip[:, None], 0.0, f), jnp.where(skip, 0.0, kk), jnp.where(skip, 0.0, cw),
+            jnp.where(skip, 0.0, ci), ok | skip)
 
 
 __all__ = ["Features", "LAW_WATER", "TWINS", "blended_force", "buoyancy", "element_force", "inertial_force",

@@ -20,7 +20,14 @@ numba kernel does (:func:`mjrft.kernel.terrain_kernel_ground` and :func:`mjrft.g
   the grid), each iteration reading and updating the grid once, which XLA does in place. A column that reaches more
   than :data:`TAKE_UNROLLED` layers deeper in one take gets the further layers at once (the CPU adds them one by one:
   the same grains, equal to rounding). The result equals the numba kernel's to rounding
-  (``tests/mjrft/mjx/test_mjx_ground.py``).
+  (``tests/mjrft/mjx/test_mjx_ground.py``);
+* with the hybrid law (:func:`mjrft.ground.uses_wake`) the wake of its undisturbed-grain rule: at each update the
+  slabs the flowing leading faces pass through keep the earliest time (a scatter-min over the elements into cell x
+  slab, :func:`mjrft.ground._wake_mark`) and the cells the bodies left are emptied, and each step the general pass
+  leaves without force a buried element of the hybrid law moving into a slab passed through earlier than it could
+  have itself (:meth:`Ground.in_wake`, :func:`mjrft.ground.in_wake`), with the kernel's clock, order and float32
+  times: the wrench, cells and wake equal the kernel's to rounding. A terrain without the hybrid law keeps no wake
+  and traces none of it.
 
 Under ``jax.vmap`` a loop whose trip count differs between worlds would select the whole carry (every world's grid)
 on each iteration; :func:`serial_loop` instead runs the longest world's count with each iteration's writes masked
@@ -37,7 +44,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..ground import (BLOCK_SHIFT, C_COL, C_H, C_MARK, C_PEND, C_PHI, C_STAMP, C_SUB, C_SWEPT, FLOWING, N_FIELDS,
-                      RELAX, RELAX_TOL)
+                      RELAX, RELAX_TOL, WAKE_ABOVE, WAKE_LAG_CELLS, WAKE_SLABS, uses_wake)
 from ..laws.registry import LAW_IDS
 from ..params import P_WATER_DEPTH
 from ..types import TerrainModel
@@ -57,7 +64,11 @@ class GroundState(NamedTuple):
     indices of the cells a body was in at the last update (row 0) and at this one (row 1); ``dirty`` (2, cells) the
     relaxation sweeps' lists; ``count`` (3,) their lengths (held, dirty 0, dirty 1); ``clock`` (2,) (updates, sweeps);
     ``since`` the simulated time since the last update (s); ``stamp`` (nby, nbx) the last update that changed each
-    block of 4 x 4 cells; ``bed`` (8,) the record of a cell of the prepared bed (what :func:`reset` restores)."""
+    block of 4 x 4 cells; ``bed`` (8,) the record of a cell of the prepared bed (what :func:`reset` restores). With
+    the hybrid law's wake (:attr:`Ground.wake`; else None, nothing of it traced): ``wake`` (ny, nx,
+    :data:`mjrft.ground.WAKE_SLABS`) float32 per cell and depth slab the earliest time a body's leading face passed
+    through it while the bodies stayed in the cell (inf: none; :func:`mjrft.ground.wake_array`) and ``now`` the
+    simulated time since the prepared bed (s; the CPU's ``g_since[1]``)."""
 
     cells: jax.Array
     elem: jax.Array
@@ -70,6 +81,8 @@ class GroundState(NamedTuple):
     since: jax.Array
     stamp: jax.Array
     bed: jax.Array
+    wake: jax.Array | None = None
+    now: jax.Array | None = None
 
 
 def reset(g: GroundState) -> GroundState:
@@ -77,7 +90,8 @@ def reset(g: GroundState) -> GroundState:
     list, the clocks at 0 (:meth:`mjrft.types.TerrainState.forget`)."""
     zero = jax.tree_util.tree_map(jnp.zeros_like, g)
     return zero._replace(cells=jnp.broadcast_to(g.bed[..., None, None, :], g.cells.shape),
-                         group=jnp.full_like(g.group, -1.0), bed=g.bed)
+                         group=jnp.full_like(g.group, -1.0), bed=g.bed,
+                         wake=None if g.wake is None else jnp.full_like(g.wake, jnp.inf))
 
 
 def _get(a, *idx):
@@ -174,6 +188,11 @@ class Ground:
         cell = self.frame[2]
         reach = 2.0 * float(np.max(np.sum(self.g_aabb[:, 3:6], axis=1))) + 2.0 * cell if self.n_groups else 0.0
         self.window = int(reach / (cell * (1 << BLOCK_SHIFT))) + 2
+        #: whether the memory keeps the hybrid law's wake (a region of the hybrid law, :func:`mjrft.ground.uses_wake`)
+        self.wake = uses_wake(law)
+        # the most slabs one element's leading face can cover (its extent sqrt(area) over half a cell, and the ends)
+        size = float(np.sqrt(np.max(np.asarray(el.area)))) if self.n else 0.0
+        self.wake_span = int(2.0 * size / cell) + 2
 
     # ------------------------------------------------------------------ state
     def init(self, dtype=None) -> GroundState:
@@ -189,7 +208,9 @@ class Ground:
                            active=jnp.zeros(self.n_groups, bool), held=jnp.zeros((2, n), jnp.int32),
                            dirty=jnp.zeros((2, self.ncell), jnp.int32), count=jnp.zeros(3, jnp.int32),
                            clock=jnp.zeros(2, jnp.int32), since=jnp.zeros((), dtype),
-                           stamp=jnp.zeros((self.nby, self.nbx), jnp.int32), bed=bed)
+                           stamp=jnp.zeros((self.nby, self.nbx), jnp.int32), bed=bed,
+                           wake=jnp.full((self.ny, self.nx, WAKE_SLABS), jnp.inf, jnp.float32) if self.wake else None,
+                           now=jnp.zeros((), dtype) if self.wake else None)
 
     # ------------------------------------------------------------------ readers
     def sample(self, cells, x, y, field: int, add_base: bool):
@@ -314,8 +335,54 @@ class Ground:
         dtype = g.cells.dtype
         since = g.since + dt
         do = ok & (dt > 0.0) & (since >= self.period * (1.0 - 1e-9))
+        if self.wake:  # the clock since the prepared bed, as the kernel advances it (a finite step of dt > 0)
+            g = g._replace(now=jnp.where(ok & (dt > 0.0), g.now + dt, g.now).astype(dtype))
         g = self._ground_step(g, pos, vel, nrm, depth, u, area, since, do)
         return g._replace(since=jnp.where(do, 0.0, since).astype(dtype))
+
+    def in_wake(self, g: GroundState, pos, vel, speed, dt):
+        """Whether each element at ``pos`` (n, 3) moving at ``vel`` (n, 3) of size ``speed`` (n,) moves into a body's
+        wake (:func:`mjrft.ground.in_wake`, at the time ``g.now + dt`` the kernel reads): the point half a cell ahead
+        along its motion lies in a depth slab of its cell that a leading face passed through more than
+        ``WAKE_LAG_CELLS cell / speed + period`` before; False outside the grid, at rest and below the slabs."""
+        dtype = pos.dtype
+        f = self.frame
+        c = float(f[2])
+        moving = speed > 0.0
+        isp = 1.0 / jnp.where(moving, speed, 1.0)
+        ax = pos[:, 0] + 0.5 * c * (vel[:, 0] * isp)
+        ay = pos[:, 1] + 0.5 * c * (vel[:, 1] * isp)
+        az = pos[:, 2] + 0.5 * c * (vel[:, 2] * isp)
+        fx = (ax - f[0]) * f[3]
+        fy = (ay - f[1]) * f[3]
+        inside = (fx >= 0.0) & (fy >= 0.0) & (fx < self.nx) & (fy < self.ny)
+        i = jnp.clip(fx, 0.0, self.nx - 1.0).astype(jnp.int32)
+        j = jnp.clip(fy, 0.0, self.ny - 1.0).astype(jnp.int32)
+        fk = (jnp.asarray(self.base, dtype)[j, i] - az) / (0.5 * c) + WAKE_ABOVE
+        slab = (fk >= 0.0) & (fk < WAKE_SLABS)
+        k = jnp.clip(fk, 0.0, WAKE_SLABS - 1.0).astype(jnp.int32)
+        now = g.now + dt
+        lag = WAKE_LAG_CELLS * c / jnp.where(moving, speed, 1.0) + self.period
+        return moving & inside & slab & (now - g.wake[j, i, k].astype(dtype) > lag)
+
+    def _wake_mark(self, wake, j, i, z, area, now, lead):
+        """``wake`` with the slabs each leading face (``lead``, at height ``z`` in cell (j, i), extent sqrt(area))
+        covers keeping the earliest time ``now`` (:func:`mjrft.ground._wake_mark`, a scatter-min over the
+        elements)."""
+        dtype = z.dtype
+        inv = 2.0 / float(self.frame[2])
+        base = jnp.asarray(self.base, dtype)[j, i]
+        size = jnp.sqrt(area)
+        lo = (base - z - 0.5 * size) * inv + WAKE_ABOVE
+        hi = (base - z + 0.5 * size) * inv + WAKE_ABOVE
+        on = lead & (hi >= 0.0) & (lo < WAKE_SLABS)
+        k0 = jnp.clip(jnp.maximum(lo, 0.0), 0.0, WAKE_SLABS).astype(jnp.int32)
+        k1 = jnp.clip(jnp.minimum(hi, WAKE_SLABS - 1.0), 0.0, WAKE_SLABS).astype(jnp.int32)
+        ks = k0[:, None] + jnp.arange(self.wake_span, dtype=jnp.int32)[None, :]  # (n, span)
+        put = on[:, None] & (ks <= k1[:, None])
+        t = jnp.broadcast_to(jnp.asarray(now, jnp.float32), ks.shape)
+        rows = jnp.where(put, j[:, None], self.ny)  # out of bounds: dropped
+        return wake.at[rows, jnp.broadcast_to(i[:, None], ks.shape), ks].min(t, mode="drop")
 
     def _ground_step(self, g, pos, vel, nrm, depth, u, area, dt, do):
         dtype = g.cells.dtype
@@ -351,6 +418,9 @@ class Ground:
         vn = jnp.sum(vel * nrm, axis=1)
         sw = jnp.where(flowing & (vn > 0.0), area * vn * dt, 0.0)
         swept = jnp.zeros(n + 1, dtype).at[jnp.where(flowing & (vn > 0.0), slot_e, n)].add(sw)[:n]
+        wake = g.wake
+        if self.wake:  # the slabs the flowing leading faces pass through (the hybrid law's wake)
+            wake = self._wake_mark(wake, j, i, pos[:, 2], area, g.now, live & flowing & (vn > 0.0))
         tj, ti = touched // nx, touched % nx
         tmask = jnp.arange(n) < ntouch
         tj_w = jnp.where(tmask, tj, ny)  # out of bounds: dropped
@@ -366,6 +436,8 @@ class Ground:
         hj, hi = held0 // nx, held0 % nx
         left = (jnp.arange(held0.shape[0]) < nheld) & (cells[hj, hi, C_STAMP] != stepf)
         cells = cells.at[jnp.where(left, hj, ny), hi, C_PEND].set(0.0, mode="drop")
+        if self.wake:  # the grains close over the wake the bodies leave
+            wake = wake.at[jnp.where(left, hj, ny), hi, :].set(jnp.inf, mode="drop")
         flags = flags.at[jnp.where(left, hj >> BLOCK_SHIFT, self.nby), hi >> BLOCK_SHIFT].set(True, mode="drop")
         need = left & (cells[hj, hi, C_MARK] != sweep.astype(dtype))
         pos_in = count[1 + slot] + jnp.cumsum(need, dtype=jnp.int32) - 1
@@ -384,7 +456,7 @@ class Ground:
         count = count.at[1 + slot].set(jnp.where(relax, 0, count[1 + slot]))
         clock = jnp.stack([step, jnp.where(relax, sweep, clock[1])])
         stamp = jnp.where(flags, step, g.stamp)
-        return g._replace(cells=cells, held=held, dirty=dirty, count=count, clock=clock, stamp=stamp)
+        return g._replace(cells=cells, held=held, dirty=dirty, count=count, clock=clock, stamp=stamp, wake=wake)
 
     # the loops' bodies: one touched cell (step 2 of mjrft.ground.ground_step), one listed cell (relax_sweep)
     def _take(self, col, h, phi, bulk):

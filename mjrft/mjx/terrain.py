@@ -46,8 +46,9 @@ construction.
 Ground memory (a terrain built with ``ground_memory``; :mod:`mjrft.ground`, docs/terrain.md "Ground memory"): on the
 direct and the general pass, ``state.ground`` (:class:`mjrft.mjx.ground.GroundState`) holds each world's height map
 and packing, which the elements read (their depth from the undisturbed surface, flat or the height field, plus the
-remembered one; their parameter row, on the general pass each region's, at the local packing) and every step updates
-as the numba kernel does (:mod:`mjrft.mjx.ground`; ``tests/mjrft/mjx/test_mjx_ground.py`` compares them);
+remembered one; their parameter row, on the general pass each region's, at the local packing; with the hybrid law its
+undisturbed-grain rule from the ground's wake) and every step updates as the numba kernel does
+(:mod:`mjrft.mjx.ground`; ``tests/mjrft/mjx/test_mjx_ground.py`` compares them);
 :meth:`Sand.ground_height` and :meth:`Sand.ground_packing` read it; :meth:`Sand.reset` restores the prepared bed. Not
 with ``cull``, nor a world's own height field (``init(surface=)``). A terrain without it traces none of it.
 
@@ -92,7 +93,7 @@ from ..laws.registry import parameter_vector
 from ..media import get_medium
 from ..types import TerrainModel
 from .forces import Features, region_force
-from ..ground import C_H, C_PHI, uses_wake
+from ..ground import C_H, C_PHI
 from .ground import Ground, GroundState
 from .ground import reset as reset_ground
 from . import guards as _guards
@@ -237,12 +238,8 @@ class Sand:
             if cull is not None:
                 raise NotImplementedError("cull is not available with the ground memory (ground_memory=True): "
                                           "pass cull=None")
-            if uses_wake(rg.law):
-                raise NotImplementedError(
-                    "mjrft.mjx has no wake in its ground memory, the hybrid law's undisturbed-grain rule "
-                    "(mjrft.ground.in_wake): a terrain of the hybrid law with ground_memory=True steps on the CPU path "
-                    "(mjrft.GranularTerrain), or in JAX without the memory")
             self.ground = Ground(tm)
+            assert self.general or not self.ground.wake  # the hybrid law is a law of the general pass
         self.reg_law = np.asarray(rg.law, dtype=np.int32)
         self.reg_rho = np.array(rg.rho, dtype=np.float64)
         self.reg_map = np.asarray(rg.map)
@@ -422,15 +419,16 @@ class Sand:
         return jnp.zeros_like(u), vel, speed, mob
 
     def _forces(self, depth, nrm, vel, u, area, params, dt, implicit=False, px=None, py=None, bounds=None,
-                pack=None):
+                pack=None, wake=None):
         """Element forces (k, 3), new memory (k, 3) and each element's ``|m|`` (k,; its regularised motion, the
         speed in the viscous mode; 0 where it does not move) of elements at ``depth`` (> 0: buried); with ``implicit``
         also each element's ``T k`` (k,) for the implicit step (:meth:`_spring_tk`), else None; and the inertial
         regime's damping (k,) for the implicit step and whether each element's parts were finite (k,) in the
         general pass (:meth:`_general_forces`, which takes the elements' ``px``, ``py``, the strips' ``bounds`` and
-        with a ground memory the elements' packing ``pack``), else None, None."""
+        with a ground memory the elements' packing ``pack`` and with its wake whether each element moves into it
+        ``wake``), else None, None."""
         if self.general:
-            return self._general_forces(depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds, pack)
+            return self._general_forces(depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds, pack, wake)
         buried = (depth > 0.0) & (area > 0.0)
         u, m, ml, mob = self._memory(u, vel, buried, dt)
         moving = buried & (ml > 0.0)
@@ -442,11 +440,13 @@ class Sand:
             tk = self._spring_tk(jnp.where(moving[:, None], stress * area[:, None], 0.0), ml, vel, dt, u)
         return f, u, jnp.where(moving, ml, 0.0), tk, None, None
 
-    def _general_forces(self, depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds, pack=None):
+    def _general_forces(self, depth, nrm, vel, u, area, params, dt, implicit, px, py, bounds, pack=None, wake=None):
         """:meth:`_forces` by the kernel's general pass: the rest memory (:func:`mjrft.mjx.memory.rest_memory`, the
         solidify option included), then each element's regions and their laws, water drag, buoyancy and inertial
         regime (:func:`mjrft.mjx.forces.region_force`; with a ground memory each region's row at the element's
-        packing ``pack``); elements above the sand and its deepest water get nothing and keep no memory."""
+        packing ``pack``; with its wake, ``wake`` (k,) whether each element moves into a body's wake, where a
+        buried element of the hybrid law gets nothing, as the kernel's undisturbed-grain rule); elements above the sand
+        and its deepest water get nothing and keep no memory."""
         speed = jnp.sqrt(jnp.sum(vel * vel, axis=-1))
         buried = (depth > 0.0) & (area > 0.0)
         u, m, ml, mob = rest_memory(u, vel, speed, buried, dt, self.delta, self.tau, self.v_eps, self.solid,
@@ -457,7 +457,7 @@ class Sand:
                                            reg_bounds=bounds, reg_map=self.reg_map, reg_map_frame=self.reg_map_frame,
                                            blend=self.transition, gravity=self.gravity, delta=self.delta,
                                            v_eps=self.v_eps, pack=pack,
-                                           reg_dparams=None if pack is None else self.ground.dparams)
+                                           reg_dparams=None if pack is None else self.ground.dparams, wake=wake)
         within = (area > 0.0) & (depth > -self.reach) if self.reach > 0.0 else buried
         f = jnp.where(within[:, None], f, 0.0)
         tk = self._holding_tk(kk, ml, speed, dt, u) if implicit else None
@@ -517,7 +517,7 @@ class Sand:
         area = jnp.asarray(self.area, dtype)
         onehot = jnp.asarray(self.onehot, dtype)
         params = state.params.astype(dtype)
-        ground = pack = None
+        ground = pack = wake = None
         if self.ground is not None:  # the grains' surface and packing as the ground memory holds them
             surface = state.surface.astype(dtype)
             if self.hfield:  # the height field under each element, its highest sample the top
@@ -531,6 +531,8 @@ class Sand:
                 pack = t
             else:
                 params = params[None, :] + t[:, None] * jnp.asarray(self.ground.dparams[0], dtype)[None, :]
+            if self.ground.wake:  # the hybrid law's undisturbed-grain rule (mjrft.ground.in_wake)
+                wake = self.ground.in_wake(state.ground, pos, vel, jnp.sqrt(jnp.sum(vel * vel, axis=-1)), dt)
         elif self.hfield:
             depth = surface_height(pos[:, 0], pos[:, 1], 0.0, state.surface.astype(dtype), self.hf_frame) - pos[:, 2]
         else:
@@ -539,7 +541,7 @@ class Sand:
         within = depth > -self.reach if self.reach > 0.0 else depth > 0.0  # of the grains or the water above them
         if self.cull is None:
             f, u, ml, tk, ci, ok = self._forces(depth, nrm, vel, state.u, area, params, dt, implicit, pos[:, 0],
-                                                pos[:, 1], bounds, pack)
+                                                pos[:, 1], bounds, pack, wake)
             over = jnp.array(False)
         else:
             idx = jnp.nonzero(within, size=self.cull, fill_value=self.n_elements)[0]

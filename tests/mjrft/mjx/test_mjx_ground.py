@@ -7,7 +7,9 @@ terrain's; a terrain without the memory traces no ground at all; the MJX env's a
 bed. On the kernel's general pass (a height field of two strips of media, each with its own packing rows, one under
 water, with the inertial regime) a foot dragged through the grains, lifted and pressed in again on its own track gives
 the numba kernel's wrench at every step and its cells at the end under ``vmap`` over two worlds, and the same
-comparison rejects the forces of the terrain without the memory and of the memory without its packing rows."""
+comparison rejects the forces of the terrain without the memory and of the memory without its packing rows. With the
+hybrid law in one of the strips the same foot meets its own wake: the JAX terrain gives the kernel's wrench at every
+step and its cells and wake at the end, and the kernel with its wake emptied gives other forces."""
 
 from __future__ import annotations
 
@@ -28,7 +30,7 @@ from mujoco import mjx  # noqa: E402
 import mjrft  # noqa: E402
 import mjrft.mjx as rmjx  # noqa: E402
 from mjrft.ground import C_COL, C_H, C_MARK, C_PEND, C_PHI, C_STAMP, C_SUB, ground_volumes  # noqa: E402
-from mjrft.ground import GroundOptions  # noqa: E402
+from mjrft.ground import WAKE_SLABS, GroundOptions  # noqa: E402
 from mjrft.models import hexapod_model  # noqa: E402
 from mjrft.mjx.ground import Ground  # noqa: E402
 from mjrft.regions import Region  # noqa: E402
@@ -189,6 +191,7 @@ def test_a_terrain_without_the_memory_traces_no_ground():
             plain = rmjx.Sand(hexapod_model(), guards=False, **kw)
             ground = rmjx.Sand(hexapod_model(), guards=False, ground_memory=True, **kw)
         assert plain.ground is None and plain.init().ground is None and plain.general == bool(kw)
+        assert not ground.ground.wake and ground.init().ground.wake is None  # no hybrid law: no wake traced
         text = str(jax.make_jaxpr(plain.wrench)(d, plain.init(), 0.001))
         assert "while" not in text and "scatter" not in text
         assert "while" in str(jax.make_jaxpr(ground.wrench)(d, ground.init(), 0.001))  # control: the memory's loops
@@ -197,8 +200,8 @@ def test_a_terrain_without_the_memory_traces_no_ground():
 def test_the_mjx_env_resets_the_ground_with_the_episode():
     """The MJX hexapod with ``terrain.ground_memory``: an auto-reset (the first state's data with the ended episode's
     sand) starts on the prepared bed, its first step's ground the first episode's bit for bit; control: the same
-    step with the time nudged off 0 keeps the ended episode's footprints. The hybrid law's env with the memory is
-    refused (its wake is the CPU path's)."""
+    step with the time nudged off 0 keeps the ended episode's footprints. The hybrid law's env with the memory keeps
+    its wake (empty at the start)."""
     import mjrft.mjx.envs as envs
 
     with warnings.catch_warnings():
@@ -217,11 +220,12 @@ def test_the_mjx_env_resets_the_ground_with_the_episode():
     np.testing.assert_array_equal(np.asarray(s3.info["sand"].ground.cells), np.asarray(s1.info["sand"].ground.cells))
     kept = step(restarted.replace(data=first.data.replace(time=jnp.float32(1e-7))), action)
     assert float(jnp.abs(kept.info["sand"].ground.cells - s1.info["sand"].ground.cells).max()) > 1e-4
-    # the hybrid law, a law of the general pass, keeps a wake in the CPU path's memory (its undisturbed-grain rule),
-    # which the JAX memory has not: refused, naming it
-    with warnings.catch_warnings(), pytest.raises(NotImplementedError, match="wake"):
+    # the hybrid law, a law of the general pass, keeps the wake of its undisturbed-grain rule in the memory
+    with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        envs.load("HexapodSand", config_overrides={"terrain.ground_memory": True, "terrain.law": "hybrid"})
+        hybrid = envs.load("HexapodSand", config_overrides={"terrain.ground_memory": True, "terrain.law": "hybrid"})
+    wake = hybrid.sand.init().ground.wake
+    assert hybrid.sand.ground.wake and wake.shape[-1] == WAKE_SLABS and bool(jnp.all(jnp.isinf(wake)))
 
 
 # ------------------------------------------------------------------------------------------------
@@ -311,3 +315,32 @@ def test_the_general_pass_reads_and_updates_the_ground_as_the_kernel():
     tm = t.terrain_model
     unpacked = dataclasses.replace(tm, ground=tm.ground._replace(dparams=np.zeros_like(tm.ground.dparams)))
     assert relative(drag(m0, mjrft.GranularTerrain.from_model(m0, unpacked))[3], runs[0][3]) > 1e-3
+
+
+def test_the_hybrid_laws_wake_equals_the_kernels():
+    """The rig's scene with the hybrid law in the dry strip (x < 0; the inertial regime is the dry laws'): the foot
+    pressed in and dragged on, its bottom's elements behind its leading face moving through the slabs that face passed
+    through, lifted and pressed in on its own track. Two worlds under ``vmap`` (the second's track 13 mm further
+    along x) give the kernel's wrench at every step, its cells and its wake (the slabs' times, float32) at the end;
+    a reset empties the wake. Control: the kernel with the wake emptied (the hybrid law without its
+    undisturbed-grain rule) gives forces the comparison's 1e-9 rejects by orders of magnitude."""
+    runs = [drag(*rig(law="hybrid", inertial=False), shift) for shift in (0.0, 0.013)]
+    m, t = runs[0][0], runs[0][1]
+    sand = rmjx.Sand.from_terrain(t, guards=False)
+    assert sand.general and sand.ground.wake
+    state, w = replay(sand, m, runs, x64=True)
+    for k, (_, tk, _, wrench) in enumerate(runs):
+        cpu = tk.terrain_state
+        assert np.isfinite(cpu.g_wake).sum() > 100 and np.isinf(cpu.g_wake).any()  # marked, and cleared or untouched
+        assert relative(w[k], wrench) <= 1e-9, (k, relative(w[k], wrench))
+        assert cell_errors(state.ground.cells[k], cpu.g_cells) <= 1e-9, k
+        np.testing.assert_array_equal(state.ground.wake[k], cpu.g_wake)
+        assert state.ground.now[k] == pytest.approx(cpu.g_since[1], rel=1e-12)
+    assert not np.array_equal(runs[0][1].terrain_state.g_wake, runs[1][1].terrain_state.g_wake)
+    with jax.enable_x64(True):
+        fresh = rmjx.Sand.reset(jax.tree_util.tree_map(lambda a: jnp.asarray(a[0]), state)).ground
+        assert bool(jnp.all(jnp.isinf(fresh.wake))) and float(fresh.now) == 0.0
+    # control: the same drag on the kernel with its wake emptied
+    empty = mjrft.GranularTerrain.from_model(m, t.terrain_model)
+    empty.terrain_state = empty.terrain_state._replace(g_wake=np.zeros((0, 0, 0), np.float32))
+    assert relative(drag(m, empty)[3], runs[0][3]) > 1e-2
