@@ -38,14 +38,15 @@ from mjrft.ground import GROUND_PERIOD, GroundOptions
 from mjrft.types import MjViews
 
 
-def record(steps: int, warm: float = 1.0, memory=True):
+def record(steps: int, warm: float = 1.0, memory=True, law=None):
     """(model, terrain with memory, terrain without, stacked views, the first's state at the start, dt): the hexapod
     walks on the terrain without a memory (so the recorded motion does not depend on the memory), while the one with
-    it (``memory``: its ``ground_memory`` argument) is evaluated on every step too, its ground following the legs."""
+    it (``memory``: its ``ground_memory`` argument) is evaluated on every step too, its ground following the legs;
+    ``law``: both terrains' force law (None: the model's own)."""
     model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod"))
     data = mujoco.MjData(model)
-    on = mjrft.GranularTerrain(model, ground_memory=memory)
-    off = mjrft.GranularTerrain(model)
+    on = mjrft.GranularTerrain(model, law=law, ground_memory=memory)
+    off = mjrft.GranularTerrain(model, law=law)
     dt = model.opt.timestep
 
     def one_step(keep=None):

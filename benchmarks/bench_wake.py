@@ -20,45 +20,13 @@ import sys
 import time
 import warnings
 
-import mujoco
 import numpy as np
 
-import mjrft
 from mjrft.types import MjViews
 
-from bench_ground import copy_state, replay, restore
+from bench_ground import record, replay, restore
 
 LAW = "hybrid"
-
-
-def record(steps: int, warm: float = 1.0):
-    """(terrain with the memory, stacked views, its state at the start, dt): the hexapod walks on the terrain without a
-    memory, the one with it is evaluated on every step too, its ground following the legs."""
-    model = mujoco.MjModel.from_xml_path(mjrft.models.model_path("hexapod"))
-    data = mujoco.MjData(model)
-    on = mjrft.GranularTerrain(model, law=LAW, ground_memory=True)
-    off = mjrft.GranularTerrain(model, law=LAW)
-    views = {k: [] for k in MjViews._fields}
-
-    def one_step(keep):
-        data.ctrl[:] = 2 * np.pi * 2.0 * data.time + np.arange(model.nu) % 2 * np.pi
-        mujoco.mj_step1(model, data)
-        if keep:
-            for k in views:
-                views[k].append(getattr(data, k).copy())
-        on.compute(data)
-        off.compute(data)
-        data.xfrc_applied[off.body_ids] = off.wrench[off.body_ids]
-        mujoco.mj_step2(model, data)
-        data.xfrc_applied[:] = 0.0
-
-    while data.time < warm - 1e-9:
-        one_step(False)
-    start = copy_state(on.terrain_state)
-    for _ in range(steps):
-        one_step(True)
-    stacked = MjViews(*(np.ascontiguousarray(np.array(views[k])) for k in MjViews._fields))
-    return on, stacked, start, model.opt.timestep
 
 
 def main(argv=None) -> int:
@@ -68,7 +36,7 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=None, help="also write the report to this file")
     args = ap.parse_args(argv)
     warnings.simplefilter("ignore")
-    on, views, start, dt = record(args.steps)
+    _, on, _, views, start, dt = record(args.steps, law=LAW)
     st = on.terrain_state
     wake = st.g_wake
     states = {"wake": st, "wake emptied": st._replace(g_wake=np.zeros((0, 0, 0), dtype=np.float32))}
