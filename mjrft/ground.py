@@ -66,6 +66,13 @@ BLOCK_SHIFT = 2
 #: a slope's excess over the angle of repose (in cells' edge lengths) below which the relaxation leaves it: the
 #: excess decays geometrically, and a cell moving less than this drops off the sweeps' list
 RELAX_TOL = 1e-4
+#: the least deepening of a footprint (m, the bodies' volume below the surface per cell area beyond what the cell has
+#: taken, as a share of the cell's edge) that an update acts on: a body held at one depth or dragged level leaves a
+#: difference of rounding alone (the kernel's and mjrft.mjx's sums, float64 or float32, would take different branches
+#: on its sign), while any real deepening passes it or adds up until it does (the cell's displaced volume is the
+#: bodies' total, not a per-update step); 1e-5 of a 1 cm cell is 0.1 um, a thousandth of the finest grains'
+#: diameter
+DEEPEN_TOL = 1e-5
 #: the wake (the hybrid law's undisturbed-grain rule, :func:`in_wake`): the depth slabs per cell, each half a cell
 #: thick, of which the first WAKE_ABOVE lie above the undisturbed surface (ridges): 48 slabs of 5 mm cells reach
 #: 10 cm below the surface and 2 cm above it (a time in float32 per slab: 192 bytes per cell)
@@ -699,7 +706,7 @@ def ground_step(gr, el, st, delta, v_eps, dt):
             h = m / phi - col
         cells[j, i, C_SWEPT] = 0.0
         dv = cells[j, i, C_SUB] * inv_a - cells[j, i, C_PEND]  # m over the cell's area: the footprint deepens
-        if dv > 0.0:
+        if dv > DEEPEN_TOL * cell:
             cells[j, i, C_PEND] += dv
             va = min(dv, (col + h) * (1.0 - phi / phi_cp)) if phi < phi_cp else 0.0
             if va > 0.0:  # compaction of loose grains under the load

@@ -43,8 +43,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..ground import (BLOCK_SHIFT, C_COL, C_H, C_MARK, C_PEND, C_PHI, C_STAMP, C_SUB, C_SWEPT, FLOWING, N_FIELDS,
-                      RELAX, RELAX_TOL, WAKE_ABOVE, WAKE_LAG_CELLS, WAKE_SLABS, uses_wake)
+from ..ground import (BLOCK_SHIFT, C_COL, C_H, C_MARK, C_PEND, C_PHI, C_STAMP, C_SUB, C_SWEPT, DEEPEN_TOL, FLOWING,
+                      N_FIELDS, RELAX, RELAX_TOL, WAKE_ABOVE, WAKE_LAG_CELLS, WAKE_SLABS, uses_wake)
 from ..laws.registry import LAW_IDS
 from ..params import P_WATER_DEPTH
 from ..types import TerrainModel
@@ -530,7 +530,7 @@ class Ground:
         phi = jnp.where(shear, phi_s, phi)
         # the footprint deepens by dv: compaction of loose grains, then the rest on the rim
         dv = _get(sub, k) * inv_a - pend
-        deepen = dv > 0.0
+        deepen = dv > float(DEEPEN_TOL * self.frame[2])  # mjrft.ground.DEEPEN_TOL
         pend = jnp.where(deepen, pend + dv, pend)
         va = jnp.where(deepen & (phi < phi_cp), jnp.minimum(dv, (col + h) * (1.0 - phi / phi_cp)), 0.0)
         compact = va > 0.0
