@@ -43,8 +43,8 @@ from .surface import surface_height
 from .types import GroundBlocks, GroundTables, no_ground
 
 #: the default cell as a multiple of the elements' size: a cell holds a few elements of a foot, so a footprint is
-#: resolved to two elements; halving it doubles the memory's cost (benchmarks/bench_ground.py: 100 % of the kernel at
-#: 10 mm cells on the hexapod, 199 % at 5 mm)
+#: resolved to two elements; halving it doubles the memory's cost (benchmarks/bench_ground.py: 97 % of the kernel at
+#: 10 mm cells on the hexapod, 188 % at 5 mm)
 CELL_ELEMENTS = 2.0
 #: default distance (m) the grid reaches beyond the robot's footprint at the initial pose, on every side
 GROUND_REACH = 1.0
