@@ -221,6 +221,9 @@ def main(argv=None) -> int:
                          "mjrft/HexapodSand-v0 steps at 0.5 ms), each recording STEPS steps")
     ap.add_argument("--out", default=None, help="also write the report to this file")
     args = ap.parse_args(argv)
+    for dt in args.timesteps:
+        if dt is not None and not (np.isfinite(dt) and dt > 0.0):
+            ap.error(f"--timesteps must be positive seconds, got {dt!r}")
     warnings.simplefilter("ignore")
     lines = [f"python benchmarks/bench_ground.py --steps {args.steps} --rounds {args.rounds}"
              + ("" if args.cells == [None] else " --cells " + " ".join(f"{c:g}" for c in args.cells))

@@ -14,7 +14,7 @@ import pytest
 import mjrft
 from mjrft import GranularTerrain
 from mjrft import ground
-from mjrft.ground import C_H, C_PHI, GroundOptions, ground_volumes, packing_of
+from mjrft.ground import C_H, C_PEND, C_PHI, C_SUB, DEEPEN_TOL, GroundOptions, ground_volumes, packing_of
 
 FOOT = """<mujoco><option timestep="0.001"/><worldbody>
 <body name="foot"><joint name="x" type="slide" axis="1 0 0"/><joint name="z" type="slide" axis="0 0 1"/>
@@ -127,6 +127,28 @@ def test_footprint_ridge_and_conservation_of_the_grains():
     cells[:, :, C_H] = np.minimum(cells[:, :, C_H], 0.0)
     lost = st._replace(g_cells=cells)
     assert abs(ground_volumes(gt, lost)[0] - solid0) > 1e-3 * solid0
+
+
+def test_slow_deepening_adds_up_past_the_tolerance():
+    """A foot lowered 0.5 mm into the grains in 25,000 updates, each deepening it by 0.4 of the footprints' tolerance
+    (mjrft.ground.DEEPEN_TOL: below it an update leaves the difference for later), displaces what a fast press to
+    the same depth does: every footprint cell has taken the bodies' volume in it to within the tolerance, the same
+    footprint depth. Control: the same map with the cells' taken volume forgotten (what dropping each update's
+    sub-tolerance deepening would leave) fails the check."""
+    tol = DEEPEN_TOL * CELL
+    taken = {}
+    for step in (0.4 * tol, 5e-4):
+        m, d, t = rig()
+        move(m, d, t, [0.0, 0.0], [0.03, 0.005], speed=0.01)  # down to the surface
+        move(m, d, t, [0.0, 0.0], [0.005, 0.0045], speed=1e-4, step=step)
+        c = t.terrain_state.g_cells
+        under = c[:, :, C_SUB] > 0.0
+        taken[step] = (c[:, :, C_SUB][under] / CELL ** 2, c[:, :, C_PEND][under], float(t.ground_height(0.0, 0.0)))
+    sub, pend, depth = taken[0.4 * tol]
+    assert sub.size == 64 and np.all(sub - pend <= tol) and np.all(pend <= sub + 1e-15)
+    assert np.allclose(pend, taken[5e-4][1], rtol=0.0, atol=tol) and abs(depth - taken[5e-4][2]) <= tol
+    assert abs(depth + 0.0005) <= tol
+    assert not np.all(sub - np.zeros_like(pend) <= tol)
 
 
 def test_bulk_volume_conserved_without_a_packing_change():
