@@ -148,7 +148,8 @@ def test_slow_deepening_adds_up_past_the_tolerance():
     assert sub.size == 64 and np.all(sub - pend <= tol) and np.all(pend <= sub + 1e-15)
     assert np.allclose(pend, taken[5e-4][1], rtol=0.0, atol=tol) and abs(depth - taken[5e-4][2]) <= tol
     assert abs(depth + 0.0005) <= tol
-    assert not np.all(sub - np.zeros_like(pend) <= tol)
+    forgotten = np.zeros_like(pend)
+    assert not np.all(sub - forgotten <= tol)
 
 
 def test_bulk_volume_conserved_without_a_packing_change():

@@ -7,9 +7,9 @@ terrain's; a terrain without the memory traces no ground at all; the MJX env's a
 bed. On the kernel's general pass (a height field of two strips of media, each with its own packing rows, one under
 water, with the inertial regime) a foot dragged level through the grains, lifted and pressed in again on its own
 track gives the numba kernel's wrench at every step and its cells at the end under ``vmap`` over two worlds, and the
-same comparison rejects the forces of the terrain without the memory and of the memory without its packing rows. With the
-hybrid law in one of the strips the same foot meets its own wake: the JAX terrain gives the kernel's wrench at every
-step and its cells and wake at the end, and the kernel with its wake emptied gives other forces."""
+same comparison rejects the forces of the terrain without the memory and of the memory without its packing rows.
+With the hybrid law in one of the strips the same foot meets its own wake: the JAX terrain gives the kernel's wrench
+at every step and its cells and wake at the end, and the kernel with its wake emptied gives other forces."""
 
 from __future__ import annotations
 
