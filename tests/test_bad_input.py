@@ -8,6 +8,7 @@ surface covered in one place.
 
 from __future__ import annotations
 
+import importlib.util
 import shlex
 import subprocess
 import sys
@@ -188,8 +189,6 @@ def test_eval_exits_1_when_every_episode_diverged_and_leaves_no_mujoco_log(tmp_p
 
 def test_mjx_commands_without_the_optional_extra_say_which_extra(monkeypatch, capsys):
     """Where JAX / Brax / MJX are missing, train-mjx and an MJX policy give one line naming mjrft[mjx]."""
-    import importlib.util
-
     from mjrft.tools import cli
     from mjrft.train import mjx_ppo
 
@@ -213,9 +212,14 @@ BENCH = [
     ("env_timestep.py --budget 0", "--budget must be finite and > 0, got 0.0"),
     ("power_timestep.py --seconds nan", "--seconds must be finite and > 0, got nan"),
 ]
+_NO_JAX = pytest.mark.skipif(importlib.util.find_spec("jax") is None, reason="needs the optional extra mjrft[mjx]")
+BENCH += [pytest.param(argv, message, marks=_NO_JAX, id=argv) for argv, message in (
+    ("bench_mjx_ground.py --worlds 4 0", "--worlds, --steps and --rounds must be >= 1, got [4, 0], 100, 3"),
+    ("bench_mjx_ground.py --warm nan", "--warm must be a finite number of seconds >= 0, got nan"),
+)]
 
 
-@pytest.mark.parametrize("argv,message", BENCH, ids=[b[0] for b in BENCH])
+@pytest.mark.parametrize("argv,message", BENCH, ids=[b[0] if isinstance(b, tuple) else b.id for b in BENCH])
 def test_benchmark_options_reject_bad_values_before_running(argv, message):
     script, *args = shlex.split(argv)
     path = Path(__file__).resolve().parent.parent / "benchmarks" / script
