@@ -1,9 +1,10 @@
 # Two commands (see README): `make demo` sets up and runs the demo (the hexapod's tripod gait on poppy seeds,
-# logged to mjrft-demo.rrd; open it with `rerun mjrft-demo.rrd`), `make test` sets up and runs the tests (and lists
-# the 25 slowest).
+# logged to mjrft-demo.rrd; open it with `rerun mjrft-demo.rrd`), `make test` sets up and runs the tests in two
+# processes (pytest-xdist; TEST_WORKERS=N for another number, 0 for one process) and lists the 25 slowest.
 PYTHON ?= python3
 VENV ?= .venv
 PY := $(VENV)/bin/python
+TEST_WORKERS ?= 2
 
 .PHONY: setup demo test bench
 
@@ -20,7 +21,7 @@ demo: setup
 	$(VENV)/bin/mjrft demo
 
 test: setup
-	$(PY) -m pytest -q --durations=25
+	$(PY) -m pytest -q -n $(TEST_WORKERS) --durations=25
 
 bench: setup
 	$(PY) benchmarks/bench_step.py
