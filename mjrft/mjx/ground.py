@@ -32,7 +32,8 @@ numba kernel does (:func:`mjrft.kernel.terrain_kernel_ground` and :func:`mjrft.g
 Under ``jax.vmap`` a loop whose trip count differs between worlds would select the whole carry (every world's grid)
 on each iteration; :func:`serial_loop` instead runs the longest world's count with each iteration's writes masked
 where a world is done (``jax.custom_batching.custom_vmap``), so a batch pays its busiest world's cells only. A step
-without an update runs the loops zero times.
+on which no world updates skips the update altogether (:func:`when`: a ``lax.cond`` that under ``jax.vmap`` asks
+whether any world updates, instead of JAX's rule for a batched condition, which runs both branches every step).
 """
 
 from __future__ import annotations
@@ -143,6 +144,31 @@ def serial_loop(body, n, aux, carry):
         return out, jax.tree_util.tree_map(lambda _: True, out)
 
     return looped(jnp.asarray(n, jnp.int32), aux, carry)
+
+
+def when(do, fn, g, args):
+    """``fn(g, args)`` where ``do``, else ``g`` (a ``lax.cond``). Under ``jax.vmap`` ``fn`` runs for the whole batch
+    on a step where any world's ``do`` is True, and not at all where none is, instead of JAX's rule for a batched
+    condition, which runs ``fn`` on every step and selects; ``fn`` must return ``g`` unchanged where ``do`` is
+    False."""
+
+    def run(do, g, args):
+        return jax.lax.cond(do, fn, lambda g, _: g, g, args)
+
+    cond = jax.custom_batching.custom_vmap(run)
+
+    @cond.def_vmap
+    def _batched(axis_size, in_batched, do, g, args):
+        def full(x, b):
+            return x if b else jnp.broadcast_to(x, (axis_size,) + jnp.shape(x))
+
+        do_b, g_b, args_b = in_batched
+        g = jax.tree_util.tree_map(full, g, g_b)
+        args = jax.tree_util.tree_map(full, args, args_b)
+        out = jax.lax.cond(jnp.any(full(do, do_b)), jax.vmap(fn), lambda g, _: g, g, args)
+        return out, jax.tree_util.tree_map(lambda _: True, out)
+
+    return cond(jnp.asarray(do), g, args)
 
 
 class Ground:
@@ -337,7 +363,7 @@ class Ground:
         do = ok & (dt > 0.0) & (since >= self.period * (1.0 - 1e-9))
         if self.wake:  # the clock since the prepared bed, as the kernel advances it (a finite step of dt > 0)
             g = g._replace(now=jnp.where(ok & (dt > 0.0), g.now + dt, g.now).astype(dtype))
-        g = self._ground_step(g, pos, vel, nrm, depth, u, area, since, do)
+        g = when(do, lambda g, a: self._ground_step(g, *a), g, (pos, vel, nrm, depth, u, area, since, do))
         return g._replace(since=jnp.where(do, 0.0, since).astype(dtype))
 
     def in_wake(self, g: GroundState, pos, vel, speed, dt):
