@@ -109,6 +109,15 @@ def _put(a, value, *idx):
     return jax.lax.dynamic_update_slice(a, jnp.reshape(jnp.asarray(value, a.dtype), (1,) * k + a.shape[k:]), start)
 
 
+def _batch_of(axis_size: int):
+    """In a ``custom_vmap`` rule: ``full(x, batched)``, ``x`` with the batch axis (broadcast where it has none)."""
+
+    def full(x, batched):
+        return x if batched else jnp.broadcast_to(x, (axis_size,) + jnp.shape(x))
+
+    return full
+
+
 def serial_loop(body, n, aux, carry):
     """``carry`` after ``body(k, live, aux, carry)`` for ``k = 0 .. n - 1`` (``live`` True), a ``lax.while_loop``.
     ``body`` must leave ``carry`` unchanged where ``live`` is False. Under ``jax.vmap`` the loop runs the batch's
@@ -127,10 +136,7 @@ def serial_loop(body, n, aux, carry):
     @looped.def_vmap
     def _batched(axis_size, in_batched, n, aux, carry):
         n_b, aux_b, carry_b = in_batched
-
-        def full(x, b):
-            return x if b else jnp.broadcast_to(x, (axis_size,) + jnp.shape(x))
-
+        full = _batch_of(axis_size)
         n = full(n, n_b)
         aux = jax.tree_util.tree_map(full, aux, aux_b)
         carry = jax.tree_util.tree_map(full, carry, carry_b)
@@ -159,9 +165,7 @@ def when(do, fn, g, args):
 
     @cond.def_vmap
     def _batched(axis_size, in_batched, do, g, args):
-        def full(x, b):
-            return x if b else jnp.broadcast_to(x, (axis_size,) + jnp.shape(x))
-
+        full = _batch_of(axis_size)
         do_b, g_b, args_b = in_batched
         g = jax.tree_util.tree_map(full, g, g_b)
         args = jax.tree_util.tree_map(full, args, args_b)
