@@ -65,7 +65,9 @@ class GroundState(NamedTuple):
     indices of the cells a body was in at the last update (row 0) and at this one (row 1); ``dirty`` (2, cells) the
     relaxation sweeps' lists; ``count`` (3,) their lengths (held, dirty 0, dirty 1); ``clock`` (2,) (updates, sweeps);
     ``since`` the simulated time since the last update (s); ``stamp`` (nby, nbx) the last update that changed each
-    block of 4 x 4 cells; ``bed`` (8,) the record of a cell of the prepared bed (what :func:`reset` restores). With
+    block of 4 x 4 cells; ``top`` (nby, nbx) each block's highest surface a cell reads above the undisturbed one (at
+    least 0: what the culling reads; each update sets it from its cells); ``bed`` (8,) the record of a cell of the
+    prepared bed (what :func:`reset` restores; its surface is the undisturbed one, so its blocks' ``top`` is 0). With
     the hybrid law's wake (:attr:`Ground.wake`; else None, nothing of it traced): ``wake`` (ny, nx,
     :data:`mjrft.ground.WAKE_SLABS`) float32 per cell and depth slab the earliest time a body's leading face passed
     through it while the bodies stayed in the cell (inf: none; :func:`mjrft.ground.wake_array`) and ``now`` the
@@ -81,6 +83,7 @@ class GroundState(NamedTuple):
     clock: jax.Array
     since: jax.Array
     stamp: jax.Array
+    top: jax.Array
     bed: jax.Array
     wake: jax.Array | None = None
     now: jax.Array | None = None
@@ -88,7 +91,7 @@ class GroundState(NamedTuple):
 
 def reset(g: GroundState) -> GroundState:
     """``g`` back at the prepared bed (one world's state or a batch): every cell the record ``g.bed``, no reading, no
-    list, the clocks at 0 (:meth:`mjrft.types.TerrainState.forget`)."""
+    list, the clocks and the blocks' tops at 0 (:meth:`mjrft.types.TerrainState.forget`)."""
     zero = jax.tree_util.tree_map(jnp.zeros_like, g)
     return zero._replace(cells=jnp.broadcast_to(g.bed[..., None, None, :], g.cells.shape),
                          group=jnp.full_like(g.group, -1.0), bed=g.bed,
@@ -238,7 +241,8 @@ class Ground:
                            active=jnp.zeros(self.n_groups, bool), held=jnp.zeros((2, n), jnp.int32),
                            dirty=jnp.zeros((2, self.ncell), jnp.int32), count=jnp.zeros(3, jnp.int32),
                            clock=jnp.zeros(2, jnp.int32), since=jnp.zeros((), dtype),
-                           stamp=jnp.zeros((self.nby, self.nbx), jnp.int32), bed=bed,
+                           stamp=jnp.zeros((self.nby, self.nbx), jnp.int32),
+                           top=jnp.zeros((self.nby, self.nbx), dtype), bed=bed,
                            wake=jnp.full((self.ny, self.nx, WAKE_SLABS), jnp.inf, jnp.float32) if self.wake else None,
                            now=jnp.zeros((), dtype) if self.wake else None)
 
@@ -290,6 +294,13 @@ class Ground:
         f1 = ph[j + 1, i] + tx * (ph[j + 1, i + 1] - ph[j + 1, i])
         return r0 + ty * (r1 - r0), (d0 + ty * (d1 - d0)) * kx, (r1 - r0) * ky, f0 + ty * (f1 - f0)
 
+    def _block_top(self, cells):
+        """Each block's highest surface a cell reads above the undisturbed one, at least 0 (``GroundState.top``;
+        :func:`mjrft.ground._blocks`)."""
+        hp = cells[:, :, C_H] + cells[:, :, C_PEND]
+        pad = jnp.zeros((self.nby << BLOCK_SHIFT, self.nbx << BLOCK_SHIFT), cells.dtype).at[:self.ny, :self.nx].set(hp)
+        return jnp.maximum(0.0, pad.reshape(self.nby, 1 << BLOCK_SHIFT, self.nbx, 1 << BLOCK_SHIFT).max(axis=(1, 3)))
+
     def _block(self, x, x0, n):
         f = (x - x0) * self.frame[3]
         b = jnp.minimum(jnp.clip(f, 0.0, 4.0 * n + 8.0).astype(jnp.int32) >> BLOCK_SHIFT, n - 1)
@@ -307,10 +318,7 @@ class Ground:
         dtype = pos.dtype
         cells = g.cells
         c = self.frame[2]
-        # the blocks' highest surface read (mjrft.ground._blocks: at least 0)
-        hp = cells[:, :, C_H] + cells[:, :, C_PEND]
-        pad = jnp.zeros((self.nby << BLOCK_SHIFT, self.nbx << BLOCK_SHIFT), dtype).at[:self.ny, :self.nx].set(hp)
-        btop = jnp.maximum(0.0, pad.reshape(self.nby, 1 << BLOCK_SHIFT, self.nbx, 1 << BLOCK_SHIFT).max(axis=(1, 3)))
+        btop = g.top.astype(dtype)  # the blocks' highest surface read (mjrft.ground._blocks)
         # each cull group's box (mjrft.kernel._lowest_corner, _group_ground_top)
         G = geom_xmat[self.g_geom].reshape(-1, 9)
         xp = geom_xpos[self.g_geom]
@@ -486,7 +494,8 @@ class Ground:
         count = count.at[1 + slot].set(jnp.where(relax, 0, count[1 + slot]))
         clock = jnp.stack([step, jnp.where(relax, sweep, clock[1])])
         stamp = jnp.where(flags, step, g.stamp)
-        return g._replace(cells=cells, held=held, dirty=dirty, count=count, clock=clock, stamp=stamp, wake=wake)
+        return g._replace(cells=cells, held=held, dirty=dirty, count=count, clock=clock, stamp=stamp,
+                          top=self._block_top(cells).astype(g.top.dtype), wake=wake)
 
     # the loops' bodies: one touched cell (step 2 of mjrft.ground.ground_step), one listed cell (relax_sweep)
     def _take(self, col, h, phi, bulk):
